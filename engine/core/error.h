@@ -1,0 +1,23 @@
+// Error types and the programmer-error assertion used throughout iblx.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace iblx {
+
+// Something a user can fix (a bad file, flag or device): the message names the culprit and the fix.
+class Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& message) : std::runtime_error(message) {}
+};
+
+[[noreturn]] void assertionFailed(const char* expression, const char* file, int line);
+
+}  // namespace iblx
+
+#ifdef NDEBUG
+#define IBLX_ASSERT(expr) ((void)0)
+#else
+#define IBLX_ASSERT(expr) ((expr) ? (void)0 : ::iblx::assertionFailed(#expr, __FILE__, __LINE__))
+#endif

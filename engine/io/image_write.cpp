@@ -1,0 +1,90 @@
+// Image writers: OpenEXR for linear data, stb_image_write for tonemapped PNG.
+#include "engine/io/image_write.h"
+
+#include "engine/core/error.h"
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+#include <stb/stb_image_write.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace iblx {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Size mismatches are caller bugs, but an Error naming the file is what a tool can report in one line.
+void checkImageSize(const fs::path& path, int width, int height, std::span<const float> rgb) {
+  if (width <= 0 || height <= 0)
+    throw Error("cannot write " + path.string() + ": invalid image size " + std::to_string(width) + "x" +
+                std::to_string(height));
+  const std::size_t expected = 3 * std::size_t(width) * std::size_t(height);
+  if (rgb.size() != expected)
+    throw Error("cannot write " + path.string() + ": " + std::to_string(rgb.size()) + " floats given for a " +
+                std::to_string(width) + "x" + std::to_string(height) + " RGB image (expected " +
+                std::to_string(expected) + ")");
+}
+
+}  // namespace
+
+double linearToSrgb(double x) {
+  return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+}
+
+void writeExr(const fs::path& path, int width, int height, std::span<const float> rgb) {
+  checkImageSize(path, width, height, rgb);
+  try {
+    Imf::Header header(width, height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    const char* const names[3] = {"R", "G", "B"};
+    Imf::FrameBuffer frameBuffer;
+    // OpenEXR's Slice takes a mutable pointer but only reads from it when writing.
+    char* base = reinterpret_cast<char*>(const_cast<float*>(rgb.data()));
+    const std::size_t xStride = 3 * sizeof(float), yStride = xStride * std::size_t(width);
+    for (int c = 0; c < 3; ++c) {
+      header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
+      frameBuffer.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xStride, yStride));
+    }
+    Imf::OutputFile file(path.string().c_str(), header);
+    file.setFrameBuffer(frameBuffer);
+    file.writePixels(height);
+  } catch (const std::exception& e) {
+    throw Error("cannot write EXR file " + path.string() + ": " + e.what());
+  }
+}
+
+void writePng(const fs::path& path, int width, int height, std::span<const float> rgb, double exposureEV) {
+  checkImageSize(path, width, height, rgb);
+  const double scale = std::exp2(exposureEV);
+  std::vector<std::uint8_t> bytes(rgb.size());
+  for (std::size_t i = 0; i < rgb.size(); ++i) {
+    const double v = double(rgb[i]) * scale;
+    // !(v > 0) also sends NaN to black; +Inf clamps to white.
+    const double clamped = !(v > 0.0) ? 0.0 : std::min(v, 1.0);
+    bytes[i] = std::uint8_t(std::lround(255.0 * linearToSrgb(clamped)));
+  }
+  if (!stbi_write_png(path.string().c_str(), width, height, 3, bytes.data(), 3 * width))
+    throw Error("cannot write PNG file " + path.string() + " (is the directory writable?)");
+}
+
+void writeImage(const fs::path& path, int width, int height, std::span<const float> rgb, double exposureEV) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".exr")
+    writeExr(path, width, height, rgb);
+  else if (ext == ".png")
+    writePng(path, width, height, rgb, exposureEV);
+  else
+    throw Error("cannot write " + path.string() + ": unsupported extension '" + ext +
+                "' (supported output formats: .exr, .png)");
+}
+
+}  // namespace iblx

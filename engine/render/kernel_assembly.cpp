@@ -1,0 +1,37 @@
+// Prelude generation for the integrator and reference kernels.
+#include "engine/render/kernel_assembly.h"
+
+#include <sstream>
+
+namespace iblx {
+
+std::string assemblePrelude(const KernelParts& parts) {
+  std::ostringstream s;
+  s << "#version 460\n#extension GL_GOOGLE_include_directive : require\n";
+  for (const char* interface : {"sequence", "env_sampler", "brdf", "brdf_sampler", "strategy"})
+    s << "#include \"interfaces/" << interface << ".glsl\"\n";
+  s << parts.brdfParamBlock;
+  s << "#include \"" << parts.kernel << "\"\n";
+  for (const auto& part : parts.parts) s << "#include \"" << part << "\"\n";
+  return s.str();
+}
+
+KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method) {
+  KernelParts k{"integrate.comp", {}, paramBlockGlsl(*scene.brdf)};
+  k.parts.push_back(method.sequence->part);
+  if (method.envTechnique) k.parts.push_back(method.envTechnique->part);
+  k.parts.push_back(scene.brdf->evalPart);
+  if (method.brdfTechnique) k.parts.push_back(method.brdfTechnique->part);
+  k.parts.push_back(strategyPart(method.method->strategy));
+  return k;
+}
+
+KernelParts referenceParts(const Scene& scene) {
+  return {"reference.comp", {scene.brdf->evalPart}, paramBlockGlsl(*scene.brdf)};
+}
+
+KernelLayout sceneKernelLayout(uint32_t envBuffers, uint32_t brdfBuffers) {
+  return {{5, 0, envBuffers, 1 + brdfBuffers}, sizeof(gpu::FrameParams)};
+}
+
+}  // namespace iblx

@@ -1,0 +1,28 @@
+// Writes the prelude that assembles a kernel from one part per role (DESIGN §2, STYLE "For iblx" 3):
+// #version, the interfaces, the BRDF parameter block, the kernel and one #include per chosen part.
+#pragma once
+
+#include "engine/render/scene.h"
+#include "engine/vk/compute_kernel.h"
+
+#include <string>
+#include <vector>
+
+namespace iblx {
+
+struct KernelParts {
+  std::string kernel;  // entry point, e.g. "integrate.comp"
+  std::vector<std::string> parts;  // one per role in use
+  std::string brdfParamBlock;      // paramBlockGlsl() of the scene's BRDF
+};
+
+std::string assemblePrelude(const KernelParts& parts);
+
+// The integrator for a scene and method, and the reference kernel for a scene.
+KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method);
+KernelParts referenceParts(const Scene& scene);
+
+// Storage-buffer counts of sets 0..3 for these kernels.
+KernelLayout sceneKernelLayout(uint32_t envBuffers, uint32_t brdfBuffers);
+
+}  // namespace iblx

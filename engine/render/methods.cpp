@@ -1,0 +1,224 @@
+// The registry lists. Each line is one BRDF, technique, sequence or method; nothing else names them.
+#include "engine/render/methods.h"
+
+#include "engine/core/error.h"
+#include "engine/sampling/env_cdf.h"
+#include "engine/sampling/env_hier.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+namespace iblx {
+namespace {
+
+TechniqueData noData(const EnvImage&) { return {}; }
+
+TechniqueData makeEnvCdf(const EnvImage& image) {
+  const EnvCdfData cdf = buildEnvCdf(image);
+  std::vector<float> packed(cdf.marginalCdf);  // layout of shaders/env/env_cdf.glsl: marginal, then rows
+  packed.insert(packed.end(), cdf.conditionalCdf.begin(), cdf.conditionalCdf.end());
+  TechniqueData data;
+  data.add("env-cdf tables", std::span<const float>(packed));
+  return data;
+}
+
+TechniqueData makeEnvHier(const EnvImage& image) {
+  const EnvHierData hier = buildEnvHier(image);
+  TechniqueData data;
+  data.add("env-hier nodes", std::span<const float>(hier.nodes));
+  data.add("env-hier levels", std::span<const EnvHierLevel>(hier.levels));
+  return data;
+}
+
+double ggxLobeWidth(const ParamValues& p) { return 2.0 * std::atan(p.at("roughness")[0]); }
+
+const BrdfInfo kBrdfs[] = {
+    {"lambert", "diffuse: f = albedo / pi", "brdf/lambert.glsl",
+     {{"albedo", ParamType::Color, 0.0, 1.0, {0.8, 0.8, 0.8}, "diffuse reflectance"}}, "cosine",
+     [](const ParamValues&) { return 0.0; }},
+    {"ggx", "metallic-roughness GGX microfacet (Walter 2007) + Lambert diffuse", "brdf/ggx.glsl",
+     {{"color", ParamType::Color, 0.0, 1.0, {0.95, 0.64, 0.54}, "base color (diffuse albedo, metal F0)"},
+      {"roughness", ParamType::Float, 1e-3, 1.0, {0.25, 0, 0}, "GGX alpha"},
+      {"metallic", ParamType::Float, 0.0, 1.0, {1.0, 0, 0}, "0 dielectric (F0 = 0.04), 1 metal"}},
+     "ggx-vndf", ggxLobeWidth},
+};
+
+const EnvTechniqueInfo kEnvTechniques[] = {
+    {"uniform", "uniform directions on the sphere (baseline)", "env/uniform.glsl", noData},
+    {"cosine", "cosine-weighted hemisphere around the normal (baseline)", "env/cosine.glsl", noData},
+    {"env-cdf", "marginal/conditional CDF over texels", "env/env_cdf.glsl", makeEnvCdf},
+    {"env-hier", "hierarchical 2x2 mip-pyramid warp", "env/env_hier.glsl", makeEnvHier},
+};
+
+const BrdfTechniqueInfo kBrdfTechniques[] = {
+    {"cosine", "cosine-weighted hemisphere", "brdf_sampler/cosine.glsl", {}},
+    {"ggx-vndf", "GGX visible normals (Heitz 2018) + cosine for the diffuse lobe", "brdf_sampler/ggx_vndf.glsl",
+     {"ggx"}},
+};
+
+const SequenceInfo kSequences[] = {
+    {"random", "independent uniform points (PCG hash)", "sequence/random.glsl"},
+    {"sobol", "Owen-scrambled Sobol (randomized QMC, Burley 2020)", "sequence/sobol.glsl"},
+};
+
+const MethodInfo kMethods[] = {
+    {"uniform", "env technique 'uniform' alone", Strategy::SingleEnv, "uniform"},
+    {"cosine", "env technique 'cosine' alone", Strategy::SingleEnv, "cosine"},
+    {"env-cdf", "env technique 'env-cdf' alone", Strategy::SingleEnv, "env-cdf"},
+    {"env-hier", "env technique 'env-hier' alone", Strategy::SingleEnv, "env-hier"},
+    {"brdf", "the BRDF technique alone (--brdf-sampler)", Strategy::SingleBrdf, ""},
+    {"mis", "one-sample MIS of --env-sampler and --brdf-sampler", Strategy::Mis, ""},
+};
+
+template <typename T>
+const T& findIn(std::span<const T> list, const std::string& name, const std::string& what) {
+  for (const auto& item : list)
+    if (item.name == name) return item;
+  std::string valid;
+  for (const auto& item : list) valid += (valid.empty() ? "" : ", ") + item.name;
+  throw Error("unknown " + what + " '" + name + "'; valid: " + valid);
+}
+
+std::string formatValue(const ParamDecl& p, const std::array<double, 3>& v) {
+  std::ostringstream s;
+  if (p.type == ParamType::Color)
+    s << v[0] << "," << v[1] << "," << v[2];
+  else
+    s << v[0];
+  return s.str();
+}
+
+}  // namespace
+
+bool BrdfTechniqueInfo::appliesTo(const std::string& brdf) const {
+  return brdfs.empty() || std::find(brdfs.begin(), brdfs.end(), brdf) != brdfs.end();
+}
+
+std::span<const BrdfInfo> brdfRegistry() { return kBrdfs; }
+std::span<const EnvTechniqueInfo> envTechniqueRegistry() { return kEnvTechniques; }
+std::span<const BrdfTechniqueInfo> brdfTechniqueRegistry() { return kBrdfTechniques; }
+std::span<const SequenceInfo> sequenceRegistry() { return kSequences; }
+std::span<const MethodInfo> methodRegistry() { return kMethods; }
+
+std::string strategyPart(Strategy strategy) {
+  switch (strategy) {
+    case Strategy::SingleEnv: return "strategy/single_env.glsl";
+    case Strategy::SingleBrdf: return "strategy/single_brdf.glsl";
+    case Strategy::Mis: return "strategy/mis.glsl";
+  }
+  return {};
+}
+
+const BrdfInfo& findBrdf(const std::string& name) { return findIn(brdfRegistry(), name, "--brdf"); }
+const EnvTechniqueInfo& findEnvTechnique(const std::string& name, const std::string& what) {
+  return findIn(envTechniqueRegistry(), name, what);
+}
+const BrdfTechniqueInfo& findBrdfTechnique(const std::string& name, const std::string& what) {
+  return findIn(brdfTechniqueRegistry(), name, what);
+}
+const SequenceInfo& findSequence(const std::string& name) { return findIn(sequenceRegistry(), name, "--seq"); }
+const MethodInfo& findMethod(const std::string& name) { return findIn(methodRegistry(), name, "--method"); }
+
+std::string describeRegistry() {
+  std::ostringstream s;
+  s << "methods (--method):\n";
+  for (const auto& m : methodRegistry()) s << "  " << m.name << std::string(12 - std::min<size_t>(11, m.name.size()), ' ') << m.description << "\n";
+  s << "env techniques (--env-sampler, used by mis; each is also a method):\n";
+  for (const auto& t : envTechniqueRegistry())
+    s << "  " << t.name << std::string(12 - std::min<size_t>(11, t.name.size()), ' ') << t.description << "; any BRDF\n";
+  s << "BRDF techniques (--brdf-sampler, used by brdf and mis):\n";
+  for (const auto& t : brdfTechniqueRegistry()) {
+    std::string applies = "any BRDF";
+    if (!t.brdfs.empty()) {
+      applies = "BRDFs: ";
+      for (size_t i = 0; i < t.brdfs.size(); ++i) applies += (i ? ", " : "") + t.brdfs[i];
+    }
+    s << "  " << t.name << std::string(12 - std::min<size_t>(11, t.name.size()), ' ') << t.description << "; " << applies << "\n";
+  }
+  s << "sequences (--seq):\n";
+  for (const auto& q : sequenceRegistry()) s << "  " << q.name << std::string(12 - std::min<size_t>(11, q.name.size()), ' ') << q.description << "\n";
+  s << "BRDFs (--brdf) and parameters (--param NAME=VALUE):\n";
+  for (const auto& b : brdfRegistry()) {
+    s << "  " << b.name << std::string(12 - std::min<size_t>(11, b.name.size()), ' ') << b.description << "; best sampler: " << b.bestSampler << "\n";
+    for (const auto& p : b.params)
+      s << "      " << p.name << " (" << (p.type == ParamType::Color ? "color r,g,b" : p.type == ParamType::Bool ? "bool" : "float")
+        << " in [" << p.min << ", " << p.max << "], default " << formatValue(p, p.defaultValue) << "): " << p.description << "\n";
+  }
+  return s.str();
+}
+
+ParamValues resolveParams(const BrdfInfo& brdf, const std::vector<std::pair<std::string, std::string>>& given) {
+  ParamValues values;
+  for (const auto& p : brdf.params) values[p.name] = p.defaultValue;
+  for (const auto& [name, text] : given) {
+    auto decl = std::find_if(brdf.params.begin(), brdf.params.end(), [&](const ParamDecl& p) { return p.name == name; });
+    if (decl == brdf.params.end()) {
+      std::string valid;
+      for (const auto& p : brdf.params) valid += (valid.empty() ? "" : ", ") + p.name;
+      throw Error("--param " + name + ": BRDF '" + brdf.name + "' has no parameter '" + name + "'; its parameters: " + valid);
+    }
+    std::array<double, 3> v{0, 0, 0};
+    const int count = decl->type == ParamType::Color ? 3 : 1;
+    std::string rest = text;
+    if (decl->type == ParamType::Bool && (rest == "true" || rest == "false")) rest = rest == "true" ? "1" : "0";
+    int parsed = 0;
+    std::istringstream in(rest);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+      if (parsed >= 3) break;
+      char* end = nullptr;
+      v[parsed] = std::strtod(item.c_str(), &end);
+      if (item.empty() || end != item.c_str() + item.size() || !std::isfinite(v[parsed]))
+        throw Error("--param " + name + "=" + text + ": '" + item + "' is not a number");
+      ++parsed;
+    }
+    if (decl->type == ParamType::Color && parsed == 1) v = {v[0], v[0], v[0]}, parsed = 3;  // grey shorthand
+    if (parsed != count)
+      throw Error("--param " + name + "=" + text + ": expected " + (count == 3 ? "a color r,g,b" : "one value"));
+    if (decl->type == ParamType::Bool && v[0] != 0.0 && v[0] != 1.0)
+      throw Error("--param " + name + "=" + text + ": expected 0, 1, true or false");
+    for (int c = 0; c < count; ++c)
+      if (v[c] < decl->min || v[c] > decl->max) {
+        std::ostringstream msg;
+        msg << "--param " << name << "=" << text << ": out of range [" << decl->min << ", " << decl->max << "]";
+        throw Error(msg.str());
+      }
+    values[name] = v;
+  }
+  return values;
+}
+
+std::vector<float> packParams(const BrdfInfo& brdf, const ParamValues& values) {
+  std::vector<float> packed(4 * std::max<size_t>(brdf.params.size(), 1), 0.0f);
+  for (size_t i = 0; i < brdf.params.size(); ++i) {
+    const auto& p = brdf.params[i];
+    const auto& v = values.at(p.name);
+    if (p.type == ParamType::Bool) {
+      const uint32_t bit = v[0] != 0.0 ? 1u : 0u;  // GLSL bool in a buffer is a 32-bit integer
+      std::memcpy(&packed[4 * i], &bit, sizeof bit);
+    } else {
+      for (int c = 0; c < (p.type == ParamType::Color ? 3 : 1); ++c) packed[4 * i + c] = float(v[c]);
+    }
+  }
+  return packed;
+}
+
+std::string paramBlockGlsl(const BrdfInfo& brdf) {
+  std::ostringstream s;
+  s << "layout(std430, set = 3, binding = 0) readonly buffer BrdfParamBlock {\n";
+  if (brdf.params.empty()) s << "  vec4 iblxUnusedParam;\n";
+  for (size_t i = 0; i < brdf.params.size(); ++i) {
+    const auto& p = brdf.params[i];
+    // One 16-byte slot per parameter (std430: float arrays have a 4-byte stride).
+    if (p.type == ParamType::Color)
+      s << "  vec3 " << p.name << "; float iblxPad" << i << ";\n";
+    else
+      s << "  " << (p.type == ParamType::Bool ? "bool " : "float ") << p.name << "; float iblxPad" << i << "[3];\n";
+  }
+  s << "};\n";
+  return s.str();
+}
+
+}  // namespace iblx

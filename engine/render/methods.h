@@ -1,0 +1,111 @@
+// The registry (DESIGN §2, STYLE "For iblx" 7): every BRDF, technique, sequence and method iblx knows, in one
+// explicit list each. The CLI, --list-methods, the benchmark and the tests iterate over these lists; adding a
+// method is one builder, one GLSL part and one line in methods.cpp.
+#pragma once
+
+#include "engine/io/env_image.h"
+
+#include <array>
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace iblx {
+
+// ---- BRDFs -------------------------------------------------------------------------------------------------
+enum class ParamType { Float, Color, Bool };
+
+struct ParamDecl {
+  std::string name;
+  ParamType type = ParamType::Float;
+  double min = 0.0, max = 1.0;                // bounds, inclusive (every channel for colors)
+  std::array<double, 3> defaultValue{0, 0, 0};  // floats and bools use [0]
+  std::string description;
+};
+
+using ParamValues = std::map<std::string, std::array<double, 3>>;
+
+struct BrdfInfo {
+  std::string name;
+  std::string description;
+  std::string evalPart;  // shaders/ path implementing interfaces/brdf.glsl
+  std::vector<ParamDecl> params;
+  std::string bestSampler;  // BRDF technique used when --brdf-sampler is not given
+  // Angular width (radians) of the narrowest lobe for these parameters; 0 when the BRDF is smooth.
+  // The reference uses it to refine its quadrature around the mirror direction.
+  std::function<double(const ParamValues&)> lobeWidth;
+};
+
+// ---- techniques --------------------------------------------------------------------------------------------
+// GPU data of one technique: storage buffers for its descriptor set, in binding order.
+struct TechniqueData {
+  std::vector<std::vector<std::byte>> buffers;
+  std::vector<std::string> names;
+
+  template <typename T>
+  void add(std::string name, std::span<const T> values) {
+    const auto* p = reinterpret_cast<const std::byte*>(values.data());
+    buffers.emplace_back(p, p + values.size_bytes());
+    names.push_back(std::move(name));
+  }
+};
+
+struct EnvTechniqueInfo {
+  std::string name;
+  std::string description;
+  std::string part;  // implements interfaces/env_sampler.glsl
+  std::function<TechniqueData(const EnvImage&)> build;
+};
+
+struct BrdfTechniqueInfo {
+  std::string name;
+  std::string description;
+  std::string part;  // implements interfaces/brdf_sampler.glsl
+  std::vector<std::string> brdfs;  // the BRDFs it applies to; empty = every BRDF
+  bool appliesTo(const std::string& brdf) const;
+};
+
+struct SequenceInfo {
+  std::string name;
+  std::string description;
+  std::string part;  // implements interfaces/sequence.glsl
+};
+
+// ---- methods (what --method selects) ----------------------------------------------------------------------
+enum class Strategy { SingleEnv, SingleBrdf, Mis };
+
+struct MethodInfo {
+  std::string name;
+  std::string description;
+  Strategy strategy;
+  std::string envTechnique;  // fixed env technique for SingleEnv methods; MIS takes --env-sampler
+};
+
+std::span<const BrdfInfo> brdfRegistry();
+std::span<const EnvTechniqueInfo> envTechniqueRegistry();
+std::span<const BrdfTechniqueInfo> brdfTechniqueRegistry();
+std::span<const SequenceInfo> sequenceRegistry();
+std::span<const MethodInfo> methodRegistry();
+std::string strategyPart(Strategy strategy);
+
+// Lookups that throw iblx::Error listing the valid names (`what` names the flag, e.g. "--method").
+const BrdfInfo& findBrdf(const std::string& name);
+const EnvTechniqueInfo& findEnvTechnique(const std::string& name, const std::string& what = "--env-sampler");
+const BrdfTechniqueInfo& findBrdfTechnique(const std::string& name, const std::string& what = "--brdf-sampler");
+const SequenceInfo& findSequence(const std::string& name);
+const MethodInfo& findMethod(const std::string& name);
+
+// Human-readable registry (for --list-methods).
+std::string describeRegistry();
+
+// Fills defaults, parses "r,g,b" / "x" / "0|1|true|false" strings, range-checks; throws on unknown names.
+ParamValues resolveParams(const BrdfInfo& brdf, const std::vector<std::pair<std::string, std::string>>& given);
+// Packs values into the BRDF parameter block: one 16-byte slot per parameter in declaration order.
+std::vector<float> packParams(const BrdfInfo& brdf, const ParamValues& values);
+// GLSL declaration of that block (set 3, binding 0) with each parameter as a plain name.
+std::string paramBlockGlsl(const BrdfInfo& brdf);
+
+}  // namespace iblx

@@ -1,0 +1,74 @@
+// Reference convolution driver: quadrature choice, row chunking, progress.
+#include "engine/render/reference.h"
+
+#include "engine/render/kernel_assembly.h"
+#include "engine/sampling/sphere_mapping.h"
+#include "engine/vk/compute_kernel.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace iblx {
+
+ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                                const ReferenceOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  SceneGpu gpu = uploadScene(context, scene);
+  const auto spirv = compiler.compile(assemblePrelude(referenceParts(scene)), "reference " + scene.brdf->name);
+  ComputeKernel kernel(context, spirv, sceneKernelLayout(0, 0), "reference");
+  kernel.bindBuffers(0, {&gpu.gbuffer, &gpu.accum, &gpu.envRgb, &gpu.envRowSolidAngle, &gpu.stats});
+  kernel.bindBuffers(2, std::span<const Buffer* const>());
+  kernel.bindBuffers(3, {&gpu.brdfParams});
+
+  const int W = scene.env.width, H = scene.env.height;
+  const double texelAngle = std::max(kPi / H, 2.0 * kPi / W);  // largest texel side (at the equator)
+  const double lobe = scene.brdf->lobeWidth ? scene.brdf->lobeWidth(scene.params) : 0.0;
+  const int coarse = std::max(1, options.coarseSubdivisions);
+  int fine = coarse;
+  double fineZoneCos = 2.0;  // > 1: no fine zone
+  if (lobe > 0.0) {
+    // Sub-cells about a quarter of the lobe width, within a cone of a few lobe widths plus one texel diagonal.
+    fine = std::clamp(int(std::ceil(4.0 * texelAngle / lobe)), coarse, std::max(coarse, options.maxFineSubdivisions));
+    fineZoneCos = std::cos(std::min(kPi, 4.0 * lobe + 1.5 * texelAngle));
+  }
+  fine = std::max(fine, std::min(4 * coarse, std::max(coarse, options.maxFineSubdivisions)));  // horizon texels
+  const double horizonBand = std::sin(std::min(kPi / 2, 1.5 * texelAngle));
+
+  // Chunks of rows keep each dispatch short (GPU watchdogs, progress reports).
+  const double workPerRow = double(scene.gbuffer.objectPixelCount()) * W * 4.0 * coarse * coarse;
+  const int rowsPerDispatch = int(std::clamp(2e8 / std::max(workPerRow, 1.0), 1.0, double(H)));
+  const double rotation = scene.envRotationDeg * kPi / 180.0;
+  gpu::FrameParams params{};
+  params.width = uint32_t(scene.gbuffer.width);
+  params.height = uint32_t(scene.gbuffer.height);
+  params.envWidth = uint32_t(W);
+  params.envHeight = uint32_t(H);
+  params.envRotation = {float(std::cos(rotation)), float(std::sin(rotation)), 0, 0};
+  params.strategy = {0, 0, float(horizonBand), 0};
+  params.quadrature = {float(coarse), float(fine), float(fineZoneCos), float(rowsPerDispatch)};
+  for (int row = 0; row < H; row += rowsPerDispatch) {
+    params.rowBegin = uint32_t(row);
+    context.submitAndWait([&](vk::CommandBuffer cmd) {
+      kernel.record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
+      // Shader writes of this chunk -> shader reads of the next chunk / host reads.
+      vk::MemoryBarrier barrier(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eHostRead);
+      cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eHost, {}, barrier,
+                          {}, {});
+    });
+    if (options.progress) options.progress(double(std::min(row + rowsPerDispatch, H)) / H);
+  }
+
+  ReferenceImage image{scene.gbuffer.width, scene.gbuffer.height, {}, 0.0, fine};
+  const auto accum = gpu.accum.readAll<gpu::AccumPixel>();
+  image.rgb.resize(accum.size() * 3);
+  for (size_t i = 0; i < accum.size(); ++i) {
+    image.rgb[3 * i] = accum[i].mean.x;
+    image.rgb[3 * i + 1] = accum[i].mean.y;
+    image.rgb[3 * i + 2] = accum[i].mean.z;
+  }
+  image.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return image;
+}
+
+}  // namespace iblx

@@ -1,0 +1,29 @@
+// The ground truth of a scene (DESIGN §4): a deterministic convolution over every environment texel on the GPU,
+// integrating the same nearest-texel reconstruction the estimators see, with finer quadrature inside texels that
+// the BRDF's narrow lobe or the horizon cuts through.
+#pragma once
+
+#include "engine/render/scene.h"
+#include "engine/vk/shader_compiler.h"
+
+#include <functional>
+
+namespace iblx {
+
+struct ReferenceOptions {
+  int coarseSubdivisions = 1;  // per texel axis, each with 2x2 Gauss-Legendre points
+  int maxFineSubdivisions = 128;
+  std::function<void(double fraction)> progress;  // called after each chunk of rows
+};
+
+struct ReferenceImage {
+  int width = 0, height = 0;
+  std::vector<float> rgb;  // width*height*3; background pixels hold the environment seen
+  double seconds = 0.0;
+  int fineSubdivisions = 0;
+};
+
+ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                                const ReferenceOptions& options = {});
+
+}  // namespace iblx

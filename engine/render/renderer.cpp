@@ -1,0 +1,105 @@
+// Progressive renderer implementation.
+#include "engine/render/renderer.h"
+
+#include "engine/core/error.h"
+#include "engine/render/kernel_assembly.h"
+#include "engine/sampling/sphere_mapping.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace iblx {
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+}  // namespace
+
+Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                   const ResolvedMethod& method, uint32_t seed)
+    : context_(context), scene_(scene), method_(method), gpu_(uploadScene(context, scene)), timestamps_(context),
+      seed_(seed) {
+  const auto start = Clock::now();
+  TechniqueData envData = method.envTechnique ? method.envTechnique->build(scene.env) : TechniqueData{};
+  for (size_t i = 0; i < envData.buffers.size(); ++i)
+    envBuffers_.push_back(Buffer::fromData(context, envData.buffers[i], envData.names[i]));
+  const KernelParts parts = integratorParts(scene, method);
+  const auto spirv = compiler.compile(assemblePrelude(parts), "integrate " + method.label());
+  kernel_ = std::make_unique<ComputeKernel>(context, spirv, sceneKernelLayout(uint32_t(envBuffers_.size()), 0),
+                                            "integrate " + method.label());
+  kernel_->bindBuffers(0, {&gpu_.gbuffer, &gpu_.accum, &gpu_.envRgb, &gpu_.envRowSolidAngle, &gpu_.stats});
+  std::vector<const Buffer*> env;
+  for (const auto& b : envBuffers_) env.push_back(&b);
+  kernel_->bindBuffers(2, env);
+  kernel_->bindBuffers(3, {&gpu_.brdfParams});
+  setupSeconds_ = since(start);
+}
+
+void Renderer::restart(uint32_t seed) {
+  seed_ = seed;
+  samplesPerPixel_ = 0;
+  gpu_.stats.fill(0);
+}
+
+PassTiming Renderer::runPass(uint32_t samplesPerPass) {
+  if (samplesPerPass == 0) throw Error("samples per pass must be at least 1");
+  if (samplesPerPixel_ + samplesPerPass > std::numeric_limits<uint32_t>::max())
+    throw Error("more than 2^32 samples per pixel: the sample index would wrap");
+  const auto start = Clock::now();
+  const double rotation = scene_.envRotationDeg * kPi / 180.0;
+  gpu::FrameParams params{};
+  params.width = uint32_t(scene_.gbuffer.width);
+  params.height = uint32_t(scene_.gbuffer.height);
+  params.envWidth = uint32_t(scene_.env.width);
+  params.envHeight = uint32_t(scene_.env.height);
+  params.sampleOffset = uint32_t(samplesPerPixel_);
+  params.samplesPerPass = samplesPerPass;
+  params.seed = seed_;
+  params.envRotation = {float(std::cos(rotation)), float(std::sin(rotation)), 0, 0};
+  params.strategy = {method_.misEnvFraction, method_.misPower ? 1.0f : 0.0f, 0, 0};
+  context_.submitAndWait([&](vk::CommandBuffer cmd) {
+    timestamps_.begin(cmd);
+    kernel_->record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
+    timestamps_.end(cmd);
+    // Shader writes -> host reads of the accumulation buffer after the fence.
+    vk::MemoryBarrier barrier(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eHostRead);
+    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eHost, {}, barrier, {},
+                        {});
+  });
+  samplesPerPixel_ += samplesPerPass;
+  return {timestamps_.seconds(), since(start)};
+}
+
+std::vector<float> Renderer::meanRgb() const {
+  const auto accum = gpu_.accum.readAll<gpu::AccumPixel>();
+  std::vector<float> rgb(accum.size() * 3);
+  for (size_t i = 0; i < accum.size(); ++i) {
+    rgb[3 * i] = accum[i].mean.x;
+    rgb[3 * i + 1] = accum[i].mean.y;
+    rgb[3 * i + 2] = accum[i].mean.z;
+  }
+  return rgb;
+}
+
+std::vector<float> Renderer::varianceRgb() const {
+  const auto accum = gpu_.accum.readAll<gpu::AccumPixel>();
+  std::vector<float> var(accum.size() * 3);
+  const double n = double(samplesPerPixel_);
+  for (size_t i = 0; i < accum.size(); ++i) {
+    const float m[3] = {accum[i].mean.x, accum[i].mean.y, accum[i].mean.z};
+    const float s[3] = {accum[i].meanSquare.x, accum[i].meanSquare.y, accum[i].meanSquare.z};
+    for (int c = 0; c < 3; ++c) {
+      const double v = std::max(0.0, double(s[c]) - double(m[c]) * m[c]);
+      var[3 * i + c] = float(n > 1 ? v * n / (n - 1) : 0.0);  // unbiased sample variance
+    }
+  }
+  return var;
+}
+
+uint32_t Renderer::nonFiniteSamples() const {
+  gpu::KernelStats stats;
+  gpu_.stats.read(&stats, sizeof stats);
+  return stats.nonFiniteSamples;
+}
+
+}  // namespace iblx

@@ -1,0 +1,50 @@
+// The progressive renderer (DESIGN §2, §6): builds the method's sampling data, assembles and compiles its
+// integrator, and adds one batch of samples per pixel per pass to a running mean, timed on the GPU and the wall.
+//
+//   Renderer renderer(ctx, compiler, scene, resolveMethod(methodSpec, *scene.brdf), seed);
+//   for (int i = 0; i < 16; ++i) renderer.runPass(64);
+//   auto rgb = renderer.meanRgb();
+#pragma once
+
+#include "engine/render/scene.h"
+#include "engine/vk/compute_kernel.h"
+#include "engine/vk/shader_compiler.h"
+
+#include <memory>
+
+namespace iblx {
+
+struct PassTiming {
+  double gpuSeconds = 0.0;   // the integrator dispatch alone (timestamp queries)
+  double wallSeconds = 0.0;  // record + submit + wait
+};
+
+class Renderer {
+ public:
+  Renderer(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene, const ResolvedMethod& method,
+           uint32_t seed = 1);
+
+  PassTiming runPass(uint32_t samplesPerPass);
+  void restart(uint32_t seed);  // drops everything accumulated
+
+  uint64_t samplesPerPixel() const { return samplesPerPixel_; }
+  std::vector<float> meanRgb() const;  // width*height*3
+  std::vector<float> varianceRgb() const;  // per-pixel sample variance of one estimate, width*height*3
+  uint32_t nonFiniteSamples() const;
+  const ResolvedMethod& method() const { return method_; }
+  double setupSeconds() const { return setupSeconds_; }  // table builds + shader compile + upload
+
+ private:
+  const VulkanContext& context_;
+  const Scene& scene_;
+  ResolvedMethod method_;
+  SceneGpu gpu_;
+  std::vector<Buffer> envBuffers_;
+  std::unique_ptr<ComputeKernel> kernel_;
+  TimestampPair timestamps_;
+  uint64_t samplesPerPixel_ = 0;
+  uint32_t seed_ = 1;
+  double setupSeconds_ = 0.0;
+};
+
+}  // namespace iblx

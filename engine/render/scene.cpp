@@ -1,0 +1,90 @@
+// Scene loading, method resolution (with the checks a user needs to hear about) and GPU upload.
+#include "engine/render/scene.h"
+
+#include "engine/core/error.h"
+#include "engine/sampling/latlong_texel.h"
+
+#include <cstdlib>
+#include <sstream>
+
+namespace iblx {
+
+std::filesystem::path defaultEnvPath() {
+  if (const char* dir = std::getenv("IBLX_ASSET_DIR")) return std::filesystem::path(dir) / "default_sky.exr";
+  return std::filesystem::path(IBLX_SOURCE_DIR) / "assets" / "default_sky.exr";
+}
+
+Scene makeScene(EnvImage env, const SceneSpec& spec) {
+  if (spec.width < 1 || spec.height < 1 || spec.width > 16384 || spec.height > 16384)
+    throw Error("--size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                ": width and height must be in [1, 16384]");
+  if (!std::isfinite(spec.envRotationDeg)) throw Error("--env-rotation must be a finite number of degrees");
+  Scene scene;
+  scene.env = std::move(env);
+  scene.envRotationDeg = spec.envRotationDeg;
+  scene.brdf = &findBrdf(spec.brdf);
+  scene.params = resolveParams(*scene.brdf, spec.params);
+  scene.gbuffer = makeGBuffer(spec.object, spec.width, spec.height);
+  return scene;
+}
+
+Scene loadScene(const SceneSpec& spec) {
+  const auto path = spec.envPath.empty() ? defaultEnvPath() : spec.envPath;
+  // Validate the cheap things first so a typo in --brdf does not wait for a large map to load.
+  findBrdf(spec.brdf);
+  return makeScene(loadEnvImage(path), spec);
+}
+
+std::string ResolvedMethod::label() const {
+  std::ostringstream s;
+  s << method->name;
+  if (method->strategy == Strategy::Mis)
+    s << "(" << envTechnique->name << "+" << brdfTechnique->name << ", " << (misPower ? "power " : "balance ")
+      << misEnvFraction << ")";
+  else if (method->strategy == Strategy::SingleBrdf)
+    s << "(" << brdfTechnique->name << ")";
+  s << "/" << sequence->name;
+  return s.str();
+}
+
+ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
+  ResolvedMethod r;
+  r.method = &findMethod(spec.method);
+  r.sequence = &findSequence(spec.sequence);
+  if (spec.misHeuristic != "balance" && spec.misHeuristic != "power")
+    throw Error("unknown --mis-heuristic '" + spec.misHeuristic + "'; valid: balance, power");
+  if (!(spec.misEnvFraction >= 0.0 && spec.misEnvFraction <= 1.0))
+    throw Error("--mis-split must be in [0, 1] (the fraction of samples given to the env technique)");
+  r.misPower = spec.misHeuristic == "power";
+  r.misEnvFraction = float(spec.misEnvFraction);
+  const bool needsEnv = r.method->strategy != Strategy::SingleBrdf;
+  const bool needsBrdf = r.method->strategy != Strategy::SingleEnv;
+  if (needsEnv)
+    r.envTechnique = r.method->strategy == Strategy::SingleEnv ? &findEnvTechnique(r.method->envTechnique)
+                                                               : &findEnvTechnique(spec.envSampler);
+  if (needsBrdf) {
+    const std::string name = spec.brdfSampler.empty() ? brdf.bestSampler : spec.brdfSampler;
+    r.brdfTechnique = &findBrdfTechnique(name);
+    if (!r.brdfTechnique->appliesTo(brdf.name))
+      throw Error("--brdf-sampler " + name + " does not apply to BRDF '" + brdf.name + "' (see --list-methods)");
+  }
+  return r;
+}
+
+SceneGpu uploadScene(const VulkanContext& context, const Scene& scene) {
+  const auto& g = scene.gbuffer;
+  const std::size_t pixels = g.pixels.size();
+  std::vector<float> rows = rowSolidAngles(scene.env.width, scene.env.height);
+  std::vector<float> params = packParams(*scene.brdf, scene.params);
+  SceneGpu gpu{Buffer::fromData(context, g.pixels, "gbuffer"),
+               Buffer(context, pixels * sizeof(gpu::AccumPixel), "accumulation"),
+               Buffer::fromData(context, scene.env.rgb, "environment radiance"),
+               Buffer::fromData(context, rows, "environment row solid angles"),
+               Buffer(context, sizeof(gpu::KernelStats), "kernel stats"),
+               Buffer::fromData(context, params, "brdf parameters")};
+  gpu.accum.fill(0);
+  gpu.stats.fill(0);
+  return gpu;
+}
+
+}  // namespace iblx

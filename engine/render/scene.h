@@ -1,0 +1,66 @@
+// A scene (DESIGN §2: object, camera, environment, BRDF) and the method that renders it, as plain values,
+// plus their GPU copies.
+#pragma once
+
+#include "engine/io/env_image.h"
+#include "engine/render/gbuffer.h"
+#include "engine/render/methods.h"
+#include "engine/vk/buffer.h"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace iblx {
+
+struct SceneSpec {
+  std::filesystem::path envPath;  // empty: the default map in assets/
+  double envRotationDeg = 0.0;
+  std::string brdf = "ggx";
+  std::vector<std::pair<std::string, std::string>> params;
+  std::string object = "sphere";
+  int width = 256, height = 256;
+};
+
+struct MethodSpec {
+  std::string method = "mis";
+  std::string envSampler = "env-cdf";
+  std::string brdfSampler;  // empty: the BRDF's best
+  std::string sequence = "random";
+  double misEnvFraction = 0.5;
+  std::string misHeuristic = "balance";  // balance | power
+};
+
+struct Scene {
+  EnvImage env;
+  double envRotationDeg = 0.0;
+  const BrdfInfo* brdf = nullptr;
+  ParamValues params;
+  GBuffer gbuffer;
+};
+
+// The method with every name resolved and checked against the scene's BRDF.
+struct ResolvedMethod {
+  const MethodInfo* method = nullptr;
+  const EnvTechniqueInfo* envTechnique = nullptr;    // null when the strategy needs none
+  const BrdfTechniqueInfo* brdfTechnique = nullptr;  // null when the strategy needs none
+  const SequenceInfo* sequence = nullptr;
+  float misEnvFraction = 0.5f;
+  bool misPower = false;
+  std::string label() const;  // e.g. "mis(env-cdf+ggx-vndf, balance 0.5)/sobol"
+};
+
+std::filesystem::path defaultEnvPath();
+Scene makeScene(EnvImage env, const SceneSpec& spec);
+Scene loadScene(const SceneSpec& spec);  // reads spec.envPath (or the default map)
+ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf);
+
+// Set-0 and set-3 buffers shared by the integrator and the reference kernel.
+struct SceneGpu {
+  Buffer gbuffer, accum, envRgb, envRowSolidAngle, stats, brdfParams;
+};
+SceneGpu uploadScene(const VulkanContext& context, const Scene& scene);
+
+}  // namespace iblx

@@ -1,0 +1,136 @@
+// env-cdf: table builder (double accumulation, float storage) and the float-exact CPU twin of the GLSL
+// sampler.
+#include "engine/sampling/env_cdf.h"
+
+#include "engine/core/error.h"
+
+#include <algorithm>
+#include <span>
+#include <string>
+#include <utility>
+
+namespace iblx {
+namespace {
+
+// Writes the normalised running sum of `weights` into cdf[0..n] (n = weights.size()): cdf[0] = 0, cdf[n] = 1
+// exactly, non-decreasing after rounding to float. An all-zero row becomes the uniform CDF k/n.
+void writeCdf(std::span<const double> weights, float* cdf) {
+  const std::size_t n = weights.size();
+  double total = 0.0;
+  for (double w : weights) total += w;
+  cdf[0] = 0.0f;
+  double running = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    running += weights[k];  // same additions as `total`, so running == total after the last bin
+    const double c = total > 0.0 ? running / total : double(k + 1) / double(n);
+    cdf[k + 1] = std::max(float(c), cdf[k]);
+  }
+  cdf[n] = 1.0f;
+}
+
+// Bin k in [0, n) with cdf[k] <= u < cdf[k+1]: (first entry among cdf[1..n] greater than u) - 1. Searching
+// from entry 1 means a zero-width bin is never returned.
+int findBin(const float* cdf, int n, float u) {
+  const float* first = std::upper_bound(cdf + 1, cdf + n + 1, u);
+  return std::clamp(int(first - cdf) - 1, 0, n - 1);
+}
+
+// Rescaled offset of u inside [lo, lo + width), in float as on the GPU.
+float remapInBin(float u, float lo, float width) {
+  return width > 0.0f ? std::clamp((u - lo) / width, 0.0f, kOneMinusEpsilonF) : 0.0f;
+}
+
+}  // namespace
+
+EnvCdfData buildEnvCdf(const EnvImage& image) {
+  const std::vector<double> weights = texelSamplingWeights(image, "env-cdf");
+  const int width = image.width, height = image.height;
+  EnvCdfData data;
+  data.width = width;
+  data.height = height;
+  data.marginalCdf.resize(std::size_t(height) + 1);
+  data.conditionalCdf.resize(std::size_t(height) * std::size_t(width + 1));
+
+  // Conditional CDF of each row, and the row weights sum_x w(x, y) for the marginal.
+  std::vector<double> rowWeights(std::size_t(height), 0.0);
+  for (int y = 0; y < height; ++y) {
+    const std::span<const double> row(weights.data() + image.index(0, y), std::size_t(width));
+    for (double w : row) rowWeights[std::size_t(y)] += w;
+    writeCdf(row, data.conditionalCdf.data() + std::size_t(y) * std::size_t(width + 1));
+  }
+  // texelSamplingWeights already replaced an all-zero image by Omega(y); this only guards total underflow.
+  double total = 0.0;
+  for (double w : rowWeights) total += w;
+  if (!(total > 0.0)) {
+    for (int y = 0; y < height; ++y) rowWeights[std::size_t(y)] = latLongTexelSolidAngle(y, width, height);
+  }
+  writeCdf(rowWeights, data.marginalCdf.data());
+  return data;
+}
+
+EnvCdfSampler::EnvCdfSampler(EnvCdfData data) : data_(std::move(data)) {
+  const int width = data_.width, height = data_.height;
+  if (width <= 0 || height <= 0 || data_.marginalCdf.size() != std::size_t(height) + 1 ||
+      data_.conditionalCdf.size() != std::size_t(height) * std::size_t(width + 1))
+    throw Error("env-cdf: table sizes do not match a " + std::to_string(width) + " x " +
+                std::to_string(height) + " map; rebuild them with buildEnvCdf");
+  rowSolidAngles_ = rowSolidAngles(width, height);
+}
+
+const float* EnvCdfSampler::conditionalRow(int y) const {
+  return data_.conditionalCdf.data() + std::size_t(y) * std::size_t(data_.width + 1);
+}
+
+float EnvCdfSampler::texelProbability(int x, int y) const {
+  const float* m = data_.marginalCdf.data();
+  const float* c = conditionalRow(y);
+  const float rowProb = m[y + 1] - m[y], colProb = c[x + 1] - c[x];
+  return rowProb * colProb;
+}
+
+EnvSample EnvCdfSampler::sample(glm::dvec2 u) const {
+  const int width = data_.width, height = data_.height;
+  const float uy = toGpuU(u.y), ux = toGpuU(u.x);
+  // Row y from the marginal, then t.y = offset of u.y inside the row's bin.
+  const float* m = data_.marginalCdf.data();
+  const int y = findBin(m, height, uy);
+  const float rowProb = m[y + 1] - m[y];
+  const float ty = remapInBin(uy, m[y], rowProb);
+  // Column x from row y's conditional, then t.x.
+  const float* c = conditionalRow(y);
+  const int x = findBin(c, width, ux);
+  const float colProb = c[x + 1] - c[x];
+  const float tx = remapInBin(ux, c[x], colProb);
+  // P = probability of the texel actually chosen; constant density P / Omega(y) inside it.
+  const float prob = rowProb * colProb;
+  const float omega = rowSolidAngles_[std::size_t(y)];
+  EnvSample s;
+  s.texel = {x, y};
+  s.direction = texelToDirection(x, y, {double(tx), double(ty)}, width, height);
+  s.pdfSolidAngle = omega > 0.0f ? double(prob / omega) : 0.0;
+  return s;
+}
+
+double EnvCdfSampler::pdf(glm::dvec3 wi) const {
+  if (!isUsableDirection(wi)) return 0.0;
+  const glm::ivec2 t = directionToTexel(wi, data_.width, data_.height);
+  const float prob = texelProbability(t.x, t.y);
+  const float omega = rowSolidAngles_[std::size_t(t.y)];
+  return omega > 0.0f ? double(prob / omega) : 0.0;
+}
+
+std::optional<glm::dvec2> EnvCdfSampler::invert(glm::dvec3 wi) const {
+  if (!isUsableDirection(wi)) return std::nullopt;
+  const glm::ivec2 texel = directionToTexel(wi, data_.width, data_.height);
+  const float* m = data_.marginalCdf.data();
+  const float* c = conditionalRow(texel.y);
+  const float rowProb = m[texel.y + 1] - m[texel.y], colProb = c[texel.x + 1] - c[texel.x];
+  if (!(rowProb > 0.0f && colProb > 0.0f)) return std::nullopt;
+  // u = cdf[bin] + t * (probability of the bin), per axis.
+  const glm::dvec2 t = directionToTexelOffset(wi, texel, data_.width, data_.height);
+  const double uy = double(m[texel.y]) + t.y * double(rowProb);
+  const double ux = double(c[texel.x]) + t.x * double(colProb);
+  return glm::dvec2(std::min(ux, double(kOneMinusEpsilonF)), std::min(uy, double(kOneMinusEpsilonF)));
+}
+
+}  // namespace iblx

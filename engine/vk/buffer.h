@@ -1,0 +1,54 @@
+// A storage buffer that owns its memory. Host-visible memory is used so that uploads and read-backs are plain
+// copies; device-local host-visible memory is preferred when the device has it (integrated GPUs, lavapipe, ReBAR).
+#pragma once
+
+#include "engine/vk/context.h"
+
+#include <cstring>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace iblx {
+
+class Buffer {
+ public:
+  Buffer() = default;
+  // size 0 is allowed and becomes a 16-byte buffer, so optional tables can always be bound.
+  Buffer(const VulkanContext& context, vk::DeviceSize size, std::string name);
+
+  template <typename T>
+  static Buffer fromData(const VulkanContext& context, std::span<const T> data, std::string name) {
+    Buffer buffer(context, data.size_bytes(), std::move(name));
+    buffer.write(data.data(), data.size_bytes());
+    return buffer;
+  }
+  template <typename T>
+  static Buffer fromData(const VulkanContext& context, const std::vector<T>& data, std::string name) {
+    return fromData(context, std::span<const T>(data), std::move(name));
+  }
+
+  void write(const void* data, vk::DeviceSize bytes, vk::DeviceSize offset = 0);
+  void read(void* data, vk::DeviceSize bytes, vk::DeviceSize offset = 0) const;
+  template <typename T>
+  std::vector<T> readAll() const {
+    std::vector<T> out(size_ / sizeof(T));
+    read(out.data(), out.size() * sizeof(T));
+    return out;
+  }
+  void fill(uint32_t value);
+
+  vk::Buffer handle() const { return *buffer_; }
+  vk::DeviceSize size() const { return size_; }
+  const std::string& name() const { return name_; }
+
+ private:
+  // Members are destroyed in reverse: mapping, buffer, then memory.
+  vk::raii::DeviceMemory memory_ = nullptr;
+  vk::raii::Buffer buffer_ = nullptr;
+  void* mapped_ = nullptr;
+  vk::DeviceSize size_ = 0;
+  std::string name_;
+};
+
+}  // namespace iblx

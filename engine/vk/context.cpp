@@ -1,0 +1,197 @@
+// Instance creation (validation layers when asked and installed), device selection with reasons, compute queue.
+#include "engine/vk/context.h"
+
+#include "engine/core/error.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+
+namespace iblx {
+namespace {
+
+constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+std::mutex gMessageMutex;
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s;
+}
+
+int typeRank(vk::PhysicalDeviceType type) {
+  switch (type) {
+    case vk::PhysicalDeviceType::eDiscreteGpu: return 0;
+    case vk::PhysicalDeviceType::eIntegratedGpu: return 1;
+    case vk::PhysicalDeviceType::eVirtualGpu: return 2;
+    case vk::PhysicalDeviceType::eCpu: return 3;
+    default: return 4;
+  }
+}
+
+std::string typeName(vk::PhysicalDeviceType type) {
+  switch (type) {
+    case vk::PhysicalDeviceType::eDiscreteGpu: return "discrete GPU";
+    case vk::PhysicalDeviceType::eIntegratedGpu: return "integrated GPU";
+    case vk::PhysicalDeviceType::eVirtualGpu: return "virtual GPU";
+    case vk::PhysicalDeviceType::eCpu: return "CPU";
+    default: return "other";
+  }
+}
+
+// Why a device cannot run iblx, or empty if it can.
+std::string rejectionReason(const vk::raii::PhysicalDevice& device, uint32_t* computeFamily) {
+  const auto properties = device.getProperties();
+  if (properties.apiVersion < VK_API_VERSION_1_2) return "supports only Vulkan " +
+                                                        std::to_string(VK_API_VERSION_MAJOR(properties.apiVersion)) +
+                                                        "." + std::to_string(VK_API_VERSION_MINOR(properties.apiVersion)) +
+                                                        ", iblx needs 1.2";
+  const auto families = device.getQueueFamilyProperties();
+  for (uint32_t i = 0; i < families.size(); ++i) {
+    if (families[i].queueFlags & vk::QueueFlagBits::eCompute) {
+      if (computeFamily) *computeFamily = i;
+      return {};
+    }
+  }
+  return "has no compute queue";
+}
+
+bool layerAvailable(const vk::raii::Context& context, const char* name) {
+  for (const auto& layer : context.enumerateInstanceLayerProperties())
+    if (std::string_view(layer.layerName) == name) return true;
+  return false;
+}
+
+bool validationRequested(Validation v) {
+  if (v == Validation::On) return true;
+  if (v == Validation::Off) return false;
+  if (const char* env = std::getenv("IBLX_VALIDATION")) return std::string_view(env) == "1";
+#ifndef NDEBUG
+  return true;
+#else
+  return false;
+#endif
+}
+
+}  // namespace
+
+VKAPI_ATTR VkBool32 VKAPI_CALL VulkanContext::debugCallback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                            VkDebugUtilsMessageTypeFlagsEXT,
+                                                            const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                            void* user) {
+  auto* self = static_cast<VulkanContext*>(user);
+  if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+    self->validationErrors_++;
+    std::lock_guard lock(gMessageMutex);
+    self->messages_.emplace_back(data->pMessage ? data->pMessage : "(no message)");
+    std::fprintf(stderr, "iblx: Vulkan validation error: %s\n", data->pMessage ? data->pMessage : "");
+  }
+  return VK_FALSE;
+}
+
+std::vector<std::string> VulkanContext::validationMessages() const {
+  std::lock_guard lock(gMessageMutex);
+  return messages_;
+}
+
+std::vector<DeviceDescription> VulkanContext::describeDevices() {
+  vk::raii::Context context;
+  vk::ApplicationInfo app("iblx", 1, "iblx", 1, VK_API_VERSION_1_2);
+  vk::raii::Instance instance(context, vk::InstanceCreateInfo({}, &app));
+  std::vector<DeviceDescription> result;
+  uint32_t index = 0;
+  for (const auto& device : vk::raii::PhysicalDevices(instance)) {
+    const auto properties = device.getProperties();
+    result.push_back({index++, properties.deviceName.data(), typeName(properties.deviceType),
+                      rejectionReason(device, nullptr)});
+  }
+  return result;
+}
+
+VulkanContext::VulkanContext(const ContextOptions& options) {
+  std::vector<const char*> layers, extensions;
+  if (validationRequested(options.validation)) {
+    if (layerAvailable(context_, kValidationLayer)) {
+      layers.push_back(kValidationLayer);
+      extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+      validationEnabled_ = true;
+    } else if (options.validation == Validation::On) {
+      throw Error("Vulkan validation was requested but " + std::string(kValidationLayer) +
+                  " is not installed (Debian package vulkan-validationlayers)");
+    }
+  }
+  vk::ApplicationInfo app("iblx", 1, "iblx", 1, VK_API_VERSION_1_2);
+  instance_ = vk::raii::Instance(context_, vk::InstanceCreateInfo({}, &app, layers, extensions));
+  if (validationEnabled_) {
+    using S = vk::DebugUtilsMessageSeverityFlagBitsEXT;
+    using T = vk::DebugUtilsMessageTypeFlagBitsEXT;
+    messenger_ = vk::raii::DebugUtilsMessengerEXT(
+        instance_, vk::DebugUtilsMessengerCreateInfoEXT({}, S::eError | S::eWarning,
+                                                        T::eGeneral | T::eValidation | T::ePerformance,
+                                                        &VulkanContext::debugCallback, this));
+  }
+
+  // Choose the device: explicit selector, else the best type.
+  std::string selector = options.deviceSelector;
+  if (selector.empty())
+    if (const char* env = std::getenv("IBLX_DEVICE")) selector = env;
+  vk::raii::PhysicalDevices devices(instance_);
+  std::string report;
+  int best = -1;
+  uint32_t bestFamily = 0;
+  for (uint32_t i = 0; i < devices.size(); ++i) {
+    const auto properties = devices[i].getProperties();
+    uint32_t family = 0;
+    std::string reason = rejectionReason(devices[i], &family);
+    const std::string name = properties.deviceName.data();
+    if (reason.empty() && !selector.empty()) {
+      const bool isIndex = std::all_of(selector.begin(), selector.end(), ::isdigit);
+      const bool match = isIndex ? std::stoul(selector) == i : lower(name).find(lower(selector)) != std::string::npos;
+      if (!match) reason = "does not match --device '" + selector + "'";
+    }
+    report += "\n  [" + std::to_string(i) + "] " + name + " (" + typeName(properties.deviceType) + "): " +
+              (reason.empty() ? "usable" : reason);
+    if (!reason.empty()) continue;
+    if (best < 0 || typeRank(properties.deviceType) < typeRank(devices[best].getProperties().deviceType)) {
+      best = int(i);
+      bestFamily = family;
+    }
+  }
+  if (best < 0) {
+    throw Error(devices.empty() ? "no Vulkan device found; install a driver (for CPU rendering: the Debian package "
+                                  "mesa-vulkan-drivers, which provides lavapipe)"
+                                : "no usable Vulkan device:" + report);
+  }
+  physicalDevice_ = std::move(devices[best]);
+  queueFamily_ = bestFamily;
+  const auto properties = physicalDevice_.getProperties();
+  deviceName_ = properties.deviceName.data();
+  limits_ = properties.limits;
+  timestampPeriodNs_ = properties.limits.timestampPeriod;
+  hasTimestamps_ = physicalDevice_.getQueueFamilyProperties()[queueFamily_].timestampValidBits > 0 &&
+                   properties.limits.timestampComputeAndGraphics;
+
+  const float priority = 1.0f;
+  vk::DeviceQueueCreateInfo queueInfo({}, queueFamily_, 1, &priority);
+  vk::PhysicalDeviceFeatures features;
+  vk::DeviceCreateInfo deviceInfo({}, queueInfo, {}, {}, &features);
+  device_ = vk::raii::Device(physicalDevice_, deviceInfo);
+  queue_ = vk::raii::Queue(device_, queueFamily_, 0);
+  commandPool_ = vk::raii::CommandPool(
+      device_, vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer, queueFamily_));
+}
+
+void VulkanContext::submitAndWait(const std::function<void(vk::CommandBuffer)>& record) const {
+  vk::raii::CommandBuffers buffers(device_, vk::CommandBufferAllocateInfo(*commandPool_, vk::CommandBufferLevel::ePrimary, 1));
+  vk::raii::CommandBuffer& cmd = buffers[0];
+  cmd.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
+  record(*cmd);
+  cmd.end();
+  vk::raii::Fence fence(device_, vk::FenceCreateInfo());
+  vk::CommandBuffer handle = *cmd;
+  queue_.submit(vk::SubmitInfo({}, {}, handle), *fence);
+  while (device_.waitForFences(*fence, VK_TRUE, UINT64_MAX) == vk::Result::eTimeout) {
+  }
+}
+
+}  // namespace iblx

@@ -1,0 +1,83 @@
+// The Vulkan instance, the chosen device and its compute queue, headless, with vk::raii ownership.
+//
+//   VulkanContext ctx({.deviceSelector = "llvmpipe"});      // or IBLX_DEVICE=... in the environment
+//   ctx.submitAndWait([&](vk::CommandBuffer cmd) { ... });
+#pragma once
+
+#include <vulkan/vulkan_raii.hpp>
+
+#include <atomic>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace iblx {
+
+enum class Validation { Auto, On, Off };  // Auto: on in debug builds or when IBLX_VALIDATION=1, if installed
+
+struct ContextOptions {
+  // Empty: the IBLX_DEVICE environment variable, else the best device (discrete, integrated, virtual, CPU).
+  // Otherwise a device index as listed by `iblx devices` or a case-insensitive substring of its name.
+  std::string deviceSelector;
+  Validation validation = Validation::Auto;
+};
+
+struct DeviceDescription {
+  uint32_t index = 0;
+  std::string name;
+  std::string type;
+  std::string rejectedBecause;  // empty when usable
+};
+
+class VulkanContext {
+ public:
+  explicit VulkanContext(const ContextOptions& options = {});
+  VulkanContext(const VulkanContext&) = delete;
+  VulkanContext& operator=(const VulkanContext&) = delete;
+
+  const vk::raii::Device& device() const { return device_; }
+  const vk::raii::PhysicalDevice& physicalDevice() const { return physicalDevice_; }
+  const vk::raii::Queue& queue() const { return queue_; }
+  const vk::raii::CommandPool& commandPool() const { return commandPool_; }
+  uint32_t queueFamily() const { return queueFamily_; }
+  double timestampPeriodNs() const { return timestampPeriodNs_; }
+  bool hasTimestamps() const { return hasTimestamps_; }
+  const std::string& deviceName() const { return deviceName_; }
+  bool validationEnabled() const { return validationEnabled_; }
+  const vk::PhysicalDeviceLimits& limits() const { return limits_; }
+
+  // Messages of severity error reported by the validation layers since creation.
+  uint32_t validationErrorCount() const { return validationErrors_.load(); }
+  std::vector<std::string> validationMessages() const;
+
+  // Records commands into a one-time command buffer, submits and waits for completion.
+  void submitAndWait(const std::function<void(vk::CommandBuffer)>& record) const;
+
+  // Every physical device with the reason it would be rejected (for `iblx devices` and error messages).
+  static std::vector<DeviceDescription> describeDevices();
+
+ private:
+  static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                      VkDebugUtilsMessageTypeFlagsEXT types,
+                                                      const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                      void* user);
+
+  // Declaration order is destruction order in reverse: the device goes before the instance.
+  vk::raii::Context context_;
+  vk::raii::Instance instance_ = nullptr;
+  vk::raii::DebugUtilsMessengerEXT messenger_ = nullptr;
+  vk::raii::PhysicalDevice physicalDevice_ = nullptr;
+  vk::raii::Device device_ = nullptr;
+  vk::raii::Queue queue_ = nullptr;
+  vk::raii::CommandPool commandPool_ = nullptr;
+  uint32_t queueFamily_ = 0;
+  double timestampPeriodNs_ = 1.0;
+  bool hasTimestamps_ = false;
+  bool validationEnabled_ = false;
+  std::string deviceName_;
+  vk::PhysicalDeviceLimits limits_;
+  std::atomic<uint32_t> validationErrors_{0};
+  mutable std::vector<std::string> messages_;
+};
+
+}  // namespace iblx

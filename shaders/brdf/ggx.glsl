@@ -1,0 +1,12 @@
+// BRDF "ggx": a metallic-roughness material. f = (1 - metallic) * color / pi + D G2 F / (4 cos_i cos_o),
+// F = Schlick with F0 = mix(0.04, color, metallic). Parameters: color, roughness (the GGX alpha), metallic.
+#include "lib/ggx.glsl"
+
+vec3 brdfEval(vec3 wi, vec3 wo) {
+  if (wi.z <= 0.0 || wo.z <= 0.0) return vec3(0.0);
+  vec3 h = normalize(wi + wo);
+  vec3 f0 = mix(vec3(0.04), color, metallic);
+  vec3 specular = fresnelSchlick(f0, dot(wi, h)) * (ggxD(h, roughness) * ggxG2(wi, wo, roughness) /
+                                                   (4.0 * wi.z * wo.z));
+  return (1.0 - metallic) * color * kInvPi + specular;
+}

@@ -1,0 +1,43 @@
+// The integrator: one invocation per pixel adds frame.samplesPerPass estimates to the running mean and the
+// running mean of squares (DESIGN §6: means, not float32 sums, so precision does not decay with the count).
+// Non-finite estimates are replaced by 0 and counted in stats.nonFiniteSamples, which must stay 0.
+// Assembled with one part per role by engine/render/kernel_assembly.cpp.
+#include "lib/frame_resources.glsl"
+#include "lib/latlong.glsl"
+#include "lib/pixel_shading.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+void main() {
+  uvec2 pixel = gl_GlobalInvocationID.xy;
+  if (pixel.x >= frame.width || pixel.y >= frame.height) return;
+  uint index = pixel.y * frame.width + pixel.x;
+  GPixel g = gbuffer[index];
+  if (g.normal.w == 0.0) {  // background: the environment seen in that direction, exact from the first pass
+    vec3 radiance = envRadiance(normalize(worldToEnv(g.view.xyz)));
+    accum[index].mean = vec4(radiance, 1.0);
+    accum[index].meanSquare = vec4(radiance * radiance, 1.0);
+    return;
+  }
+  Shading s = pixelShading(g);
+  vec3 sum = vec3(0.0), sumSquares = vec3(0.0);
+  uint nonFinite = 0u;
+  for (uint k = 0u; k < frame.samplesPerPass; ++k) {
+    vec2 u = sequenceSample(pixel, frame.sampleOffset + k, frame.seed);
+    vec3 x = estimateRadiance(u, s);
+    if (any(isnan(x)) || any(isinf(x))) {
+      x = vec3(0.0);
+      ++nonFinite;
+    }
+    sum += x;
+    sumSquares += x * x;
+  }
+  if (nonFinite > 0u) atomicAdd(stats.nonFiniteSamples, nonFinite);
+  float total = float(frame.sampleOffset + frame.samplesPerPass);
+  AccumPixel a = frame.sampleOffset == 0u ? AccumPixel(vec4(0.0), vec4(0.0)) : accum[index];
+  // mean_new = mean + (sum - S mean) / (n + S)
+  a.mean.rgb += (sum - float(frame.samplesPerPass) * a.mean.rgb) / total;
+  a.meanSquare.rgb += (sumSquares - float(frame.samplesPerPass) * a.meanSquare.rgb) / total;
+  a.mean.a = 1.0;
+  accum[index] = a;
+}

@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Command-line tests: each class of bad input gives one clear line naming the culprit and a non-zero exit,
+# and nothing is written. Usage: bad_input_test.sh path/to/iblx
+set -u
+iblx="$1"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+passed=0
+failed=0
+
+# expect_error "description" "substring of the message" args...
+expect_error() {
+  local what="$1" pattern="$2"
+  shift 2
+  local out status
+  out=$("$iblx" "$@" 2>&1 >/dev/null)
+  status=$?
+  if [ $status -ne 0 ] && [ "$(printf '%s\n' "$out" | grep -c .)" -ge 1 ] && printf '%s' "$out" | grep -qF -- "$pattern"; then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    echo "FAIL: $what: exit $status, stderr: $out (expected to contain: $pattern)"
+  fi
+}
+
+expect_ok() {
+  local what="$1"
+  shift
+  if out=$("$iblx" "$@" 2>&1); then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    echo "FAIL: $what: $out"
+  fi
+}
+
+printf 'this is not an exr file at all' > "$tmp/garbage.exr"
+: > "$tmp/empty.hdr"
+printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 64 +X 128\n\001\002' > "$tmp/truncated.hdr"
+
+expect_error "missing env file" "$tmp/nope.exr" render --env "$tmp/nope.exr" --out "$tmp/a.png"
+expect_error "corrupt exr" "garbage.exr" render --env "$tmp/garbage.exr" --out "$tmp/a.png"
+expect_error "empty hdr" "empty.hdr" render --env "$tmp/empty.hdr" --out "$tmp/a.png"
+expect_error "truncated hdr" "truncated.hdr" render --env "$tmp/truncated.hdr" --out "$tmp/a.png"
+expect_error "unsupported env format" "nope.jpg" render --env "$tmp/nope.jpg" --out "$tmp/a.png"
+expect_error "unknown method" "unknown --method 'bogus'" render --method bogus
+expect_error "unknown method lists valid" "env-cdf" render --method bogus
+expect_error "unknown brdf" "unknown --brdf 'velvet'" render --brdf velvet
+expect_error "unknown parameter" "has no parameter 'shininess'" render --brdf ggx --param shininess=3
+expect_error "bad parameter value" "not a number" render --brdf ggx --param roughness=abc
+expect_error "parameter out of range" "out of range" render --brdf ggx --param roughness=2
+expect_error "bad color" "expected a color" render --brdf lambert --param albedo=0.1,0.2
+expect_error "unknown flag" "unknown flag '--bogus'" render --bogus
+expect_error "missing value" "--spp needs a value" render --spp
+expect_error "spp out of range" "--spp 0" render --spp 0
+expect_error "bad size" "expected WIDTHxHEIGHT" render --size 64
+expect_error "negative size" "--size" render --size -4x8
+expect_error "bad sequence" "unknown --seq 'halton'" render --seq halton
+expect_error "bad heuristic" "--mis-heuristic" render --mis-heuristic maximum
+expect_error "bad split" "--mis-split" render --mis-split 1.5
+expect_error "inapplicable technique" "does not apply to BRDF 'lambert'" render --brdf lambert --method brdf --brdf-sampler ggx-vndf
+expect_error "unknown env sampler" "unknown --env-sampler" render --method mis --env-sampler nope
+expect_error "bad output format" "unsupported image format" render --out "$tmp/x.jpg"
+expect_error "output dir missing" "does not exist" render --out "$tmp/no/such/dir.png"
+expect_error "reference needs exr" "use .exr" reference --out "$tmp/x.png"
+expect_error "bad device" "no usable Vulkan device" render --device no-such-gpu --size 8x8 --passes 1 --out "$tmp/d.png"
+expect_error "unknown command" "unknown command" frobnicate
+[ ! -e "$tmp/a.png" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: an image was written despite errors"; }
+
+expect_ok "list methods" render --list-methods
+expect_ok "tiny render" render --size 16x16 --spp 4 --passes 2 --out "$tmp/ok.png"
+[ -s "$tmp/ok.png" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: tiny render wrote no image"; }
+json=$("$iblx" render --size 16x16 --spp 4 --passes 2 --json --reference --out "$tmp/ok.exr" 2>/dev/null)
+if printf '%s' "$json" | grep -q '"relmse"' && printf '%s' "$json" | grep -q '"samples_per_s"'; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: --json --reference output: $json"
+fi
+
+echo "cli: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

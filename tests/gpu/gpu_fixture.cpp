@@ -1,0 +1,163 @@
+// GPU test fixture implementation: context, compiler with probe sources, probe runners.
+#include "tests/gpu/gpu_fixture.h"
+
+#include "engine/render/kernel_assembly.h"
+#include "engine/sampling/latlong_texel.h"
+#include "engine/vk/compute_kernel.h"
+
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace iblx::test {
+namespace {
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  REQUIRE_MESSAGE(in, "cannot read " << path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+uint32_t gSeenValidationErrors = 0;
+
+// Shared machinery of the two probes: scene buffers (set 0, set 3), probe I/O (set 1), a technique's set 2.
+struct ProbeRunner {
+  Scene scene;
+  SceneGpu gpu;
+  std::vector<Buffer> techniqueBuffers;
+  std::unique_ptr<ComputeKernel> kernel;
+  glm::dvec3 vector;  // the normal (env probe) or wo (BRDF probe)
+
+  ProbeRunner(Scene s, const std::string& kernelFile, std::vector<std::string> parts, const TechniqueData& data,
+              glm::dvec3 v)
+      : scene(std::move(s)), gpu(uploadScene(gpuContext(), scene)), vector(v) {
+    for (size_t i = 0; i < data.buffers.size(); ++i)
+      techniqueBuffers.push_back(Buffer::fromData(gpuContext(), data.buffers[i], data.names[i]));
+    KernelParts k{kernelFile, std::move(parts), paramBlockGlsl(*scene.brdf)};
+    const auto spirv = gpuCompiler().compile(assemblePrelude(k), kernelFile);
+    KernelLayout layout = sceneKernelLayout(uint32_t(techniqueBuffers.size()), 0);
+    layout.buffersPerSet[1] = 2;
+    kernel = std::make_unique<ComputeKernel>(gpuContext(), spirv, layout, kernelFile);
+    kernel->bindBuffers(0, {&gpu.gbuffer, &gpu.accum, &gpu.envRgb, &gpu.envRowSolidAngle, &gpu.stats});
+    std::vector<const Buffer*> set2;
+    for (const auto& b : techniqueBuffers) set2.push_back(&b);
+    kernel->bindBuffers(2, set2);
+    kernel->bindBuffers(3, {&gpu.brdfParams});
+  }
+
+  std::vector<gpu::vec4> run(const std::vector<gpu::vec4>& input, uint32_t mode) {
+    Buffer in = Buffer::fromData(gpuContext(), input, "probe input");
+    Buffer out(gpuContext(), input.size() * 2 * sizeof(gpu::vec4), "probe output");
+    kernel->bindBuffers(1, {&in, &out});
+    gpu::FrameParams params{};
+    params.width = params.height = 1;
+    params.envWidth = uint32_t(scene.env.width);
+    params.envHeight = uint32_t(scene.env.height);
+    params.samplesPerPass = uint32_t(input.size());
+    params.rowBegin = mode;
+    params.envRotation = {1, 0, 0, 0};
+    params.quadrature = {float(vector.x), float(vector.y), float(vector.z), 0};
+    gpuContext().submitAndWait([&](vk::CommandBuffer cmd) {
+      kernel->record(cmd, uint32_t((input.size() + 63) / 64), 1, &params, sizeof params);
+      // Shader writes -> host reads after the fence.
+      vk::MemoryBarrier barrier(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eHostRead);
+      cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eHost, {}, barrier,
+                          {}, {});
+    });
+    return out.readAll<gpu::vec4>();
+  }
+
+  std::vector<ProbeSample> sample(std::span<const glm::dvec2> u) {
+    std::vector<gpu::vec4> input(u.size());
+    for (size_t i = 0; i < u.size(); ++i) input[i] = {toGpuU(u[i].x), toGpuU(u[i].y), 0, 0};
+    const auto out = run(input, 0);
+    std::vector<ProbeSample> samples(u.size());
+    for (size_t i = 0; i < u.size(); ++i)
+      samples[i] = {{out[2 * i].x, out[2 * i].y, out[2 * i].z}, out[2 * i].w, out[2 * i + 1].x};
+    return samples;
+  }
+
+  std::vector<gpu::vec4> directionsMode(std::span<const glm::dvec3> d, uint32_t mode) {
+    std::vector<gpu::vec4> input(d.size());
+    for (size_t i = 0; i < d.size(); ++i) input[i] = {float(d[i].x), float(d[i].y), float(d[i].z), 0};
+    return run(input, mode);
+  }
+
+  std::vector<double> pdf(std::span<const glm::dvec3> d) {
+    const auto out = directionsMode(d, 1);
+    std::vector<double> pdfs(d.size());
+    for (size_t i = 0; i < d.size(); ++i) pdfs[i] = out[2 * i].x;
+    return pdfs;
+  }
+};
+
+Scene probeScene(EnvImage env, const std::string& brdf, const std::vector<std::pair<std::string, std::string>>& params) {
+  SceneSpec spec;
+  spec.brdf = brdf;
+  spec.params = params;
+  spec.width = spec.height = 1;
+  return makeScene(std::move(env), spec);
+}
+
+}  // namespace
+
+const VulkanContext& gpuContext() {
+  static VulkanContext context({"", Validation::Auto});
+  return context;
+}
+
+ShaderCompiler& gpuCompiler() {
+  static ShaderCompiler compiler = [] {
+    ShaderCompiler c;
+    for (const char* probe : {"env_sampler_probe.comp", "brdf_sampler_probe.comp"})
+      c.addSource(std::string("probe/") + probe, readFile(std::string(IBLX_TEST_SOURCE_DIR) + "/gpu/probe/" + probe));
+    return c;
+  }();
+  return compiler;
+}
+
+void checkNoNewValidationErrors() {
+  const uint32_t now = gpuContext().validationErrorCount();
+  CHECK_MESSAGE(now == gSeenValidationErrors, "Vulkan validation errors were reported (see stderr)");
+  gSeenValidationErrors = now;
+}
+
+struct EnvTechniqueProbe::Impl : ProbeRunner {
+  using ProbeRunner::ProbeRunner;
+};
+
+EnvTechniqueProbe::EnvTechniqueProbe(const std::string& technique, const EnvImage& env, glm::dvec3 normal) {
+  const auto& info = findEnvTechnique(technique);
+  impl_ = std::make_unique<Impl>(probeScene(env, "lambert", {}), "probe/env_sampler_probe.comp",
+                                 std::vector<std::string>{info.part}, info.build(env), normal);
+}
+EnvTechniqueProbe::~EnvTechniqueProbe() = default;
+std::vector<ProbeSample> EnvTechniqueProbe::sample(std::span<const glm::dvec2> u) { return impl_->sample(u); }
+std::vector<double> EnvTechniqueProbe::pdf(std::span<const glm::dvec3> d) { return impl_->pdf(d); }
+
+struct BrdfTechniqueProbe::Impl : ProbeRunner {
+  using ProbeRunner::ProbeRunner;
+};
+
+BrdfTechniqueProbe::BrdfTechniqueProbe(const std::string& technique, const std::string& brdf,
+                                       const std::vector<std::pair<std::string, std::string>>& params, glm::dvec3 wo) {
+  const auto& info = findBrdfTechnique(technique);
+  Scene scene = probeScene(EnvImage{2, 1, std::vector<float>(6, 1.0f)}, brdf, params);
+  const std::string evalPart = scene.brdf->evalPart;
+  impl_ = std::make_unique<Impl>(std::move(scene), "probe/brdf_sampler_probe.comp",
+                                 std::vector<std::string>{evalPart, info.part}, TechniqueData{}, wo);
+}
+BrdfTechniqueProbe::~BrdfTechniqueProbe() = default;
+std::vector<ProbeSample> BrdfTechniqueProbe::sample(std::span<const glm::dvec2> u) { return impl_->sample(u); }
+std::vector<double> BrdfTechniqueProbe::pdf(std::span<const glm::dvec3> d) { return impl_->pdf(d); }
+std::vector<glm::dvec3> BrdfTechniqueProbe::evalCos(std::span<const glm::dvec3> d) {
+  const auto out = impl_->directionsMode(d, 2);
+  std::vector<glm::dvec3> values(d.size());
+  for (size_t i = 0; i < d.size(); ++i) values[i] = {out[2 * i].x, out[2 * i].y, out[2 * i].z};
+  return values;
+}
+
+}  // namespace iblx::test

@@ -1,0 +1,56 @@
+// Shared GPU test fixture: one Vulkan context (validation layers on when installed) and one shader compiler that
+// also sees the probe kernels under tests/gpu/probe, plus the probe runners for env and BRDF techniques.
+#pragma once
+
+#include "engine/render/scene.h"
+#include "engine/vk/context.h"
+#include "engine/vk/shader_compiler.h"
+#include "tests/support/chi2.h"
+
+#include <glm/glm.hpp>
+
+#include <span>
+#include <vector>
+
+namespace iblx::test {
+
+const VulkanContext& gpuContext();
+ShaderCompiler& gpuCompiler();
+// Validation errors reported since the previous call (fails the calling test case when non-zero).
+void checkNoNewValidationErrors();
+
+struct ProbeSample {
+  glm::dvec3 direction;
+  double pdf = 0.0;        // from the technique's sample()
+  double pdfLookup = 0.0;  // the technique's pdf() of that direction
+};
+
+// Runs an env technique from the registry on `env` through the probe kernel.
+class EnvTechniqueProbe {
+ public:
+  EnvTechniqueProbe(const std::string& technique, const EnvImage& env, glm::dvec3 normal = {0, 1, 0});
+  ~EnvTechniqueProbe();
+  std::vector<ProbeSample> sample(std::span<const glm::dvec2> u);
+  std::vector<double> pdf(std::span<const glm::dvec3> directions);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Runs a BRDF technique (and the BRDF) through the probe kernel, local frame, fixed wo.
+class BrdfTechniqueProbe {
+ public:
+  BrdfTechniqueProbe(const std::string& technique, const std::string& brdf,
+                     const std::vector<std::pair<std::string, std::string>>& params, glm::dvec3 wo);
+  ~BrdfTechniqueProbe();
+  std::vector<ProbeSample> sample(std::span<const glm::dvec2> u);
+  std::vector<double> pdf(std::span<const glm::dvec3> directions);
+  std::vector<glm::dvec3> evalCos(std::span<const glm::dvec3> directions);  // f(wi, wo) * max(cos, 0)
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace iblx::test

@@ -1,0 +1,258 @@
+// End-to-end tests of the integrator and the reference on lavapipe at small sizes: white furnace, unbiasedness
+// (z-test of the mean signed error with the measured variance), 1/N convergence, and no NaN/Inf on hard cases.
+#include "engine/render/metrics.h"
+#include "engine/render/reference.h"
+#include "engine/core/error.h"
+#include "engine/render/kernel_assembly.h"
+#include "engine/render/renderer.h"
+#include "tests/gpu/gpu_fixture.h"
+#include "tests/support/hard_envs.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <unistd.h>
+
+using namespace iblx;
+using namespace iblx::test;
+
+namespace {
+
+// Every (method, technique) combination the registry offers for a BRDF: single env techniques, every applicable
+// BRDF technique alone, and MIS of every env technique with the BRDF's best sampler (balance and power).
+std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& sequence) {
+  std::vector<MethodSpec> specs;
+  for (const auto& m : methodRegistry()) {
+    MethodSpec spec;
+    spec.method = m.name;
+    spec.sequence = sequence;
+    if (m.strategy == Strategy::SingleEnv) {
+      specs.push_back(spec);
+    } else if (m.strategy == Strategy::SingleBrdf) {
+      for (const auto& t : brdfTechniqueRegistry())
+        if (t.appliesTo(brdf.name)) specs.push_back((spec.brdfSampler = t.name, spec));
+    } else {
+      for (const auto& e : envTechniqueRegistry())
+        for (const char* heuristic : {"balance", "power"}) {
+          spec.envSampler = e.name;
+          spec.misHeuristic = heuristic;
+          specs.push_back(spec);
+        }
+    }
+  }
+  return specs;
+}
+
+Scene sceneWith(EnvImage env, const std::string& brdf, std::vector<std::pair<std::string, std::string>> params,
+                int size) {
+  SceneSpec spec;
+  spec.brdf = brdf;
+  spec.params = std::move(params);
+  spec.width = spec.height = size;
+  return makeScene(std::move(env), spec);
+}
+
+struct ZTest {
+  double z[3] = {0, 0, 0};
+  double meanError[3] = {0, 0, 0};
+  double standardError[3] = {0, 0, 0};
+};
+
+// z of the image-mean signed error per channel: sum over pixels of (x_p - r_p), divided by its standard deviation
+// sqrt(sum var_p / N) (pixels are independent; the variance is the measured per-pixel sample variance).
+ZTest zTest(const Scene& scene, const Renderer& renderer, const std::vector<float>& reference) {
+  const auto mean = renderer.meanRgb();
+  const auto var = renderer.varianceRgb();
+  const double n = double(renderer.samplesPerPixel());
+  ZTest t;
+  double count = 0;
+  double sum[3] = {0, 0, 0}, varSum[3] = {0, 0, 0};
+  for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i) {
+    if (scene.gbuffer.pixels[i].normal.w == 0.0f) continue;
+    ++count;
+    for (int c = 0; c < 3; ++c) {
+      sum[c] += double(mean[3 * i + c]) - reference[3 * i + c];
+      varSum[c] += var[3 * i + c] / n;
+    }
+  }
+  for (int c = 0; c < 3; ++c) {
+    t.meanError[c] = sum[c] / count;
+    t.standardError[c] = std::sqrt(varSum[c]) / count;
+    // A zero-variance estimator must match to float rounding of the reference.
+    t.z[c] = t.standardError[c] > 0 ? t.meanError[c] / t.standardError[c]
+                                    : (std::abs(t.meanError[c]) < 1e-5 ? 0.0 : 1e9);
+  }
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("white furnace: constant environment 1 and Lambert albedo give the albedo, for every method") {
+  const double albedo = 0.7;
+  const Scene scene = sceneWith(constantEnv(16, 8, 1.0f), "lambert", {{"albedo", "0.7"}}, 32);
+  for (const char* sequence : {"random", "sobol"})
+    for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {
+      const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+      INFO(method.label());
+      Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 3);
+      for (int pass = 0; pass < 4; ++pass) renderer.runPass(64);
+      const auto mean = renderer.meanRgb();
+      const auto var = renderer.varianceRgb();
+      const double n = double(renderer.samplesPerPixel());
+      int failures = 0;
+      for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i) {
+        if (scene.gbuffer.pixels[i].normal.w == 0.0f) continue;
+        // 5 sigma per pixel (about 3e-7 false alarms each) plus float rounding of the running mean.
+        const double bound = 5.0 * std::sqrt(var[3 * i] / n) + 1e-4;
+        failures += std::abs(mean[3 * i] - albedo) > bound;
+      }
+      CHECK(failures == 0);
+      CHECK(renderer.nonFiniteSamples() == 0);
+    }
+  checkNoNewValidationErrors();
+}
+
+TEST_CASE("reference: white furnace convolution gives the albedo") {
+  const Scene scene = sceneWith(constantEnv(32, 16, 1.0f), "lambert", {{"albedo", "0.5,0.6,0.7"}}, 32);
+  const ReferenceImage ref = computeReference(gpuContext(), gpuCompiler(), scene);
+  double worst = 0;
+  for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i)
+    if (scene.gbuffer.pixels[i].normal.w != 0.0f)
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(ref.rgb[3 * i + c] - (0.5 + 0.1 * c)));
+  CHECK(worst < 2e-4);
+  checkNoNewValidationErrors();
+}
+
+TEST_CASE("every method converges to the convolution reference (z-test)") {
+  struct Case {
+    std::string name;
+    EnvImage env;
+    std::string brdf;
+    std::vector<std::pair<std::string, std::string>> params;
+  };
+  const Case cases[] = {
+      {"lambert/smooth", smoothSky(32, 16), "lambert", {}},
+      {"ggx a=0.3 metallic=0.5/smooth", smoothSky(32, 16), "ggx", {{"roughness", "0.3"}, {"metallic", "0.5"}}},
+      {"ggx a=0.15/sun+zero", sunAndZeroHalf(32, 16), "ggx", {{"roughness", "0.15"}, {"metallic", "1"}}},
+  };
+  // About 250 z-values (cases x methods x sequences x channels); |z| < 5.5 has a two-sided false-alarm rate of
+  // 3.8e-8 each, 1e-5 for the family, while a bias of 5.5 standard errors (here ~1e-3 relative) fails.
+  const double zBound = 5.5;
+  for (const auto& c : cases) {
+    const Scene scene = sceneWith(c.env, c.brdf, c.params, 24);
+    const ReferenceImage ref = computeReference(gpuContext(), gpuCompiler(), scene);
+    for (const char* sequence : {"random", "sobol"})
+      for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {
+        const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+        INFO(c.name << ": " << method.label());
+        Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 17);
+        for (int pass = 0; pass < 8; ++pass) renderer.runPass(64);
+        const ZTest t = zTest(scene, renderer, ref.rgb);
+        for (int ch = 0; ch < 3; ++ch) {
+          INFO("channel " << ch << ": mean error " << t.meanError[ch] << ", standard error " << t.standardError[ch]);
+          CHECK(std::abs(t.z[ch]) < zBound);
+        }
+        CHECK(renderer.nonFiniteSamples() == 0);
+      }
+  }
+  checkNoNewValidationErrors();
+}
+
+TEST_CASE("MSE falls like 1/N with random sampling") {
+  const Scene scene = sceneWith(smoothSky(32, 16), "ggx", {{"roughness", "0.3"}, {"metallic", "0.5"}}, 32);
+  const ReferenceImage ref = computeReference(gpuContext(), gpuCompiler(), scene);
+  for (const char* name : {"env-cdf", "mis"}) {
+    MethodSpec spec;
+    spec.method = name;
+    const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+    INFO(method.label());
+    Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 5);
+    std::vector<double> mseTimesN;
+    for (int n = 16, done = 0; n <= 1024; n *= 4) {
+      while (done < n) renderer.runPass(16), done += 16;
+      const ErrorMetrics e = compareToReference(scene.gbuffer, renderer.meanRgb(), ref.rgb);
+      // Expected MSE = mean per-pixel variance / N: the ratio must stay near 1 at every N.
+      const auto var = renderer.varianceRgb();
+      double meanVar = 0;
+      for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i)
+        if (scene.gbuffer.pixels[i].normal.w != 0.0f)
+          for (int ch = 0; ch < 3; ++ch) meanVar += var[3 * i + ch];
+      meanVar /= 3.0 * double(scene.gbuffer.objectPixelCount());
+      const double ratio = e.mse * n / meanVar;
+      INFO("N = " << n << ": MSE " << e.mse << ", mean variance / N " << meanVar / n);
+      CHECK(ratio > 0.75);
+      CHECK(ratio < 1.33);
+      mseTimesN.push_back(e.mse * n);
+    }
+    // The slope of log MSE against log N between 16 and 1024 spp is -1 within the noise.
+    const double slope = std::log(mseTimesN.back() / 1024.0 / (mseTimesN.front() / 16.0)) / std::log(1024.0 / 16.0);
+    CHECK(slope == doctest::Approx(-1.0).epsilon(0.1));
+  }
+  checkNoNewValidationErrors();
+}
+
+TEST_CASE("hard cases: no NaN or Inf for any method") {
+  EnvImage broken = smoothSky(32, 16);
+  broken.rgb[0] = std::nanf("");
+  broken.rgb[10] = INFINITY;
+  broken.rgb[20] = -INFINITY;
+  broken.rgb[30] = -5.0f;
+  const SanitizeReport report = sanitize(broken);
+  CHECK(report.total() == 4);
+  struct Case {
+    std::string name;
+    EnvImage env;
+    std::string brdf;
+    std::vector<std::pair<std::string, std::string>> params;
+  };
+  const Case cases[] = {
+      {"sun 1e6 + zero half, lambert", sunAndZeroHalf(64, 32), "lambert", {}},
+      {"sun 1e6 + zero half, ggx a=1e-3", sunAndZeroHalf(64, 32), "ggx", {{"roughness", "0.001"}}},
+      {"pole energy, ggx a=0.05 dielectric", poleEnergy(64, 32), "ggx", {{"roughness", "0.05"}, {"metallic", "0"}}},
+      {"sanitized NaN/Inf/negative, ggx", broken, "ggx", {}},
+  };
+  for (const auto& c : cases) {
+    // 48 px: the sphere's silhouette supplies grazing pixels (n . wo -> 0).
+    const Scene scene = sceneWith(c.env, c.brdf, c.params, 48);
+    for (const char* sequence : {"random", "sobol"})
+      for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {
+        const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+        INFO(c.name << ": " << method.label());
+        Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 23);
+        renderer.runPass(32);
+        CHECK(renderer.nonFiniteSamples() == 0);
+        int bad = 0;
+        for (float v : renderer.meanRgb()) bad += !std::isfinite(v) || v < 0.0f;
+        CHECK(bad == 0);
+      }
+  }
+  checkNoNewValidationErrors();
+}
+
+TEST_CASE("shader compiler: errors name the part file and line; the SPIR-V cache is used") {
+  const auto dir = std::filesystem::temp_directory_path() / ("iblx-cache-test-" + std::to_string(::getpid()));
+  ShaderCompiler compiler(dir);
+  compiler.addSource("test/broken_part.glsl", "// a comment\nvec3 envSample(vec2 u, vec3 n, out float pdf) {\n"
+                                               "  return undeclaredThing;\n}\n");
+  KernelParts parts{"integrate.comp",
+                    {"sequence/random.glsl", "test/broken_part.glsl", "brdf/lambert.glsl", "strategy/single_env.glsl"},
+                    paramBlockGlsl(findBrdf("lambert"))};
+  try {
+    compiler.compile(assemblePrelude(parts), "broken");
+    FAIL("expected a compile error");
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    INFO(message);
+    CHECK(message.find("test/broken_part.glsl:3") != std::string::npos);
+    CHECK(message.find("undeclaredThing") != std::string::npos);
+  }
+  parts.parts[1] = "env/uniform.glsl";
+  const auto first = compiler.compile(assemblePrelude(parts), "ok");
+  CHECK(compiler.compilations() == 2);
+  ShaderCompiler again(dir);
+  const auto second = again.compile(assemblePrelude(parts), "ok");
+  CHECK(again.cacheHits() == 1);
+  CHECK(first == second);
+  std::filesystem::remove_all(dir);
+}

@@ -1,0 +1,283 @@
+// Tests of env-hier (engine/sampling/env_hier.h): hand-worked tables, pyramid layout, round trips, pdf
+// consistency, chi-square on the shared hard environments, zero regions, black maps and a 1e6 sun.
+#include "engine/sampling/env_hier.h"
+
+#include "engine/core/error.h"
+#include "engine/core/log.h"
+#include "tests/support/chi2.h"
+#include "tests/support/hard_envs.h"
+
+#include <doctest/doctest.h>
+
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+using namespace iblx;
+
+namespace {
+
+constexpr std::size_t kChi2Samples = 200000;
+
+// 4 x 2 map with weights {1, 0, 3, 0} on the top row and {2, 2, 2, 2} on the bottom row; both rows subtend
+// Omega = pi/2 per texel, so the row weights are 2 pi and 4 pi (total 6 pi).
+EnvImage handWorkedImage() {
+  return test::makeEnv(4, 2, [](int x, int y, double, double) {
+    const double v = y == 0 ? std::vector<double>{1, 0, 3, 0}[std::size_t(x)] : 2.0;
+    return std::array<double, 3>{v, v, v};
+  });
+}
+
+// Silences the "black environment" warning and counts it.
+struct WarningCounter {
+  int count = 0;
+  LogSink previous;
+  WarningCounter() : previous(setWarningSink([this](const std::string&) { ++count; })) {}
+  ~WarningCounter() { setWarningSink(previous); }
+};
+
+std::vector<double> batchPdf(const EnvHierSampler& sampler, std::span<const glm::dvec3> directions) {
+  std::vector<double> p(directions.size());
+  for (std::size_t i = 0; i < directions.size(); ++i) p[i] = sampler.pdf(directions[i]);
+  return p;
+}
+
+test::Chi2Result runChi2(const EnvHierSampler& sampler, const std::string& label, int testCount,
+                         uint64_t seed) {
+  std::vector<glm::dvec3> directions;
+  directions.reserve(kChi2Samples);
+  for (const glm::dvec2 u : test::uniformPoints(kChi2Samples, seed))
+    directions.push_back(sampler.sample(u).direction);
+  test::Chi2Options options;
+  options.label = label;
+  options.testCount = testCount;
+  return test::chi2Test(
+      directions, [&](std::span<const glm::dvec3> w) { return batchPdf(sampler, w); }, options);
+}
+
+}  // namespace
+
+TEST_CASE("env-hier: hand-worked 4x2 table") {
+  const EnvHierData data = buildEnvHier(handWorkedImage());
+  REQUIRE(data.width == 4);
+  REQUIRE(data.height == 2);
+  // Finest 4x2: weight * pi/2 = {pi/2, 0, 3pi/2, 0; pi, pi, pi, pi}; 2x1: {5pi/2, 7pi/2}; root 6pi.
+  REQUIRE(data.levels.size() == 3);
+  const auto level = [&](int k) {
+    const EnvHierLevel& l = data.levels[std::size_t(k)];
+    return std::vector<uint32_t>{l.offset, l.width, l.height, l.pad};
+  };
+  CHECK(level(0) == std::vector<uint32_t>{0, 1, 1, 0});
+  CHECK(level(1) == std::vector<uint32_t>{1, 2, 1, 0});
+  CHECK(level(2) == std::vector<uint32_t>{3, 4, 2, 0});
+  const double p = kPi;
+  const std::vector<double> nodes{6 * p, 2.5 * p, 3.5 * p, p / 2, 0, 1.5 * p, 0, p, p, p, p};
+  REQUIRE(data.nodes.size() == nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) CHECK(data.nodes[i] == float(nodes[i]));
+
+  const EnvHierSampler sampler(data);
+  // u = (0.5, 0.2): root -> 2x1: pLeft = (5/2)/6 = 5/12, u.x >= pLeft: right, u.x = (1/12)/(7/12) = 1/7,
+  // prob = 7/12. Node (1,0) -> columns {2, 3}: pLeft = (3/2 + 1)/(7/2) = 5/7, u.x < pLeft: left, u.x = 1/5,
+  // prob = 5/12; rows of column 2: pTop = (3/2)/(5/2) = 3/5, u.y = 0.2 < pTop: top, u.y = 1/3, prob = 1/4.
+  // pdf = (1/4) / (pi/2) = 1 / (2 pi), the same as env-cdf: both are exactly proportional to the texel
+  // weight.
+  const EnvSample s = sampler.sample({0.5, 0.2});
+  CHECK(s.texel == glm::ivec2(2, 0));
+  CHECK(sampler.texelProbability(2, 0) == doctest::Approx(0.25).epsilon(1e-6));
+  CHECK(s.pdfSolidAngle == doctest::Approx(1.0 / (2.0 * kPi)).epsilon(1e-6));
+  // t = (1/5, 1/3): phi = 2 pi (2 + 1/5) / 4 = 1.1 pi; cos(theta) = 1 - 1/3.
+  const double cosTheta = 2.0 / 3.0, sinTheta = std::sqrt(1.0 - cosTheta * cosTheta);
+  const glm::dvec3 expected(sinTheta * std::cos(1.1 * kPi), cosTheta, sinTheta * std::sin(1.1 * kPi));
+  CHECK(glm::length(s.direction - expected) < 1e-6);
+  CHECK(sampler.pdf(s.direction) == s.pdfSolidAngle);
+  const auto u = sampler.invert(s.direction);
+  REQUIRE(u);
+  CHECK(u->x == doctest::Approx(0.5).epsilon(1e-6));
+  CHECK(u->y == doctest::Approx(0.2).epsilon(1e-6));
+  // Zero texels (1, 0) and (3, 0) have probability 0; texel (0, 1): weight 2 -> pdf 2 / (6 pi).
+  CHECK(sampler.texelProbability(1, 0) == 0.0f);
+  CHECK(sampler.texelProbability(3, 0) == 0.0f);
+  CHECK_FALSE(sampler.invert(texelToDirection(1, 0, {0.5, 0.5}, 4, 2)));
+  CHECK(sampler.pdf(texelToDirection(0, 1, {0.5, 0.5}, 4, 2)) ==
+        doctest::Approx(1.0 / (3.0 * kPi)).epsilon(1e-6));
+  double total = 0.0;
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x) total += sampler.texelProbability(x, y);
+  CHECK(total == doctest::Approx(1.0).epsilon(1e-6));
+}
+
+TEST_CASE("env-hier: hand-worked 3x1 table with padding") {
+  // Weights {1, 2, 3}, Omega = 4 pi / 3 each; finest level 4x1 = {4pi/3, 8pi/3, 4pi, 0 (padding)}.
+  const EnvImage img = test::makeEnv(3, 1, [](int x, int, double, double) {
+    const double v = x + 1.0;
+    return std::array<double, 3>{v, v, v};
+  });
+  const EnvHierData data = buildEnvHier(img);
+  REQUIRE(data.levels.size() == 3);
+  CHECK(data.levels.back().width == 4);
+  CHECK(data.levels.back().height == 1);
+  CHECK(data.nodes.back() == 0.0f);
+  const EnvHierSampler sampler(data);
+  // u.x = 0.75: root pLeft = 4pi / 8pi = 1/2 -> right, u.x = 1/2, prob 1/2; node 1 -> {2, 3 (padding)}:
+  // pLeft = 1 -> texel 2 with u.x = 1/2; pdf = (1/2) / (4 pi / 3) = 3 / (8 pi) = 3 / (sum of weight * Omega).
+  const EnvSample s = sampler.sample({0.75, 0.5});
+  CHECK(s.texel == glm::ivec2(2, 0));
+  CHECK(s.pdfSolidAngle == doctest::Approx(3.0 / (8.0 * kPi)).epsilon(1e-6));
+  for (const glm::dvec2 u : test::uniformPoints(1000, 3)) CHECK(sampler.sample(u).texel.x < 3);
+}
+
+TEST_CASE("env-hier: pyramid layout on hard envs") {
+  for (const auto& env : test::samplerTestEnvs()) {
+    CAPTURE(env.name);
+    const EnvHierData d = buildEnvHier(env.image);
+    REQUIRE(!d.levels.empty());
+    CHECK(d.levels.front().width == 1);
+    CHECK(d.levels.front().height == 1);
+    const EnvHierLevel& finest = d.levels.back();
+    CHECK(finest.width == std::bit_ceil(unsigned(d.width)));
+    CHECK(finest.height == std::bit_ceil(unsigned(d.height)));
+    std::size_t offset = 0;
+    for (const EnvHierLevel& l : d.levels) {
+      CHECK(l.offset == offset);
+      CHECK(l.pad == 0);
+      offset += std::size_t(l.width) * l.height;
+    }
+    CHECK(d.nodes.size() == offset);
+    // Padding is zero, and each node is the sum of its children (rounded to float).
+    for (uint32_t y = 0; y < finest.height; ++y)
+      for (uint32_t x = 0; x < finest.width; ++x)
+        if (int(x) >= d.width || int(y) >= d.height)
+          CHECK(d.nodes[finest.offset + y * finest.width + x] == 0.0f);
+    for (std::size_t k = 0; k + 1 < d.levels.size(); ++k) {
+      const EnvHierLevel &c = d.levels[k], &f = d.levels[k + 1];
+      const uint32_t kx = f.width / c.width, ky = f.height / c.height;
+      for (uint32_t y = 0; y < c.height; ++y)
+        for (uint32_t x = 0; x < c.width; ++x) {
+          double sum = 0.0;
+          for (uint32_t j = 0; j < ky; ++j)
+            for (uint32_t i = 0; i < kx; ++i) sum += d.nodes[f.offset + (ky * y + j) * f.width + kx * x + i];
+          CHECK(d.nodes[c.offset + y * c.width + x] == doctest::Approx(sum).epsilon(1e-5));
+        }
+    }
+  }
+}
+
+TEST_CASE("env-hier: sample -> invert round trip and pdf consistency on hard envs") {
+  for (const auto& env : test::samplerTestEnvs()) {
+    CAPTURE(env.name);
+    const EnvHierSampler sampler(buildEnvHier(env.image));
+    int boundary = 0;
+    for (const glm::dvec2 u : test::uniformPoints(20000, 5)) {
+      const EnvSample s = sampler.sample(u);
+      REQUIRE(s.pdfSolidAngle > 0.0);
+      REQUIRE(std::isfinite(s.pdfSolidAngle));
+      // A direction on a texel border may be located in the neighbour (measure zero); count those.
+      if (directionToTexel(s.direction, env.image.width, env.image.height) != s.texel) {
+        ++boundary;
+        continue;
+      }
+      CHECK(sampler.pdf(s.direction) == s.pdfSolidAngle);  // same float operations, bit for bit
+      const auto back = sampler.invert(s.direction);
+      REQUIRE(back);
+      CHECK(std::abs(back->x - double(toGpuU(u.x))) < 1e-6);
+      CHECK(std::abs(back->y - double(toGpuU(u.y))) < 1e-6);
+      CHECK(sampler.sample(*back).texel == s.texel);
+    }
+    CHECK(boundary <= 2);
+  }
+}
+
+TEST_CASE("env-hier: chi2 on hard envs") {
+  const auto envs = test::samplerTestEnvs();
+  uint64_t seed = 100;
+  for (const auto& env : envs) {
+    CAPTURE(env.name);
+    const EnvHierSampler sampler(buildEnvHier(env.image));
+    const test::Chi2Result r = runChi2(sampler, "env-hier-" + env.name, int(envs.size()), seed++);
+    INFO(r.message);
+    CHECK(r.passed);
+    CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(1e-3));
+  }
+}
+
+TEST_CASE("env-hier: zero-weight texels are never sampled") {
+  for (const auto& env : test::samplerTestEnvs()) {
+    CAPTURE(env.name);
+    const EnvImage& img = env.image;
+    const EnvHierSampler sampler(buildEnvHier(img));
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x)
+        if (img.weight(x, y) == 0.0) CHECK(sampler.texelProbability(x, y) == 0.0f);
+    for (const glm::dvec2 u : test::uniformPoints(20000, 9)) {
+      const EnvSample s = sampler.sample(u);
+      CHECK(img.weight(s.texel.x, s.texel.y) > 0.0);
+      CHECK(sampler.pdf(s.direction) > 0.0);
+    }
+  }
+}
+
+TEST_CASE("env-hier: all-zero image samples the sphere uniformly") {
+  WarningCounter warnings;
+  const EnvImage black = test::constantEnv(50, 25, 0.0f);
+  const EnvHierSampler sampler(buildEnvHier(black));
+  CHECK(warnings.count == 1);
+  for (const glm::dvec2 u : test::uniformPoints(2000, 17)) {
+    const EnvSample s = sampler.sample(u);
+    CHECK(s.pdfSolidAngle == doctest::Approx(1.0 / (4.0 * kPi)).epsilon(1e-5));
+  }
+  const test::Chi2Result r = runChi2(sampler, "env-hier-black", 1, 18);
+  INFO(r.message);
+  CHECK(r.passed);
+  CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(1e-3));
+}
+
+TEST_CASE("env-hier: 1e6 sun with a zero half") {
+  // Larger than the chi2 fixtures, so the sky's share of the sun row is near the float spacing of the CDF.
+  const EnvImage img = test::sunAndZeroHalf(512, 256);
+  const EnvHierSampler sampler(buildEnvHier(img));
+  // Probability of the two sun texels read from the tables: about 97 % of the mass.
+  const int sunX = img.width / 3, sunY = img.height / 4;
+  const double sunProb =
+      double(sampler.texelProbability(sunX, sunY)) + sampler.texelProbability(sunX + 1, sunY);
+  CHECK(sunProb > 0.9);
+  int sunHits = 0;
+  for (const glm::dvec2 u : test::uniformPoints(50000, 21)) {
+    const EnvSample s = sampler.sample(u);
+    REQUIRE(std::isfinite(s.direction.x));
+    REQUIRE(std::isfinite(s.direction.y));
+    REQUIRE(std::isfinite(s.direction.z));
+    REQUIRE(std::isfinite(s.pdfSolidAngle));
+    REQUIRE(s.pdfSolidAngle > 0.0);
+    CHECK(s.direction.y > 0.0);  // never in the black lower half
+    CHECK(sampler.pdf(s.direction) > 0.0);
+    sunHits += img.weight(s.texel.x, s.texel.y) > 1.0;
+  }
+  CHECK(sunHits / 50000.0 == doctest::Approx(sunProb).epsilon(0.01));
+  // Extreme u values stay finite too.
+  for (const glm::dvec2 u : {glm::dvec2(0.0), glm::dvec2(1.0), glm::dvec2(std::nextafter(1.0, 0.0), 0.0)}) {
+    const EnvSample s = sampler.sample(u);
+    CHECK(std::isfinite(s.pdfSolidAngle));
+    CHECK(s.pdfSolidAngle > 0.0);
+  }
+}
+
+TEST_CASE("env-hier: rejects invalid images") {
+  EnvImage img = test::constantEnv(8, 4, 1.0f);
+  img.rgb[5] = -1.0f;
+  CHECK_THROWS_AS(buildEnvHier(img), Error);
+  img.rgb[5] = std::numeric_limits<float>::quiet_NaN();
+  CHECK_THROWS_AS(buildEnvHier(img), Error);
+  img.rgb[5] = std::numeric_limits<float>::infinity();
+  CHECK_THROWS_AS(buildEnvHier(img), Error);
+  img.rgb.pop_back();
+  CHECK_THROWS_AS(buildEnvHier(img), Error);
+  CHECK_THROWS_AS(buildEnvHier(EnvImage{}), Error);
+  EnvHierData bad = buildEnvHier(test::constantEnv(8, 4, 1.0f));
+  bad.nodes.pop_back();
+  CHECK_THROWS_AS(EnvHierSampler{bad}, Error);
+  bad = buildEnvHier(test::constantEnv(8, 4, 1.0f));
+  bad.levels.erase(bad.levels.begin() + 1);
+  CHECK_THROWS_AS(EnvHierSampler{bad}, Error);
+}

@@ -1,0 +1,169 @@
+// Flag parsing for all subcommands.
+#include "tools/cli/cli_options.h"
+
+#include "engine/core/error.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+namespace iblx::cli {
+
+void ArgParser::value(const std::string& flag, const std::string& metavar, const std::string& help,
+                      std::function<void(const std::string&)> apply) {
+  options_.push_back({flag, metavar, help, std::move(apply), true});
+}
+
+void ArgParser::toggle(const std::string& flag, const std::string& help, std::function<void()> apply) {
+  options_.push_back({flag, "", help, [apply](const std::string&) { apply(); }, false});
+}
+
+void ArgParser::parse(const std::vector<std::string>& args) const {
+  for (size_t i = 0; i < args.size(); ++i) {
+    std::string flag = args[i], text;
+    bool inlineValue = false;
+    if (auto eq = flag.find('='); flag.rfind("--", 0) == 0 && eq != std::string::npos) {
+      text = flag.substr(eq + 1);
+      flag = flag.substr(0, eq);
+      inlineValue = true;
+    }
+    const Option* option = nullptr;
+    for (const auto& o : options_)
+      if (o.flag == flag) option = &o;
+    if (!option) {
+      if (flag.rfind("-", 0) != 0) throw Error("iblx " + command_ + ": unexpected argument '" + flag + "' (see iblx " + command_ + " --help)");
+      throw Error("iblx " + command_ + ": unknown flag '" + flag + "' (see iblx " + command_ + " --help)");
+    }
+    if (option->takesValue && !inlineValue) {
+      if (i + 1 >= args.size()) throw Error(flag + " needs a value (" + option->metavar + ")");
+      text = args[++i];
+    } else if (!option->takesValue && inlineValue) {
+      throw Error(flag + " takes no value");
+    }
+    option->apply(text);
+  }
+}
+
+std::string ArgParser::usage() const {
+  std::ostringstream s;
+  s << "usage: iblx " << command_ << " [flags]\n";
+  for (const auto& o : options_) {
+    std::string left = o.flag + (o.takesValue ? " " + o.metavar : "");
+    s << "  " << left << std::string(left.size() < 26 ? 26 - left.size() : 1, ' ') << o.help << "\n";
+  }
+  return s.str();
+}
+
+uint32_t parseUint(const std::string& flag, const std::string& text, uint32_t min, uint32_t max) {
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(text.c_str(), &end, 10);
+  if (text.empty() || end != text.c_str() + text.size() || errno != 0)
+    throw Error(flag + " " + text + ": not an integer");
+  if (v < min || v > max)
+    throw Error(flag + " " + text + ": out of range [" + std::to_string(min) + ", " + std::to_string(max) + "]");
+  return uint32_t(v);
+}
+
+double parseDouble(const std::string& flag, const std::string& text, double min, double max) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
+    throw Error(flag + " " + text + ": not a number");
+  if (v < min || v > max) {
+    std::ostringstream s;
+    s << flag << " " << text << ": out of range [" << min << ", " << max << "]";
+    throw Error(s.str());
+  }
+  return v;
+}
+
+void parseSize(const std::string& flag, const std::string& text, int& width, int& height) {
+  const auto x = text.find('x');
+  if (x == std::string::npos) throw Error(flag + " " + text + ": expected WIDTHxHEIGHT, e.g. 256x256");
+  width = int(parseUint(flag, text.substr(0, x), 1, 16384));
+  height = int(parseUint(flag, text.substr(x + 1), 1, 16384));
+}
+
+void addSceneFlags(ArgParser& p, RenderSpec& s) {
+  p.value("--env", "FILE", ".exr or .hdr lat-long map (default: assets/default_sky.exr)",
+          [&](const std::string& v) { s.scene.envPath = v; });
+  p.value("--env-rotation", "DEG", "rotation of the environment about +Y",
+          [&](const std::string& v) { s.scene.envRotationDeg = parseDouble("--env-rotation", v, -1e6, 1e6); });
+  p.value("--brdf", "NAME", "built-in BRDF: lambert | ggx (default ggx)", [&](const std::string& v) { s.scene.brdf = v; });
+  p.value("--param", "NAME=VALUE", "BRDF parameter, repeatable; colors as r,g,b", [&](const std::string& v) {
+    const auto eq = v.find('=');
+    if (eq == std::string::npos || eq == 0) throw Error("--param " + v + ": expected NAME=VALUE");
+    s.scene.params.emplace_back(v.substr(0, eq), v.substr(eq + 1));
+  });
+  p.value("--object", "NAME", "sphere (default)", [&](const std::string& v) { s.scene.object = v; });
+  p.value("--size", "WxH", "image size (default 256x256)",
+          [&](const std::string& v) { parseSize("--size", v, s.scene.width, s.scene.height); });
+}
+
+void addMethodFlags(ArgParser& p, RenderSpec& s) {
+  p.value("--method", "NAME", "sampling method (default mis; see --list-methods)",
+          [&](const std::string& v) { s.method.method = v; });
+  p.value("--env-sampler", "NAME", "env technique used by mis (default env-cdf)",
+          [&](const std::string& v) { s.method.envSampler = v; });
+  p.value("--brdf-sampler", "NAME", "BRDF technique used by brdf and mis (default: the BRDF's best)",
+          [&](const std::string& v) { s.method.brdfSampler = v; });
+  p.value("--seq", "NAME", "random | sobol (default random)", [&](const std::string& v) { s.method.sequence = v; });
+  p.value("--mis-heuristic", "NAME", "balance | power (default balance)",
+          [&](const std::string& v) { s.method.misHeuristic = v; });
+  p.value("--mis-split", "F", "fraction of MIS samples given to the env technique (default 0.5)",
+          [&](const std::string& v) { s.method.misEnvFraction = parseDouble("--mis-split", v, 0.0, 1.0); });
+  p.toggle("--list-methods", "print the registry (methods, techniques, sequences, BRDFs) and exit",
+           [&] { s.listMethods = true; });
+}
+
+void addRunFlags(ArgParser& p, RenderSpec& s) {
+  p.value("--spp", "N", "samples per pixel per pass (default 32)",
+          [&](const std::string& v) { s.samplesPerPass = parseUint("--spp", v, 1, 1u << 20); });
+  p.value("--passes", "N", "number of passes (default 32)",
+          [&](const std::string& v) { s.passes = parseUint("--passes", v, 1, 1u << 24); });
+  p.value("--time", "S", "run passes until S seconds of wall time have passed (instead of --passes)",
+          [&](const std::string& v) { s.timeBudgetSeconds = parseDouble("--time", v, 1e-3, 1e7); });
+  p.value("--seed", "N", "seed of the sample sequence (default 1)",
+          [&](const std::string& v) { s.seed = parseUint("--seed", v, 0, 0xffffffffu); });
+  p.value("--out", "FILE", "output image: .exr (linear float) or .png (tonemapped)",
+          [&](const std::string& v) { s.out = v; });
+  p.value("--exposure", "EV", "exposure for .png output (default 0)",
+          [&](const std::string& v) { s.exposure = parseDouble("--exposure", v, -64, 64); });
+  p.toggle("--reference", "also compute the ground truth and report the error against it", [&] { s.reference = true; });
+  p.toggle("--json", "print one JSON object with the run's figures", [&] { s.json = true; });
+}
+
+void addDeviceFlags(ArgParser& p, RenderSpec& s) {
+  p.value("--device", "INDEX|NAME", "Vulkan device (default: $IBLX_DEVICE, else discrete > integrated > CPU)",
+          [&](const std::string& v) { s.device = v; });
+  p.toggle("--validation", "enable the Vulkan validation layers", [&] { s.validation = true; });
+}
+
+}  // namespace iblx::cli
+
+#include <filesystem>
+#include <unistd.h>
+
+namespace iblx::cli {
+
+void checkImagePath(const std::string& flag, const std::string& path, bool exrOnly) {
+  std::filesystem::path p(path);
+  std::string ext = p.extension().string();
+  for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".exr" && (exrOnly || ext != ".png"))
+    throw Error(flag + " " + path + ": unsupported image format '" + ext + "'; use " + (exrOnly ? ".exr" : ".exr or .png"));
+  const auto parent = p.parent_path();
+  if (!parent.empty() && !std::filesystem::is_directory(parent))
+    throw Error(flag + " " + path + ": directory '" + parent.string() + "' does not exist");
+}
+
+void progressLine(const std::string& text) {
+  if (isatty(STDERR_FILENO)) std::fprintf(stderr, "\r%s\x1b[K", text.c_str());
+}
+
+void endProgressLine() {
+  if (isatty(STDERR_FILENO)) std::fprintf(stderr, "\r\x1b[K");
+}
+
+}  // namespace iblx::cli

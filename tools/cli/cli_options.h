@@ -1,0 +1,68 @@
+// The shared flags of DESIGN §8, parsed once into one RenderSpec for every subcommand that renders.
+#pragma once
+
+#include "engine/render/scene.h"
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace iblx::cli {
+
+struct RenderSpec {
+  SceneSpec scene;
+  MethodSpec method;
+  uint32_t samplesPerPass = 32;
+  uint32_t passes = 32;
+  std::optional<double> timeBudgetSeconds;  // --time: run passes until this much wall time has passed
+  uint32_t seed = 1;
+  std::string out;
+  double exposure = 0.0;
+  bool reference = false;
+  bool json = false;
+  bool listMethods = false;
+  std::string device;
+  bool validation = false;
+};
+
+// A tiny flag parser: each subcommand registers what it accepts, so an unknown flag is an error that lists them.
+class ArgParser {
+ public:
+  explicit ArgParser(std::string command) : command_(std::move(command)) {}
+  void value(const std::string& flag, const std::string& metavar, const std::string& help,
+             std::function<void(const std::string&)> apply);
+  void toggle(const std::string& flag, const std::string& help, std::function<void()> apply);
+  void parse(const std::vector<std::string>& args) const;  // throws iblx::Error
+  std::string usage() const;
+
+ private:
+  struct Option {
+    std::string flag, metavar, help;
+    std::function<void(const std::string&)> apply;
+    bool takesValue;
+  };
+  std::string command_;
+  std::vector<Option> options_;
+};
+
+// Registers the shared flags; `rendering` adds the method/pass/output flags.
+void addSceneFlags(ArgParser& parser, RenderSpec& spec);
+void addMethodFlags(ArgParser& parser, RenderSpec& spec);
+void addRunFlags(ArgParser& parser, RenderSpec& spec);
+void addDeviceFlags(ArgParser& parser, RenderSpec& spec);
+
+// Number parsing with the flag's name in every error.
+uint32_t parseUint(const std::string& flag, const std::string& text, uint32_t min, uint32_t max);
+double parseDouble(const std::string& flag, const std::string& text, double min, double max);
+void parseSize(const std::string& flag, const std::string& text, int& width, int& height);
+
+}  // namespace iblx::cli
+
+namespace iblx::cli {
+// Fails early (before any rendering) when an output path cannot be written as an image.
+void checkImagePath(const std::string& flag, const std::string& path, bool exrOnly = false);
+// Progress line on stderr, only when stderr is a terminal.
+void progressLine(const std::string& text);
+void endProgressLine();
+}  // namespace iblx::cli

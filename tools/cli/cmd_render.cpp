@@ -1,0 +1,105 @@
+// `iblx render`: progressive render of one scene with one method; writes the image, prints speed (and error).
+#include "engine/core/log.h"
+#include "engine/io/image_write.h"
+#include "engine/render/metrics.h"
+#include "engine/render/reference.h"
+#include "engine/render/renderer.h"
+#include "tools/cli/cli_options.h"
+#include "tools/cli/commands.h"
+
+#include <chrono>
+#include <cstdio>
+
+namespace iblx::cli {
+
+int cmdRender(const Args& args) {
+  RenderSpec spec;
+  spec.out = "render.png";
+  ArgParser parser("render");
+  bool help = false;
+  addSceneFlags(parser, spec);
+  addMethodFlags(parser, spec);
+  addRunFlags(parser, spec);
+  addDeviceFlags(parser, spec);
+  parser.toggle("--help", "show this help", [&] { help = true; });
+  parser.parse(args);
+  if (help) {
+    std::fputs(parser.usage().c_str(), stdout);
+    return 0;
+  }
+  if (spec.listMethods) {
+    std::fputs(describeRegistry().c_str(), stdout);
+    return 0;
+  }
+  // Everything a user can get wrong is checked before the map is loaded and anything is rendered.
+  const BrdfInfo& brdf = findBrdf(spec.scene.brdf);
+  resolveParams(brdf, spec.scene.params);
+  const ResolvedMethod method = resolveMethod(spec.method, brdf);
+  checkImagePath("--out", spec.out);
+
+  const auto start = std::chrono::steady_clock::now();
+  const Scene scene = loadScene(spec.scene);
+  VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
+  ShaderCompiler compiler;
+  Renderer renderer(context, compiler, scene, method, spec.seed);
+
+  double gpuSeconds = 0.0, renderWallSeconds = 0.0;
+  uint32_t passes = 0;
+  for (;;) {
+    const bool done = spec.timeBudgetSeconds ? renderWallSeconds >= *spec.timeBudgetSeconds : passes >= spec.passes;
+    if (done) break;
+    const PassTiming t = renderer.runPass(spec.samplesPerPass);
+    gpuSeconds += t.gpuSeconds;
+    renderWallSeconds += t.wallSeconds;
+    ++passes;
+    char line[160];
+    std::snprintf(line, sizeof line, "pass %u, %llu spp, %.2f s", passes,
+                  static_cast<unsigned long long>(renderer.samplesPerPixel()), renderWallSeconds);
+    progressLine(line);
+  }
+  endProgressLine();
+  const auto rgb = renderer.meanRgb();
+  if (const uint32_t bad = renderer.nonFiniteSamples())
+    warn(std::to_string(bad) + " NaN/Inf sample estimates were replaced by 0 (a sampler bug: please report it)");
+
+  std::optional<ErrorMetrics> error;
+  double referenceSeconds = 0.0;
+  if (spec.reference) {
+    ReferenceOptions options;
+    options.progress = [](double f) { progressLine("reference " + std::to_string(int(100 * f)) + "%"); };
+    const ReferenceImage ref = computeReference(context, compiler, scene, options);
+    endProgressLine();
+    referenceSeconds = ref.seconds;
+    error = compareToReference(scene.gbuffer, rgb, ref.rgb);
+  }
+  writeImage(spec.out, scene.gbuffer.width, scene.gbuffer.height, rgb, spec.exposure);
+
+  const double samples = double(scene.gbuffer.objectPixelCount()) * double(renderer.samplesPerPixel());
+  const double totalWall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double samplesPerSecond = renderWallSeconds > 0 ? samples / renderWallSeconds : 0.0;
+  const double gpuSamplesPerSecond = gpuSeconds > 0 ? samples / gpuSeconds : 0.0;
+  if (spec.json) {
+    std::printf("{\"method\": \"%s\", \"device\": \"%s\", \"width\": %d, \"height\": %d, \"spp\": %llu, "
+                "\"passes\": %u, \"gpu_s\": %.6f, \"wall_s\": %.6f, \"setup_s\": %.6f, \"total_wall_s\": %.6f, "
+                "\"samples_per_s\": %.1f, \"gpu_samples_per_s\": %.1f, \"non_finite\": %u",
+                method.label().c_str(), context.deviceName().c_str(), scene.gbuffer.width, scene.gbuffer.height,
+                static_cast<unsigned long long>(renderer.samplesPerPixel()), passes, gpuSeconds, renderWallSeconds,
+                renderer.setupSeconds(), totalWall, samplesPerSecond, gpuSamplesPerSecond, renderer.nonFiniteSamples());
+    if (error)
+      std::printf(", \"mse\": %.9g, \"relmse\": %.9g, \"mean_signed_error\": %.9g, \"reference_s\": %.3f", error->mse,
+                  error->relMse, error->meanSignedError, referenceSeconds);
+    std::printf(", \"out\": \"%s\"}\n", spec.out.c_str());
+  } else {
+    std::printf("%s on %s: %llu spp in %u passes, %.3f s wall (%.3f s GPU), %.2f M samples/s (%.2f M/s GPU)\n",
+                method.label().c_str(), context.deviceName().c_str(),
+                static_cast<unsigned long long>(renderer.samplesPerPixel()), passes, renderWallSeconds, gpuSeconds,
+                samplesPerSecond * 1e-6, gpuSamplesPerSecond * 1e-6);
+    if (error)
+      std::printf("error vs reference (%.2f s): MSE %.4g, relMSE %.4g, mean signed error %.3g\n", referenceSeconds,
+                  error->mse, error->relMse, error->meanSignedError);
+    std::printf("wrote %s (total %.2f s)\n", spec.out.c_str(), totalWall);
+  }
+  return 0;
+}
+
+}  // namespace iblx::cli

@@ -1,0 +1,16 @@
+// The subcommands of build/iblx, one file each.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace iblx::cli {
+
+using Args = std::vector<std::string>;
+int cmdRender(const Args& args);
+int cmdReference(const Args& args);
+int cmdBench(const Args& args);
+int cmdDevices(const Args& args);
+int cmdMakeSky(const Args& args);
+
+}  // namespace iblx::cli

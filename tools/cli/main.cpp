@@ -1,0 +1,50 @@
+// build/iblx: dispatches to a subcommand and turns every error into one line and a non-zero exit code.
+#include "engine/core/error.h"
+#include "tools/cli/commands.h"
+
+#include <vulkan/vulkan_raii.hpp>
+
+#include <cstdio>
+#include <cstring>
+
+namespace {
+
+constexpr const char* kUsage =
+    "iblx: progressive image-based-lighting renderer and importance-sampling laboratory\n"
+    "usage: iblx COMMAND [flags]      (iblx COMMAND --help for the flags of one command)\n"
+    "commands:\n"
+    "  render      render a scene progressively to .png/.exr, report speed (and error with --reference)\n"
+    "  reference   compute the ground truth of a scene (deterministic convolution) to .exr\n"
+    "  bench       samples per second of every method on one scene\n"
+    "  devices     list the Vulkan devices and whether iblx can use them\n"
+    "  make-sky    write the procedural sky used as the default environment map\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace iblx::cli;
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
+    std::fputs(kUsage, argc < 2 ? stderr : stdout);
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string command = argv[1];
+  const Args args(argv + 2, argv + argc);
+  try {
+    if (command == "render") return cmdRender(args);
+    if (command == "reference") return cmdReference(args);
+    if (command == "bench") return cmdBench(args);
+    if (command == "devices") return cmdDevices(args);
+    if (command == "make-sky") return cmdMakeSky(args);
+    std::fprintf(stderr, "iblx: unknown command '%s'\n%s", command.c_str(), kUsage);
+    return 2;
+  } catch (const iblx::Error& e) {
+    std::fprintf(stderr, "iblx: error: %s\n", e.what());
+    return 1;
+  } catch (const vk::SystemError& e) {
+    std::fprintf(stderr, "iblx: Vulkan error: %s\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "iblx: error: %s\n", e.what());
+    return 1;
+  }
+}

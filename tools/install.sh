@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Quick start: installs what is missing (Debian 12 packages only), builds iblx in Release and renders the default
+# scene (unit sphere, built-in GGX, assets/default_sky.exr) to render.png, printing samples per second and time.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(build-essential cmake ninja-build pkg-config
+          libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
+          glslang-dev glslang-tools spirv-tools libglm-dev libopenexr-dev libstb-dev doctest-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "iblx: installing ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}"
+fi
+
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j"$(nproc)"
+if [ "${1:-}" != "--no-render" ]; then
+  ./build/iblx render
+fi
