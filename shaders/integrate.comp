@@ -34,10 +34,15 @@ void main() {
   }
   if (nonFinite > 0u) atomicAdd(stats.nonFiniteSamples, nonFinite);
   float total = float(frame.sampleOffset + frame.samplesPerPass);
-  AccumPixel a = frame.sampleOffset == 0u ? AccumPixel(vec4(0.0), vec4(0.0)) : accum[index];
+  // Member-wise: glslang 12 emits invalid SPIR-V for a ?: between a constructed and a buffer-loaded struct.
+  vec3 mean = vec3(0.0), meanSquare = vec3(0.0);
+  if (frame.sampleOffset != 0u) {
+    mean = accum[index].mean.rgb;
+    meanSquare = accum[index].meanSquare.rgb;
+  }
   // mean_new = mean + (sum - S mean) / (n + S)
-  a.mean.rgb += (sum - float(frame.samplesPerPass) * a.mean.rgb) / total;
-  a.meanSquare.rgb += (sumSquares - float(frame.samplesPerPass) * a.meanSquare.rgb) / total;
-  a.mean.a = 1.0;
-  accum[index] = a;
+  mean += (sum - float(frame.samplesPerPass) * mean) / total;
+  meanSquare += (sumSquares - float(frame.samplesPerPass) * meanSquare) / total;
+  accum[index].mean = vec4(mean, 1.0);
+  accum[index].meanSquare = vec4(meanSquare, 1.0);
 }

@@ -48,7 +48,23 @@ struct ProbeRunner {
     kernel->bindBuffers(3, {&gpu.brdfParams});
   }
 
+  // Runs the probe over `input` in chunks that respect maxComputeWorkGroupCount and maxStorageBufferRange.
   std::vector<gpu::vec4> run(const std::vector<gpu::vec4>& input, uint32_t mode) {
+    const auto& limits = gpuContext().limits();
+    const std::size_t maxItems = std::min<std::size_t>(
+        {std::size_t(limits.maxComputeWorkGroupCount[0]) * 64, limits.maxStorageBufferRange / (2 * sizeof(gpu::vec4)),
+         std::size_t(1) << 20});
+    std::vector<gpu::vec4> output;
+    output.reserve(2 * input.size());
+    for (std::size_t begin = 0; begin < input.size(); begin += maxItems) {
+      const std::size_t count = std::min(maxItems, input.size() - begin);
+      const auto chunk = runChunk(std::span(input).subspan(begin, count), mode);
+      output.insert(output.end(), chunk.begin(), chunk.begin() + std::ptrdiff_t(2 * count));
+    }
+    return output;
+  }
+
+  std::vector<gpu::vec4> runChunk(std::span<const gpu::vec4> input, uint32_t mode) {
     Buffer in = Buffer::fromData(gpuContext(), input, "probe input");
     Buffer out(gpuContext(), input.size() * 2 * sizeof(gpu::vec4), "probe output");
     kernel->bindBuffers(1, {&in, &out});
