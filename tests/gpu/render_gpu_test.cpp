@@ -250,7 +250,9 @@ TEST_CASE("shader compiler: errors name the part file and line; the SPIR-V cache
   parts.parts[1] = "env/uniform.glsl";
   const auto first = compiler.compile(assemblePrelude(parts), "ok");
   CHECK(compiler.compilations() == 2);
-  ShaderCompiler again(dir);
+  ShaderCompiler again(dir);  // same sources: every source is part of the key
+  again.addSource("test/broken_part.glsl", "// a comment\nvec3 envSample(vec2 u, vec3 n, out float pdf) {\n"
+                                            "  return undeclaredThing;\n}\n");
   const auto second = again.compile(assemblePrelude(parts), "ok");
   CHECK(again.cacheHits() == 1);
   CHECK(first == second);
