@@ -10,14 +10,15 @@ std::string assemblePrelude(const KernelParts& parts) {
   s << "#version 460\n#extension GL_GOOGLE_include_directive : require\n";
   for (const char* interface : {"sequence", "env_sampler", "brdf", "brdf_sampler", "strategy"})
     s << "#include \"interfaces/" << interface << ".glsl\"\n";
+  for (const auto& [name, value] : parts.defines) s << "#define " << name << " " << value << "\n";
   s << parts.brdfParamBlock;
   s << "#include \"" << parts.kernel << "\"\n";
   for (const auto& part : parts.parts) s << "#include \"" << part << "\"\n";
   return s.str();
 }
 
-KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method) {
-  KernelParts k{"integrate.comp", {}, paramBlockGlsl(*scene.brdf)};
+KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method, const TechniqueData& envData) {
+  KernelParts k{"integrate.comp", {}, paramBlockGlsl(*scene.brdf), envData.defines};
   k.parts.push_back(method.sequence->part);
   if (method.envTechnique) k.parts.push_back(method.envTechnique->part);
   k.parts.push_back(scene.brdf->evalPart);
@@ -27,7 +28,7 @@ KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method) {
 }
 
 KernelParts referenceParts(const Scene& scene) {
-  return {"reference.comp", {scene.brdf->evalPart}, paramBlockGlsl(*scene.brdf)};
+  return {"reference.comp", {scene.brdf->evalPart}, paramBlockGlsl(*scene.brdf), {}};
 }
 
 KernelLayout sceneKernelLayout(uint32_t envBuffers, uint32_t brdfBuffers) {

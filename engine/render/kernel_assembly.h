@@ -14,12 +14,13 @@ struct KernelParts {
   std::string kernel;  // entry point, e.g. "integrate.comp"
   std::vector<std::string> parts;  // one per role in use
   std::string brdfParamBlock;      // paramBlockGlsl() of the scene's BRDF
+  std::vector<std::pair<std::string, std::string>> defines;  // from the techniques' data
 };
 
 std::string assemblePrelude(const KernelParts& parts);
 
 // The integrator for a scene and method, and the reference kernel for a scene.
-KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method);
+KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method, const TechniqueData& envData);
 KernelParts referenceParts(const Scene& scene);
 
 // Storage-buffer counts of sets 0..3 for these kernels.

@@ -15,20 +15,30 @@ namespace {
 
 TechniqueData noData(const EnvImage&) { return {}; }
 
+// Iterations of the branch-free lower-bound search over n bins: len goes n, n - n/2, ... down to 1.
+int searchSteps(int n) {
+  int steps = 0;
+  for (int len = n; len > 1; len -= len >> 1) ++steps;
+  return steps;
+}
+
 TechniqueData makeEnvCdf(const EnvImage& image) {
   const EnvCdfData cdf = buildEnvCdf(image);
   std::vector<float> packed(cdf.marginalCdf);  // layout of shaders/env/env_cdf.glsl: marginal, then rows
   packed.insert(packed.end(), cdf.conditionalCdf.begin(), cdf.conditionalCdf.end());
   TechniqueData data;
   data.add("env-cdf tables", std::span<const float>(packed));
+  data.defines = {{"ENV_CDF_ROW_SEARCH_STEPS", std::to_string(searchSteps(image.height))},
+                  {"ENV_CDF_COLUMN_SEARCH_STEPS", std::to_string(searchSteps(image.width))}};
   return data;
 }
 
 TechniqueData makeEnvHier(const EnvImage& image) {
-  const EnvHierData hier = buildEnvHier(image);
+  const EnvHierGpuData hier = packEnvHierForGpu(buildEnvHier(image));
   TechniqueData data;
-  data.add("env-hier nodes", std::span<const float>(hier.nodes));
+  data.add("env-hier children", std::span<const float>(hier.children));
   data.add("env-hier levels", std::span<const EnvHierLevel>(hier.levels));
+  data.defines = {{"ENV_HIER_LEVELS", std::to_string(hier.levels.size())}};
   return data;
 }
 
@@ -166,8 +176,9 @@ ParamValues resolveParams(const BrdfInfo& brdf, const std::vector<std::pair<std:
     int parsed = 0;
     std::istringstream in(rest);
     std::string item;
+    if (!rest.empty() && rest.back() == ',') throw Error("--param " + name + "=" + text + ": trailing comma");
     while (std::getline(in, item, ',')) {
-      if (parsed >= 3) break;
+      if (parsed >= 3) throw Error("--param " + name + "=" + text + ": too many values");
       char* end = nullptr;
       v[parsed] = std::strtod(item.c_str(), &end);
       if (item.empty() || end != item.c_str() + item.size() || !std::isfinite(v[parsed]))

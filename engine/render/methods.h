@@ -40,10 +40,13 @@ struct BrdfInfo {
 };
 
 // ---- techniques --------------------------------------------------------------------------------------------
-// GPU data of one technique: storage buffers for its descriptor set, in binding order.
+// GPU data of one technique: storage buffers for its descriptor set, in binding order, and preprocessor
+// definitions for its GLSL part (sizes known at build time, so loops over them have constant trip counts and
+// unroll; they are part of the SPIR-V cache key through the prelude).
 struct TechniqueData {
   std::vector<std::vector<std::byte>> buffers;
   std::vector<std::string> names;
+  std::vector<std::pair<std::string, std::string>> defines;
 
   template <typename T>
   void add(std::string name, std::span<const T> values) {

@@ -17,7 +17,7 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   SceneGpu gpu = uploadScene(context, scene);
   const auto spirv = compiler.compile(assemblePrelude(referenceParts(scene)), "reference " + scene.brdf->name);
   ComputeKernel kernel(context, spirv, sceneKernelLayout(0, 0), "reference");
-  kernel.bindBuffers(0, {&gpu.gbuffer, &gpu.accum, &gpu.envRgb, &gpu.envRowSolidAngle, &gpu.stats});
+  kernel.bindBuffers(0, {&gpu.gbuffer, &gpu.accum, &gpu.envRgb, &gpu.envRows, &gpu.stats});
   kernel.bindBuffers(2, std::span<const Buffer* const>());
   kernel.bindBuffers(3, {&gpu.brdfParams});
 
@@ -51,9 +51,12 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
     params.rowBegin = uint32_t(row);
     context.submitAndWait([&](vk::CommandBuffer cmd) {
       kernel.record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
-      // Shader writes of this chunk -> shader reads of the next chunk / host reads.
-      vk::MemoryBarrier barrier(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eHostRead);
-      cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eHost, {}, barrier,
+      // Shader writes of this chunk -> the next chunk's shader reads/writes and the host's reads.
+      vk::MemoryBarrier barrier(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eShaderRead |
+                                                                      vk::AccessFlagBits::eShaderWrite |
+                                                                      vk::AccessFlagBits::eHostRead);
+      cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader,
+                          vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eHost, {}, barrier,
                           {}, {});
     });
     if (options.progress) options.progress(double(std::min(row + rowsPerDispatch, H)) / H);

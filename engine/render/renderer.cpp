@@ -19,20 +19,19 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
                    const ResolvedMethod& method, uint32_t seed)
     : context_(context), scene_(scene), method_(method), gpu_(uploadScene(context, scene)), timestamps_(context),
       seed_(seed) {
-  const auto start = Clock::now();
   TechniqueData envData = method.envTechnique ? method.envTechnique->build(scene.env) : TechniqueData{};
   for (size_t i = 0; i < envData.buffers.size(); ++i)
     envBuffers_.push_back(Buffer::fromData(context, envData.buffers[i], envData.names[i]));
-  const KernelParts parts = integratorParts(scene, method);
+  const KernelParts parts = integratorParts(scene, method, envData);
   const auto spirv = compiler.compile(assemblePrelude(parts), "integrate " + method.label());
   kernel_ = std::make_unique<ComputeKernel>(context, spirv, sceneKernelLayout(uint32_t(envBuffers_.size()), 0),
                                             "integrate " + method.label());
-  kernel_->bindBuffers(0, {&gpu_.gbuffer, &gpu_.accum, &gpu_.envRgb, &gpu_.envRowSolidAngle, &gpu_.stats});
+  kernel_->bindBuffers(0, {&gpu_.gbuffer, &gpu_.accum, &gpu_.envRgb, &gpu_.envRows, &gpu_.stats});
   std::vector<const Buffer*> env;
   for (const auto& b : envBuffers_) env.push_back(&b);
   kernel_->bindBuffers(2, env);
   kernel_->bindBuffers(3, {&gpu_.brdfParams});
-  setupSeconds_ = since(start);
+  setupSeconds_ = since(created_);
 }
 
 void Renderer::restart(uint32_t seed) {
@@ -61,9 +60,12 @@ PassTiming Renderer::runPass(uint32_t samplesPerPass) {
     timestamps_.begin(cmd);
     kernel_->record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
     timestamps_.end(cmd);
-    // Shader writes -> host reads of the accumulation buffer after the fence.
-    vk::MemoryBarrier barrier(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eHostRead);
-    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eHost, {}, barrier, {},
+    // Shader writes -> the next dispatch's shader reads/writes and the host's reads after the fence.
+    vk::MemoryBarrier barrier(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eShaderRead |
+                                                                    vk::AccessFlagBits::eShaderWrite |
+                                                                    vk::AccessFlagBits::eHostRead);
+    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader,
+                        vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eHost, {}, barrier, {},
                         {});
   });
   samplesPerPixel_ += samplesPerPass;

@@ -10,6 +10,7 @@
 #include "engine/vk/compute_kernel.h"
 #include "engine/vk/shader_compiler.h"
 
+#include <chrono>
 #include <memory>
 
 namespace iblx {
@@ -35,6 +36,7 @@ class Renderer {
   double setupSeconds() const { return setupSeconds_; }  // table builds + shader compile + upload
 
  private:
+  std::chrono::steady_clock::time_point created_ = std::chrono::steady_clock::now();  // first: setup timing
   const VulkanContext& context_;
   const Scene& scene_;
   ResolvedMethod method_;

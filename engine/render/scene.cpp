@@ -2,6 +2,7 @@
 #include "engine/render/scene.h"
 
 #include "engine/core/error.h"
+#include "engine/core/log.h"
 #include "engine/sampling/latlong_texel.h"
 
 #include <cstdlib>
@@ -51,17 +52,27 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
   ResolvedMethod r;
   r.method = &findMethod(spec.method);
   r.sequence = &findSequence(spec.sequence);
-  if (spec.misHeuristic != "balance" && spec.misHeuristic != "power")
+  if (!spec.misHeuristic.empty() && spec.misHeuristic != "balance" && spec.misHeuristic != "power")
     throw Error("unknown --mis-heuristic '" + spec.misHeuristic + "'; valid: balance, power");
-  if (!(spec.misEnvFraction >= 0.0 && spec.misEnvFraction <= 1.0))
+  if (spec.misEnvFraction && !(*spec.misEnvFraction >= 0.0 && *spec.misEnvFraction <= 1.0))
     throw Error("--mis-split must be in [0, 1] (the fraction of samples given to the env technique)");
   r.misPower = spec.misHeuristic == "power";
-  r.misEnvFraction = float(spec.misEnvFraction);
+  r.misEnvFraction = float(spec.misEnvFraction.value_or(0.5));
+  const bool isMis = r.method->strategy == Strategy::Mis;
   const bool needsEnv = r.method->strategy != Strategy::SingleBrdf;
   const bool needsBrdf = r.method->strategy != Strategy::SingleEnv;
+  // Flags that the chosen method does not use are reported, so a typo'd command line cannot mislead.
+  auto ignored = [&](bool given, const char* flag) {
+    if (given) warn(std::string(flag) + " is ignored by --method " + r.method->name);
+  };
+  ignored(!spec.envSampler.empty() && !isMis, "--env-sampler");
+  ignored(!spec.brdfSampler.empty() && !needsBrdf, "--brdf-sampler");
+  ignored(spec.misEnvFraction.has_value() && !isMis, "--mis-split");
+  ignored(!spec.misHeuristic.empty() && !isMis, "--mis-heuristic");
   if (needsEnv)
-    r.envTechnique = r.method->strategy == Strategy::SingleEnv ? &findEnvTechnique(r.method->envTechnique)
-                                                               : &findEnvTechnique(spec.envSampler);
+    r.envTechnique = r.method->strategy == Strategy::SingleEnv
+                         ? &findEnvTechnique(r.method->envTechnique)
+                         : &findEnvTechnique(spec.envSampler.empty() ? "env-cdf" : spec.envSampler);
   if (needsBrdf) {
     const std::string name = spec.brdfSampler.empty() ? brdf.bestSampler : spec.brdfSampler;
     r.brdfTechnique = &findBrdfTechnique(name);
@@ -74,12 +85,12 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
 SceneGpu uploadScene(const VulkanContext& context, const Scene& scene) {
   const auto& g = scene.gbuffer;
   const std::size_t pixels = g.pixels.size();
-  std::vector<float> rows = rowSolidAngles(scene.env.width, scene.env.height);
+  std::vector<float> rows = envRowTable(scene.env.width, scene.env.height);
   std::vector<float> params = packParams(*scene.brdf, scene.params);
   SceneGpu gpu{Buffer::fromData(context, g.pixels, "gbuffer"),
                Buffer(context, pixels * sizeof(gpu::AccumPixel), "accumulation"),
                Buffer::fromData(context, scene.env.rgb, "environment radiance"),
-               Buffer::fromData(context, rows, "environment row solid angles"),
+               Buffer::fromData(context, rows, "environment row table"),
                Buffer(context, sizeof(gpu::KernelStats), "kernel stats"),
                Buffer::fromData(context, params, "brdf parameters")};
   gpu.accum.fill(0);

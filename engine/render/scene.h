@@ -24,13 +24,14 @@ struct SceneSpec {
   int width = 256, height = 256;
 };
 
+// Empty / unset fields take their defaults; a field set for a method that does not use it is reported.
 struct MethodSpec {
   std::string method = "mis";
-  std::string envSampler = "env-cdf";
-  std::string brdfSampler;  // empty: the BRDF's best
+  std::string envSampler;   // mis: default env-cdf
+  std::string brdfSampler;  // brdf, mis: default the BRDF's best
   std::string sequence = "random";
-  double misEnvFraction = 0.5;
-  std::string misHeuristic = "balance";  // balance | power
+  std::optional<double> misEnvFraction;  // mis: default 0.5
+  std::string misHeuristic;              // mis: balance (default) | power
 };
 
 struct Scene {
@@ -59,7 +60,7 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf);
 
 // Set-0 and set-3 buffers shared by the integrator and the reference kernel.
 struct SceneGpu {
-  Buffer gbuffer, accum, envRgb, envRowSolidAngle, stats, brdfParams;
+  Buffer gbuffer, accum, envRgb, envRows, stats, brdfParams;
 };
 SceneGpu uploadScene(const VulkanContext& context, const Scene& scene);
 

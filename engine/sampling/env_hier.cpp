@@ -232,4 +232,35 @@ std::optional<glm::dvec2> EnvHierSampler::invert(glm::dvec3 wi) const {
   return glm::min(u, glm::dvec2(double(kOneMinusEpsilonF)));
 }
 
+EnvHierGpuData packEnvHierForGpu(const EnvHierData& data) {
+  EnvHierGpuData gpu;
+  const std::size_t levelCount = data.levels.size();
+  auto log2 = [](uint32_t v) {
+    uint32_t l = 0;
+    while (v > 1) v >>= 1, ++l;
+    return l;
+  };
+  const EnvHierLevel& finest = data.levels.back();
+  for (std::size_t k = 0; k + 1 < levelCount; ++k) {
+    const EnvHierLevel& coarse = data.levels[k];
+    const EnvHierLevel& fine = data.levels[k + 1];
+    const bool splitX = fine.width > coarse.width, splitY = fine.height > coarse.height;
+    const uint32_t shiftX = log2(finest.width) - log2(fine.width) + (splitX ? 1 : 0);
+    const uint32_t shiftY = log2(finest.height) - log2(fine.height) + (splitY ? 1 : 0);
+    EnvHierLevel info{uint32_t(gpu.children.size() / 4), coarse.width, coarse.height,
+                      (splitX ? 1u : 0u) | (splitY ? 2u : 0u) | (shiftX << 8) | (shiftY << 16)};
+    gpu.levels.push_back(info);
+    for (uint32_t y = 0; y < coarse.height; ++y)
+      for (uint32_t x = 0; x < coarse.width; ++x) {
+        const uint32_t x0 = splitX ? 2 * x : x, y0 = splitY ? 2 * y : y;
+        auto node = [&](uint32_t cx, uint32_t cy) { return data.nodes[fine.offset + cy * fine.width + cx]; };
+        gpu.children.push_back(node(x0, y0));
+        gpu.children.push_back(splitX ? node(x0 + 1, y0) : 0.0f);
+        gpu.children.push_back(splitY ? node(x0, y0 + 1) : 0.0f);
+        gpu.children.push_back(splitX && splitY ? node(x0 + 1, y0 + 1) : 0.0f);
+      }
+  }
+  return gpu;
+}
+
 }  // namespace iblx

@@ -74,6 +74,25 @@ inline std::vector<float> rowSolidAngles(int width, int height) {
   return omega;
 }
 
+// Per-row table of the GPU (set 0, binding 3), one vec4 per row: the texel solid angle Omega(y), and the
+// squared half-angle terms a0, a1 at the row's top and bottom edges, a = sin^2(theta/2) for rows in the upper
+// half and cos^2(theta/2) in the lower half (w = 1 there), so that shaders/lib/latlong.glsl maps t.y to
+// cos(theta) without trigonometry and without cancellation next to either pole.
+inline std::vector<float> envRowTable(int width, int height) {
+  std::vector<float> rows(4 * std::size_t(std::max(height, 0)));
+  for (int y = 0; y < height; ++y) {
+    const bool lower = 2 * y >= height;
+    const double h0 = 0.5 * kPi * y / height, h1 = 0.5 * kPi * (y + 1) / height;
+    const double a0 = lower ? std::cos(h0) : std::sin(h0), a1 = lower ? std::cos(h1) : std::sin(h1);
+    float* r = &rows[4 * std::size_t(y)];
+    r[0] = float(latLongTexelSolidAngle(y, width, height));
+    r[1] = float(a0 * a0);
+    r[2] = float(a1 * a1);
+    r[3] = lower ? 1.0f : 0.0f;
+  }
+  return rows;
+}
+
 // Sampling weight of every texel, row-major: image.weight(x, y) * Omega(y), the texel's share of
 // the integral of the nearest-texel radiance (DESIGN §3). An all-zero image gets Omega(y) (uniform sphere)
 // with a warning. Throws iblx::Error naming `builder` on an empty, mis-sized, negative or non-finite image.

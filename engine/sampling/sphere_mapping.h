@@ -25,7 +25,7 @@ inline glm::dvec2 directionToLatLong(glm::dvec3 w) {
   double phi = std::atan2(w.z, w.x);
   if (phi < 0.0) phi += 2.0 * kPi;
   double u = phi / (2.0 * kPi);
-  if (u >= 1.0) u = 0.0;
+  if (u >= 1.0) u = std::nextafter(1.0, 0.0);  // phi rounded up to 2 pi: the last column, as on the GPU
   return {u, theta / kPi};
 }
 

@@ -21,6 +21,10 @@ uint32_t chooseMemoryType(const vk::raii::PhysicalDevice& physical, uint32_t typ
 
 Buffer::Buffer(const VulkanContext& context, vk::DeviceSize size, std::string name)
     : size_(std::max<vk::DeviceSize>(size, 16)), name_(std::move(name)) {
+  if (size_ > context.limits().maxStorageBufferRange)
+    throw Error("buffer '" + name_ + "' needs " + std::to_string(size_ >> 20) + " MiB, more than this device's " +
+                "largest storage buffer (" + std::to_string(context.limits().maxStorageBufferRange >> 20) +
+                " MiB); use a smaller environment map or image");
   using U = vk::BufferUsageFlagBits;
   buffer_ = vk::raii::Buffer(context.device(),
                              vk::BufferCreateInfo({}, size_, U::eStorageBuffer | U::eTransferSrc | U::eTransferDst));
@@ -35,6 +39,7 @@ Buffer::Buffer(const VulkanContext& context, vk::DeviceSize size, std::string na
   }
   buffer_.bindMemory(*memory_, 0);
   mapped_ = memory_.mapMemory(0, VK_WHOLE_SIZE);
+  std::memset(mapped_, 0, size_);  // padding of small or empty tables reads as 0, never as garbage
 }
 
 void Buffer::write(const void* data, vk::DeviceSize bytes, vk::DeviceSize offset) {

@@ -10,7 +10,11 @@
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
 
+#include <atomic>
 #include <cstdlib>
+#include <cstring>
+#include <random>
+#include <unistd.h>
 #include <fstream>
 #include <memory>
 #include <mutex>
@@ -73,11 +77,14 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& prelude, const 
   if (!cacheFile.empty()) {
     std::ifstream in(cacheFile, std::ios::binary);
     if (in) {
+      // Layout: SPIR-V words, then the 64-bit content hash of those words (a torn or foreign file is ignored).
       std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
-      if (!bytes.empty() && bytes.size() % 4 == 0) {
-        std::vector<uint32_t> words(bytes.size() / 4);
-        std::memcpy(words.data(), bytes.data(), bytes.size());
-        if (words[0] == 0x07230203u) {
+      if (bytes.size() > 8 && (bytes.size() - 8) % 4 == 0) {
+        std::vector<uint32_t> words((bytes.size() - 8) / 4);
+        std::memcpy(words.data(), bytes.data(), bytes.size() - 8);
+        uint64_t stored = 0;
+        std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
+        if (words[0] == 0x07230203u && stored == ContentHash().add(std::span<const uint32_t>(words)).value()) {
           ++cacheHits_;
           return words;
         }
@@ -111,9 +118,14 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& prelude, const 
   if (!cacheFile.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(cacheFile.parent_path(), ec);
-    const auto temp = cacheFile.string() + ".tmp" + std::to_string(std::rand());
+    // A name unique to this process and call, then an atomic rename: concurrent compilers never see a torn file.
+    static std::atomic<uint64_t> counter{0};
+    const auto temp = cacheFile.string() + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++) +
+                      "." + std::to_string(std::random_device{}());
     std::ofstream out(temp, std::ios::binary);
     out.write(reinterpret_cast<const char*>(spirv.data()), std::streamsize(spirv.size() * 4));
+    const uint64_t check = ContentHash().add(std::span<const uint32_t>(spirv)).value();
+    out.write(reinterpret_cast<const char*>(&check), sizeof check);
     out.close();
     if (out) std::filesystem::rename(temp, cacheFile, ec);
     if (!out || ec) {

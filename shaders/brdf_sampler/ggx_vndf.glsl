@@ -48,15 +48,14 @@ vec3 brdfSample(vec2 u, vec3 wo, out float pdf) {
   pdf = 0.0;
   if (wo.z <= 0.0) return vec3(0.0, 0.0, 1.0);
   float pSpec = ggxSpecularProbability();
-  vec3 wi;
-  if (u.x < pSpec) {  // reuse u.x after rescaling so the point set stays 2D
-    u.x = clamp(u.x / pSpec, 0.0, kOneMinusEpsilon);
-    vec3 h = sampleGgxVisibleNormal(wo, roughness, u);
-    wi = reflect(-wo, h);
-  } else {
-    u.x = clamp((u.x - pSpec) / (1.0 - pSpec), 0.0, kOneMinusEpsilon);
-    wi = squareToCosineHemisphere(u);
-  }
+  // The lobe is chosen by u.x < pSpec and u.x is rescaled, so the point set stays 2D. Both warps are computed
+  // and one kept: straight-line code for SIMD hardware, where a divergent branch costs both sides anyway.
+  bool specular = u.x < pSpec;
+  vec2 uSpec = vec2(clamp(u.x / pSpec, 0.0, kOneMinusEpsilon), u.y);  // pSpec >= 0.25
+  vec2 uDiffuse = vec2(pSpec < 1.0 ? clamp((u.x - pSpec) / (1.0 - pSpec), 0.0, kOneMinusEpsilon) : 0.0, u.y);
+  vec3 wiSpecular = reflect(-wo, sampleGgxVisibleNormal(wo, roughness, uSpec));
+  vec3 wiDiffuse = squareToCosineHemisphere(uDiffuse);
+  vec3 wi = specular ? wiSpecular : wiDiffuse;
   pdf = brdfPdf(wi, wo);
   return wi;
 }

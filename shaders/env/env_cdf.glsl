@@ -8,31 +8,34 @@
 // cdf[0 .. H]: marginal over rows; then per row y, cdf[H+1 + y*(W+1) .. + W]: conditional over columns.
 layout(std430, set = 2, binding = 0) readonly buffer EnvCdfData { float envCdf[]; };
 
-// Index i of the bin with cdf[base+i] <= u < cdf[base+i+1] among n bins (cdf[base+n] = 1 > u):
-// the first entry above u, minus one, so zero-width bins are never chosen.
-int envCdfFindBin(uint base, int n, float u) {
-  int lo = 1, hi = n;
-  while (lo < hi) {
-    int mid = (lo + hi) >> 1;
-    if (envCdf[base + uint(mid)] > u) hi = mid; else lo = mid + 1;
+// The largest i in [0, n) with cdf[base + i] <= u, i.e. cdf[i] <= u < cdf[i+1] (cdf[base + n] = 1 > u), so a
+// zero-width bin is never chosen. Branch-free, with the trip count `steps` fixed by the builder for this n
+// (ENV_CDF_*_SEARCH_STEPS): the loop unrolls and every SIMD lane runs the same instructions.
+int envCdfFindBin(uint base, int n, float u, const int steps) {
+  int lo = 0, len = n;
+  for (int i = 0; i < steps; ++i) {
+    int halfLen = len >> 1;
+    lo = envCdf[base + uint(lo + halfLen)] <= u ? lo + halfLen : lo;
+    len -= halfLen;
   }
-  return lo - 1;
+  return lo;
 }
 
 uint envCdfRowBase(int y) { return frame.envHeight + 1u + uint(y) * (frame.envWidth + 1u); }
 
-vec3 envSample(vec2 u, vec3 n, out float pdf) {
-  int H = int(frame.envHeight), W = int(frame.envWidth);
-  int y = envCdfFindBin(0u, H, u.y);
+vec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {
+  int y = envCdfFindBin(0u, int(frame.envHeight), u.y, ENV_CDF_ROW_SEARCH_STEPS);
   float c0 = envCdf[y], rowProb = envCdf[y + 1] - c0;
-  float ty = clamp((u.y - c0) / rowProb, 0.0, kOneMinusEpsilon);  // rowProb > 0: the bin was chosen
   uint base = envCdfRowBase(y);
-  int x = envCdfFindBin(base, W, u.x);
+  int x = envCdfFindBin(base, int(frame.envWidth), u.x, ENV_CDF_COLUMN_SEARCH_STEPS);
   float d0 = envCdf[base + uint(x)], colProb = envCdf[base + uint(x) + 1u] - d0;
-  float tx = clamp((u.x - d0) / colProb, 0.0, kOneMinusEpsilon);
+  // rowProb, colProb > 0: the search never returns a zero-width bin; the guards keep the code total.
+  float ty = rowProb > 0.0 ? clamp((u.y - c0) / rowProb, 0.0, kOneMinusEpsilon) : 0.5;
+  float tx = colProb > 0.0 ? clamp((u.x - d0) / colProb, 0.0, kOneMinusEpsilon) : 0.5;
   ivec2 texel = ivec2(x, y);
   float solidAngle = texelSolidAngle(texel);
   pdf = solidAngle > 0.0 ? rowProb * colProb / solidAngle : 0.0;
+  radiance = envTexelRadiance(texel);
   return texelToDirection(texel, vec2(tx, ty));
 }
 

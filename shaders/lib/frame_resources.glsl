@@ -8,8 +8,9 @@ layout(std430, set = 0, binding = 0) readonly buffer GBufferData { GPixel gbuffe
 layout(std430, set = 0, binding = 1) buffer AccumData { AccumPixel accum[]; };
 // Linear RGB of every texel, top row first, 3 floats per texel (nearest-texel reconstruction, DESIGN §3).
 layout(std430, set = 0, binding = 2) readonly buffer EnvRadianceData { float envRgb[]; };
-// Exact solid angle of one texel of each row, computed in double on the host.
-layout(std430, set = 0, binding = 3) readonly buffer EnvRowSolidAngleData { float envRowSolidAngle[]; };
+// Per row (engine/sampling/latlong_texel.h envRowTable, computed in double): x = exact texel solid angle,
+// y, z = the squared half-angle terms at the row's edges, w = 1 for rows in the lower half.
+layout(std430, set = 0, binding = 3) readonly buffer EnvRowData { vec4 envRows[]; };
 layout(std430, set = 0, binding = 4) buffer KernelStatsData { KernelStats stats; };
 
 layout(push_constant) uniform FrameBlock { FrameParams frame; };

@@ -10,7 +10,7 @@ ivec2 envSize() { return ivec2(frame.envWidth, frame.envHeight); }
 // theta from atan(length(xz), y): accurate at the poles, unlike acos(y).
 vec2 directionToLatLong(vec3 w) {
   float theta = atan(length(w.xz), w.y);
-  float phi = atan(w.z, w.x);
+  float phi = (w.x == 0.0 && w.z == 0.0) ? 0.0 : atan(w.z, w.x);  // atan(0, 0) is undefined in GLSL
   if (phi < 0.0) phi += kTwoPi;
   return vec2(phi / kTwoPi, theta / kPi);
 }
@@ -21,25 +21,15 @@ ivec2 directionToTexel(vec3 w) {
 }
 
 // Maps t in [0,1)^2 onto texel `texel` with constant density w.r.t. solid angle: phi linear in t.x,
-// cos(theta) linear in t.y. cos(theta) is formed from sin^2(theta/2) (upper half) or cos^2(theta/2)
-// (lower half) so that rows next to either pole keep full float precision.
+// cos(theta) linear in t.y. cos(theta) comes from a = sin^2(theta/2) (upper half) or cos^2(theta/2) (lower
+// half), linear in t.y between the row's tabulated edge values, so rows next to either pole keep full float
+// precision and no trigonometry is needed for theta.
 vec3 texelToDirection(ivec2 texel, vec2 t) {
-  ivec2 size = envSize();
-  float phi = kTwoPi * (float(texel.x) + t.x) / float(size.x);
-  float halfTheta0 = 0.5 * kPi * float(texel.y) / float(size.y);
-  float halfTheta1 = 0.5 * kPi * float(texel.y + 1) / float(size.y);
-  float cosTheta, sinTheta;
-  if (2 * texel.y < size.y) {
-    float s0 = sin(halfTheta0), s1 = sin(halfTheta1);
-    float s = mix(s0 * s0, s1 * s1, t.y);  // sin^2(theta/2) = (1 - cos(theta)) / 2
-    cosTheta = 1.0 - 2.0 * s;
-    sinTheta = 2.0 * sqrt(max(s * (1.0 - s), 0.0));
-  } else {
-    float c0 = cos(halfTheta0), c1 = cos(halfTheta1);
-    float c = mix(c0 * c0, c1 * c1, t.y);  // cos^2(theta/2) = (1 + cos(theta)) / 2
-    cosTheta = 2.0 * c - 1.0;
-    sinTheta = 2.0 * sqrt(max(c * (1.0 - c), 0.0));
-  }
+  vec4 row = envRows[texel.y];
+  float a = mix(row.y, row.z, t.y);
+  float cosTheta = row.w > 0.5 ? 2.0 * a - 1.0 : 1.0 - 2.0 * a;
+  float sinTheta = 2.0 * sqrt(max(a * (1.0 - a), 0.0));
+  float phi = kTwoPi * (float(texel.x) + t.x) / float(frame.envWidth);
   return vec3(sinTheta * cos(phi), cosTheta, sinTheta * sin(phi));
 }
 
@@ -51,5 +41,5 @@ vec3 envTexelRadiance(ivec2 texel) {
 // Nearest-texel radiance in environment-frame direction w.
 vec3 envRadiance(vec3 w) { return envTexelRadiance(directionToTexel(w)); }
 
-float texelSolidAngle(ivec2 texel) { return envRowSolidAngle[texel.y]; }
+float texelSolidAngle(ivec2 texel) { return envRows[texel.y].x; }
 #endif

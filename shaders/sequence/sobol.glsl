@@ -18,11 +18,14 @@ uint nestedUniformScramble(uint x, uint seed) {
 }
 
 // Second Sobol dimension: generator matrix = Pascal's triangle mod 2 (v_{k+1} = v_k ^ (v_k >> 1)).
+// A fixed 32-step branch-free loop (it unrolls; SIMD lanes do not diverge).
 uint sobolSecondDimension(uint index) {
   uint result = 0u;
   uint v = 1u << 31u;
-  for (; index != 0u; index >>= 1u, v ^= v >> 1u)
-    if ((index & 1u) != 0u) result ^= v;
+  for (int bit = 0; bit < 32; ++bit) {
+    result ^= v & (0u - ((index >> uint(bit)) & 1u));
+    v ^= v >> 1u;
+  }
   return result;
 }
 

@@ -65,6 +65,10 @@ expect_error "output dir missing" "does not exist" render --out "$tmp/no/such/di
 expect_error "reference needs exr" "use .exr" reference --out "$tmp/x.png"
 expect_error "bad device" "no usable Vulkan device" render --device no-such-gpu --size 8x8 --passes 1 --out "$tmp/d.png"
 expect_error "unknown command" "unknown command" frobnicate
+expect_error "too many color values" "too many values" render --brdf lambert --param albedo=1,1,1,1
+expect_error "trailing comma" "trailing comma" render --brdf lambert --param albedo=0.5,
+expect_error "spp cap" "out of range" render --spp 5000
+expect_error "sample index wrap" "exceeds 2^32" render --spp 4096 --passes 16000000
 [ ! -e "$tmp/a.png" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: an image was written despite errors"; }
 
 expect_ok "list methods" render --list-methods
@@ -75,6 +79,14 @@ if printf '%s' "$json" | grep -q '"relmse"' && printf '%s' "$json" | grep -q '"s
   passed=$((passed + 1))
 else
   failed=$((failed + 1)); echo "FAIL: --json --reference output: $json"
+fi
+
+# A flag the chosen method does not use is reported (and the render still happens).
+warning=$("$iblx" render --method env-cdf --env-sampler env-hier --size 8x8 --passes 1 --spp 1 --out "$tmp/w.png" 2>&1 >/dev/null)
+if printf '%s' "$warning" | grep -q -- "--env-sampler is ignored by --method env-cdf" && [ -s "$tmp/w.png" ]; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: ignored-flag warning: $warning"
 fi
 
 echo "cli: $passed passed, $failed failed"

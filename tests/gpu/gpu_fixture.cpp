@@ -36,12 +36,12 @@ struct ProbeRunner {
       : scene(std::move(s)), gpu(uploadScene(gpuContext(), scene)), vector(v) {
     for (size_t i = 0; i < data.buffers.size(); ++i)
       techniqueBuffers.push_back(Buffer::fromData(gpuContext(), data.buffers[i], data.names[i]));
-    KernelParts k{kernelFile, std::move(parts), paramBlockGlsl(*scene.brdf)};
+    KernelParts k{kernelFile, std::move(parts), paramBlockGlsl(*scene.brdf), data.defines};
     const auto spirv = gpuCompiler().compile(assemblePrelude(k), kernelFile);
     KernelLayout layout = sceneKernelLayout(uint32_t(techniqueBuffers.size()), 0);
     layout.buffersPerSet[1] = 2;
     kernel = std::make_unique<ComputeKernel>(gpuContext(), spirv, layout, kernelFile);
-    kernel->bindBuffers(0, {&gpu.gbuffer, &gpu.accum, &gpu.envRgb, &gpu.envRowSolidAngle, &gpu.stats});
+    kernel->bindBuffers(0, {&gpu.gbuffer, &gpu.accum, &gpu.envRgb, &gpu.envRows, &gpu.stats});
     std::vector<const Buffer*> set2;
     for (const auto& b : techniqueBuffers) set2.push_back(&b);
     kernel->bindBuffers(2, set2);

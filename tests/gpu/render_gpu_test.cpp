@@ -233,11 +233,11 @@ TEST_CASE("hard cases: no NaN or Inf for any method") {
 TEST_CASE("shader compiler: errors name the part file and line; the SPIR-V cache is used") {
   const auto dir = std::filesystem::temp_directory_path() / ("iblx-cache-test-" + std::to_string(::getpid()));
   ShaderCompiler compiler(dir);
-  compiler.addSource("test/broken_part.glsl", "// a comment\nvec3 envSample(vec2 u, vec3 n, out float pdf) {\n"
+  compiler.addSource("test/broken_part.glsl", "// a comment\nvec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {\n"
                                                "  return undeclaredThing;\n}\n");
   KernelParts parts{"integrate.comp",
                     {"sequence/random.glsl", "test/broken_part.glsl", "brdf/lambert.glsl", "strategy/single_env.glsl"},
-                    paramBlockGlsl(findBrdf("lambert"))};
+                    paramBlockGlsl(findBrdf("lambert")), {}};
   try {
     compiler.compile(assemblePrelude(parts), "broken");
     FAIL("expected a compile error");
@@ -251,7 +251,7 @@ TEST_CASE("shader compiler: errors name the part file and line; the SPIR-V cache
   const auto first = compiler.compile(assemblePrelude(parts), "ok");
   CHECK(compiler.compilations() == 2);
   ShaderCompiler again(dir);  // same sources: every source is part of the key
-  again.addSource("test/broken_part.glsl", "// a comment\nvec3 envSample(vec2 u, vec3 n, out float pdf) {\n"
+  again.addSource("test/broken_part.glsl", "// a comment\nvec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {\n"
                                             "  return undeclaredThing;\n}\n");
   const auto second = again.compile(assemblePrelude(parts), "ok");
   CHECK(again.cacheHits() == 1);

@@ -118,8 +118,9 @@ void addMethodFlags(ArgParser& p, RenderSpec& s) {
 }
 
 void addRunFlags(ArgParser& p, RenderSpec& s) {
-  p.value("--spp", "N", "samples per pixel per pass (default 32)",
-          [&](const std::string& v) { s.samplesPerPass = parseUint("--spp", v, 1, 1u << 20); });
+  // One pass is one dispatch: the cap keeps a dispatch far from GPU watchdog limits at any image size.
+  p.value("--spp", "N", "samples per pixel per pass, up to 4096 (default 32)",
+          [&](const std::string& v) { s.samplesPerPass = parseUint("--spp", v, 1, 4096); });
   p.value("--passes", "N", "number of passes (default 32)",
           [&](const std::string& v) { s.passes = parseUint("--passes", v, 1, 1u << 24); });
   p.value("--time", "S", "run passes until S seconds of wall time have passed (instead of --passes)",
@@ -156,6 +157,23 @@ void checkImagePath(const std::string& flag, const std::string& path, bool exrOn
   const auto parent = p.parent_path();
   if (!parent.empty() && !std::filesystem::is_directory(parent))
     throw Error(flag + " " + path + ": directory '" + parent.string() + "' does not exist");
+}
+
+std::string jsonEscape(const std::string& text) {
+  std::string out;
+  for (unsigned char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += char(c);
+    } else if (c < 0x20) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
+      out += buffer;
+    } else {
+      out += char(c);
+    }
+  }
+  return out;
 }
 
 void progressLine(const std::string& text) {

@@ -62,6 +62,8 @@ void parseSize(const std::string& flag, const std::string& text, int& width, int
 namespace iblx::cli {
 // Fails early (before any rendering) when an output path cannot be written as an image.
 void checkImagePath(const std::string& flag, const std::string& path, bool exrOnly = false);
+// A string as the inside of a JSON string literal.
+std::string jsonEscape(const std::string& text);
 // Progress line on stderr, only when stderr is a terminal.
 void progressLine(const std::string& text);
 void endProgressLine();

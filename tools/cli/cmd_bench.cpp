@@ -20,15 +20,17 @@ int cmdBench(const Args& args) {
   spec.passes = 7;
   ArgParser parser("bench");
   bool help = false;
-  std::vector<std::string> sequences;
+  std::vector<std::string> sequences, methods;
   addSceneFlags(parser, spec);
   addDeviceFlags(parser, spec);
   parser.value("--spp", "N", "samples per pixel per pass (default 64)",
-               [&](const std::string& v) { spec.samplesPerPass = parseUint("--spp", v, 1, 1u << 20); });
+               [&](const std::string& v) { spec.samplesPerPass = parseUint("--spp", v, 1, 4096); });
   parser.value("--passes", "N", "timed passes per method, after one warm-up pass (default 7)",
                [&](const std::string& v) { spec.passes = parseUint("--passes", v, 1, 10000); });
   parser.value("--seq", "NAME", "only this sequence (default: every sequence)",
                [&](const std::string& v) { sequences.push_back(v); });
+  parser.value("--method", "NAME", "only this method (repeatable; default: every method)",
+               [&](const std::string& v) { methods.push_back(findMethod(v).name); });
   parser.toggle("--json", "one JSON object per line instead of the table", [&] { spec.json = true; });
   parser.toggle("--help", "show this help", [&] { help = true; });
   parser.parse(args);
@@ -51,6 +53,7 @@ int cmdBench(const Args& args) {
   for (const auto& sequence : sequences) {
     double uniformRate = 0.0;
     for (const auto& m : methodRegistry()) {
+      if (!methods.empty() && std::find(methods.begin(), methods.end(), m.name) == methods.end()) continue;
       MethodSpec methodSpec;
       methodSpec.method = m.name;
       methodSpec.sequence = sequence;

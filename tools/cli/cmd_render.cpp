@@ -1,4 +1,5 @@
 // `iblx render`: progressive render of one scene with one method; writes the image, prints speed (and error).
+#include "engine/core/error.h"
 #include "engine/core/log.h"
 #include "engine/io/image_write.h"
 #include "engine/render/metrics.h"
@@ -36,6 +37,8 @@ int cmdRender(const Args& args) {
   resolveParams(brdf, spec.scene.params);
   const ResolvedMethod method = resolveMethod(spec.method, brdf);
   checkImagePath("--out", spec.out);
+  if (!spec.timeBudgetSeconds && uint64_t(spec.passes) * spec.samplesPerPass > 0xffffffffull)
+    throw Error("--passes x --spp exceeds 2^32 samples per pixel (the sample index would wrap)");
 
   const auto start = std::chrono::steady_clock::now();
   const Scene scene = loadScene(spec.scene);
@@ -48,6 +51,10 @@ int cmdRender(const Args& args) {
   for (;;) {
     const bool done = spec.timeBudgetSeconds ? renderWallSeconds >= *spec.timeBudgetSeconds : passes >= spec.passes;
     if (done) break;
+    if (renderer.samplesPerPixel() + spec.samplesPerPass > 0xffffffffull) {
+      warn("--time stopped at 2^32 samples per pixel (the sample index would wrap)");
+      break;
+    }
     const PassTiming t = renderer.runPass(spec.samplesPerPass);
     gpuSeconds += t.gpuSeconds;
     renderWallSeconds += t.wallSeconds;
@@ -82,13 +89,14 @@ int cmdRender(const Args& args) {
     std::printf("{\"method\": \"%s\", \"device\": \"%s\", \"width\": %d, \"height\": %d, \"spp\": %llu, "
                 "\"passes\": %u, \"gpu_s\": %.6f, \"wall_s\": %.6f, \"setup_s\": %.6f, \"total_wall_s\": %.6f, "
                 "\"samples_per_s\": %.1f, \"gpu_samples_per_s\": %.1f, \"non_finite\": %u",
-                method.label().c_str(), context.deviceName().c_str(), scene.gbuffer.width, scene.gbuffer.height,
+                jsonEscape(method.label()).c_str(), jsonEscape(context.deviceName()).c_str(), scene.gbuffer.width,
+                scene.gbuffer.height,
                 static_cast<unsigned long long>(renderer.samplesPerPixel()), passes, gpuSeconds, renderWallSeconds,
                 renderer.setupSeconds(), totalWall, samplesPerSecond, gpuSamplesPerSecond, renderer.nonFiniteSamples());
     if (error)
       std::printf(", \"mse\": %.9g, \"relmse\": %.9g, \"mean_signed_error\": %.9g, \"reference_s\": %.3f", error->mse,
                   error->relMse, error->meanSignedError, referenceSeconds);
-    std::printf(", \"out\": \"%s\"}\n", spec.out.c_str());
+    std::printf(", \"out\": \"%s\"}\n", jsonEscape(spec.out).c_str());
   } else {
     std::printf("%s on %s: %llu spp in %u passes, %.3f s wall (%.3f s GPU), %.2f M samples/s (%.2f M/s GPU)\n",
                 method.label().c_str(), context.deviceName().c_str(),

@@ -14,7 +14,8 @@ void main() {
   vec3 n = frame.quadrature.xyz;
   if (frame.rowBegin == 0u) {
     float pdf;
-    vec3 w = envSample(probeIn[i].xy, n, pdf);
+    vec3 radiance;
+    vec3 w = envSample(probeIn[i].xy, n, pdf, radiance);
     probeOut[2u * i] = vec4(w, pdf);
     probeOut[2u * i + 1u] = vec4(envPdf(w, n), 0.0, 0.0, 0.0);
   } else {
