@@ -1,8 +1,8 @@
 // The ground truth (DESIGN §4): Lo = sum over texels j of L_j * integral over texel j of f cos, by composite
 // 2-point Gauss-Legendre quadrature on the texel's area-preserving parameterisation (texelToDirection), so each
 // point's weight is the texel's exact solid angle / point count. Texels whose centre lies within the fine-zone
-// cone around the mirror direction, or that the horizon may cross, get frame.quadrature.y subdivisions per axis,
-// the others .x.
+// cone around the mirror direction get frame.quadrature.y subdivisions per axis, texels the horizon may cross at
+// least frame.strategy.w, the others frame.quadrature.x.
 // Each dispatch adds the rows [rowBegin, rowBegin + quadrature.w) with Kahan-compensated sums in accum
 // (mean = sum, meanSquare = compensation), so long references are split into short dispatches.
 #include "lib/frame_resources.glsl"
@@ -13,17 +13,23 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 const float kGaussNode = 0.21132486540518713;  // (1 - 1/sqrt(3)) / 2: 2-point Gauss-Legendre on [0,1]
 
+vec3 fCos(ivec2 texel, vec2 t, Shading s) {
+  vec3 wiLocal = toLocal(s, texelToDirection(texel, t));
+  return wiLocal.z > 0.0 ? brdfEval(wiLocal, s.woLocal) * wiLocal.z : vec3(0.0);
+}
+
+// One flat loop over the sub-cells, the four Gauss points written out: lavapipe caps the loop iterations an
+// invocation may run (about 65535 in all), so the loops here are kept as few and as short as possible.
 vec3 texelIntegral(ivec2 texel, Shading s, int subdivisions) {
   vec3 sum = vec3(0.0);
   float inv = 1.0 / float(subdivisions);
-  for (int j = 0; j < subdivisions; ++j)
-    for (int i = 0; i < subdivisions; ++i)
-      for (int q = 0; q < 4; ++q) {
-        vec2 node = vec2((q & 1) == 0 ? kGaussNode : 1.0 - kGaussNode, (q & 2) == 0 ? kGaussNode : 1.0 - kGaussNode);
-        vec3 wi = texelToDirection(texel, (vec2(i, j) + node) * inv);
-        vec3 wiLocal = toLocal(s, wi);
-        if (wiLocal.z > 0.0) sum += brdfEval(wiLocal, s.woLocal) * wiLocal.z;
-      }
+  for (int cell = 0; cell < subdivisions * subdivisions; ++cell) {
+    vec2 corner = vec2(cell % subdivisions, cell / subdivisions);
+    sum += fCos(texel, (corner + vec2(kGaussNode, kGaussNode)) * inv, s);
+    sum += fCos(texel, (corner + vec2(1.0 - kGaussNode, kGaussNode)) * inv, s);
+    sum += fCos(texel, (corner + vec2(kGaussNode, 1.0 - kGaussNode)) * inv, s);
+    sum += fCos(texel, (corner + vec2(1.0 - kGaussNode, 1.0 - kGaussNode)) * inv, s);
+  }
   return sum * (texelSolidAngle(texel) / float(4 * subdivisions * subdivisions));
 }
 
@@ -42,7 +48,8 @@ void main() {
   vec3 mirror = reflect(-s.wo, s.n);
   int coarse = int(frame.quadrature.x), fine = int(frame.quadrature.y);
   float fineZoneCos = frame.quadrature.z;
-  float horizonBand = frame.strategy.z;  // |n . centre| below this: the horizon crosses the texel
+  float horizonBand = frame.strategy.z;  // |n . centre| below this: the horizon may cross the texel
+  int horizonFine = int(frame.strategy.w);
   precise vec3 sum = accum[index].mean.rgb;
   precise vec3 compensation = accum[index].meanSquare.rgb;
   if (frame.rowBegin == 0u) sum = compensation = vec3(0.0);
@@ -53,9 +60,19 @@ void main() {
       vec3 radiance = envTexelRadiance(texel);
       if (radiance == vec3(0.0)) continue;
       vec3 centre = texelToDirection(texel, vec2(0.5));
-      bool refine = dot(centre, mirror) >= fineZoneCos || abs(dot(centre, s.n)) < horizonBand;
-      int k = refine ? fine : coarse;
-      precise vec3 term = radiance * texelIntegral(texel, s, k) - compensation;  // Kahan summation
+      float cosCentre = dot(centre, s.n);
+      if (cosCentre <= -horizonBand) continue;  // wholly below the horizon (coherent between neighbouring pixels)
+      int k = dot(centre, mirror) >= fineZoneCos ? fine : coarse;
+      k = cosCentre < horizonBand ? max(k, horizonFine) : k;
+      // k = 0: the midpoint rule (texels small against every feature of f cos); else Gauss on k x k sub-cells.
+      vec3 integral;
+      if (k == 0) {
+        vec3 wiLocal = toLocal(s, centre);
+        integral = wiLocal.z > 0.0 ? brdfEval(wiLocal, s.woLocal) * (wiLocal.z * texelSolidAngle(texel)) : vec3(0.0);
+      } else {
+        integral = texelIntegral(texel, s, k);
+      }
+      precise vec3 term = radiance * integral - compensation;  // Kahan summation
       precise vec3 next = sum + term;
       compensation = (next - sum) - term;
       sum = next;

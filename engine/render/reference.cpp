@@ -24,20 +24,30 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   const int W = scene.env.width, H = scene.env.height;
   const double texelAngle = std::max(kPi / H, 2.0 * kPi / W);  // largest texel side (at the equator)
   const double lobe = scene.brdf->lobeWidth ? scene.brdf->lobeWidth(scene.params) : 0.0;
-  const int coarse = std::max(1, options.coarseSubdivisions);
-  int fine = coarse;
+  // Texels much smaller than every feature of f cos (the lobe, the cosine) take the midpoint rule (error
+  // ~ texel^2 / 24 relative); larger ones the 2x2 Gauss rule on coarseSubdivisions^2 sub-cells.
+  const double smoothScale = lobe > 0.0 ? std::min(0.05, lobe / 8.0) : 0.05;
+  const int coarse =
+      options.allowMidpoint && texelAngle < smoothScale ? 0 : std::max(1, options.coarseSubdivisions);
+  int fine = std::max(1, coarse);
   double fineZoneCos = 2.0;  // > 1: no fine zone
-  if (lobe > 0.0) {
+  if (lobe > 0.0 && texelAngle >= smoothScale) {  // a lobe that is narrow against the texels
     // Sub-cells about a quarter of the lobe width, within a cone of a few lobe widths plus one texel diagonal.
-    fine = std::clamp(int(std::ceil(4.0 * texelAngle / lobe)), coarse, std::max(coarse, options.maxFineSubdivisions));
+    fine = std::clamp(int(std::ceil(4.0 * texelAngle / lobe)), 1, std::max(1, options.maxFineSubdivisions));
     fineZoneCos = std::cos(std::min(kPi, 4.0 * lobe + 1.5 * texelAngle));
   }
-  fine = std::max(fine, std::min(4 * coarse, std::max(coarse, options.maxFineSubdivisions)));  // horizon texels
-  const double horizonBand = std::sin(std::min(kPi / 2, 1.5 * texelAngle));
+  // Texels the horizon may cross (centre within half a texel diagonal of it): the max(0, cos) kink costs the
+  // Gauss rule its order, so these get 2x2 sub-cells (4x4 when the texels are large).
+  const int horizonFine = std::min(coarse == 0 ? 2 : 4 * coarse, std::max(1, options.maxFineSubdivisions));
+  const double horizonBand = std::sin(std::min(kPi / 2, 0.75 * texelAngle));
 
   // Chunks of rows keep each dispatch short (GPU watchdogs, progress reports).
-  const double workPerRow = double(scene.gbuffer.objectPixelCount()) * W * 4.0 * coarse * coarse;
-  const int rowsPerDispatch = int(std::clamp(2e8 / std::max(workPerRow, 1.0), 1.0, double(H)));
+  const double workPerRow = double(scene.gbuffer.objectPixelCount()) * W * std::max(1.0, 4.0 * coarse * coarse);
+  // lavapipe also caps the loop iterations of one invocation (about 65535 back-edges in all): a dispatch
+  // visits at most kTexelsPerDispatch texels per pixel, leaving the rest of the budget to sub-cell loops.
+  constexpr double kTexelsPerDispatch = 8192;
+  const int rowsPerDispatch =
+      int(std::clamp(std::min(2e8 / std::max(workPerRow, 1.0), kTexelsPerDispatch / W), 1.0, double(H)));
   const double rotation = scene.envRotationDeg * kPi / 180.0;
   gpu::FrameParams params{};
   params.width = uint32_t(scene.gbuffer.width);
@@ -45,7 +55,7 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   params.envWidth = uint32_t(W);
   params.envHeight = uint32_t(H);
   params.envRotation = {float(std::cos(rotation)), float(std::sin(rotation)), 0, 0};
-  params.strategy = {0, 0, float(horizonBand), 0};
+  params.strategy = {0, 0, float(horizonBand), float(horizonFine)};
   params.quadrature = {float(coarse), float(fine), float(fineZoneCos), float(rowsPerDispatch)};
   for (int row = 0; row < H; row += rowsPerDispatch) {
     params.rowBegin = uint32_t(row);

@@ -11,6 +11,7 @@
 
 namespace iblx {
 namespace {
+constexpr uint32_t kMaxSamplesPerDispatch = 256;
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 }  // namespace
@@ -58,7 +59,20 @@ PassTiming Renderer::runPass(uint32_t samplesPerPass) {
   params.strategy = {method_.misEnvFraction, method_.misPower ? 1.0f : 0.0f, 0, 0};
   context_.submitAndWait([&](vk::CommandBuffer cmd) {
     timestamps_.begin(cmd);
-    kernel_->record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
+    // A pass is split into dispatches of at most kMaxSamplesPerDispatch samples: lavapipe ends loops after about
+    // 65535 iterations per invocation, and parts may loop per sample; short dispatches also suit GPU watchdogs.
+    for (uint32_t done = 0; done < samplesPerPass; done += kMaxSamplesPerDispatch) {
+      params.sampleOffset = uint32_t(samplesPerPixel_) + done;
+      params.samplesPerPass = std::min(kMaxSamplesPerDispatch, samplesPerPass - done);
+      if (done > 0) {
+        // Accumulation writes of the previous dispatch -> reads and writes of the next.
+        vk::MemoryBarrier chain(vk::AccessFlagBits::eShaderWrite,
+                                vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite);
+        cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eComputeShader, {},
+                            chain, {}, {});
+      }
+      kernel_->record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
+    }
     timestamps_.end(cmd);
     // Shader writes -> the next dispatch's shader reads/writes and the host's reads after the fence.
     vk::MemoryBarrier barrier(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eShaderRead |

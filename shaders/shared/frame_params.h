@@ -42,7 +42,8 @@ struct FrameParams {
   uint seed;
   uint rowBegin;  // reference kernel: first environment row of this dispatch
   vec4 envRotation;  // x: cos, y: sin of the rotation about +Y (world -> env), zw unused
-  vec4 strategy;     // x: MIS fraction of env samples, y: heuristic (0 balance, 1 power), zw: unused
+  vec4 strategy;     // x: MIS fraction of env samples, y: heuristic (0 balance, 1 power);
+                     // reference: z sin of the horizon band, w subdivisions per axis inside it
   vec4 quadrature;   // reference: x coarse, y fine subdivisions per texel axis, z cos of the fine-zone angle,
                      // w: number of environment rows in this dispatch
 };

@@ -124,6 +124,48 @@ TEST_CASE("reference: white furnace convolution gives the albedo") {
   checkNoNewValidationErrors();
 }
 
+TEST_CASE("reference: the midpoint rule on fine maps agrees with the Gauss rule") {
+  // 256x128 texels are small against the cosine and an alpha = 0.3 lobe, so the reference takes the midpoint
+  // rule there; it must agree with 2x2 Gauss points everywhere to well below Monte Carlo noise.
+  // Regression: lavapipe ends loops after about 65535 iterations per invocation, which silently truncated the
+  // texel loop on maps of this size until dispatches were split by texel count.
+  const Scene scene = sceneWith(smoothSky(256, 128), "ggx", {{"roughness", "0.3"}, {"metallic", "0.5"}}, 16);
+  ReferenceOptions gauss;
+  gauss.allowMidpoint = false;
+  const ReferenceImage midpoint = computeReference(gpuContext(), gpuCompiler(), scene);
+  const ReferenceImage exact = computeReference(gpuContext(), gpuCompiler(), scene, gauss);
+  double worst = 0.0;
+  size_t worstIndex = 0;
+  for (size_t i = 0; i < midpoint.rgb.size(); ++i) {
+    const double d = std::abs(midpoint.rgb[i] - exact.rgb[i]) / (std::abs(exact.rgb[i]) + 1e-3);
+    if (d > worst) worst = d, worstIndex = i;
+  }
+  INFO("worst relative difference " << worst << " at pixel " << worstIndex / 3 << ": " << midpoint.rgb[worstIndex]
+                                    << " vs " << exact.rgb[worstIndex]);
+  CHECK(worst < 1e-3);
+  checkNoNewValidationErrors();
+}
+
+TEST_CASE("one pass of 2048 samples equals 32 passes of 64 (no truncated loops)") {
+  // The same sample indices give the same samples, so the running means agree to float rounding. Guards against
+  // lavapipe's per-invocation loop cap silently ending the sample loop of a long pass.
+  const Scene scene = sceneWith(smoothSky(32, 16), "ggx", {}, 16);
+  for (const char* sequence : {"random", "sobol"}) {
+    MethodSpec spec;
+    spec.sequence = sequence;
+    const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+    Renderer once(gpuContext(), gpuCompiler(), scene, method, 9), many(gpuContext(), gpuCompiler(), scene, method, 9);
+    once.runPass(2048);
+    for (int i = 0; i < 32; ++i) many.runPass(64);
+    const auto a = once.meanRgb(), b = many.meanRgb();
+    double worst = 0.0;
+    for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, double(std::abs(a[i] - b[i])) / (std::abs(b[i]) + 1e-3));
+    INFO(sequence << ": worst relative difference " << worst);
+    CHECK(worst < 1e-4);
+  }
+  checkNoNewValidationErrors();
+}
+
 TEST_CASE("every method converges to the convolution reference (z-test)") {
   struct Case {
     std::string name;
