@@ -30,8 +30,8 @@ struct SanitizeReport {
 // Replaces NaN and -Inf by 0, +Inf by the largest finite value of the image (0 if none), negatives by 0.
 SanitizeReport sanitize(EnvImage& image);
 
-// Loads a .exr (OpenEXR; half or float; RGB, RGBA or Y) or .hdr (Radiance RGBE) lat-long map and sanitizes it,
-// emitting one warning that counts the fixed texels. Throws iblx::Error naming the file on any failure.
+// Loads a .exr (OpenEXR; half or float; RGB, RGBA or Y) or .hdr (Radiance RGBE) lat-long map and sanitizes
+// it, emitting one warning that counts the fixed texels. Throws iblx::Error naming the file on any failure.
 EnvImage loadEnvImage(const std::filesystem::path& path);
 
 }  // namespace iblx

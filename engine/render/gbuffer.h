@@ -19,9 +19,10 @@ struct GBuffer {
   std::size_t objectPixelCount() const;
 };
 
-// DESIGN §3: orthographic camera looking down -Z at the unit sphere. Object pixels: n = (x, y, sqrt(1-x²-y²)),
-// wo = +Z, tangent along the sphere's latitude (n.z, 0, -n.x). Background pixels show the environment through a
-// pinhole looking down -Z with a 90° vertical field of view (display only; never part of an error metric).
+// DESIGN §3: orthographic camera looking down -Z at the unit sphere. Object pixels: n = (x, y,
+// sqrt(1-x²-y²)), wo = +Z, tangent along the sphere's latitude (n.z, 0, -n.x). Background pixels show the
+// environment through a pinhole looking down -Z with a 90° vertical field of view (display only; never part
+// of an error metric).
 GBuffer makeSphereGBuffer(int width, int height);
 
 // Builds the G-buffer of a named object ("sphere"); throws listing the valid names otherwise.

@@ -11,9 +11,9 @@
 namespace iblx {
 
 struct KernelParts {
-  std::string kernel;  // entry point, e.g. "integrate.comp"
-  std::vector<std::string> parts;  // one per role in use
-  std::string brdfParamBlock;      // paramBlockGlsl() of the scene's BRDF
+  std::string kernel;                                        // entry point, e.g. "integrate.comp"
+  std::vector<std::string> parts;                            // one per role in use
+  std::string brdfParamBlock;                                // paramBlockGlsl() of the scene's BRDF
   std::vector<std::pair<std::string, std::string>> defines;  // from the techniques' data
 };
 

@@ -13,7 +13,9 @@
 namespace iblx {
 namespace {
 
-TechniqueData noData(const EnvImage&) { return {}; }
+TechniqueData noData(const EnvImage&) {
+  return {};
+}
 
 // Iterations of the branch-free lower-bound search over n bins: len goes n, n - n/2, ... down to 1.
 int searchSteps(int n) {
@@ -42,17 +44,25 @@ TechniqueData makeEnvHier(const EnvImage& image) {
   return data;
 }
 
-double ggxLobeWidth(const ParamValues& p) { return 2.0 * std::atan(p.at("roughness")[0]); }
+double ggxLobeWidth(const ParamValues& p) {
+  return 2.0 * std::atan(p.at("roughness")[0]);
+}
 
 const BrdfInfo kBrdfs[] = {
-    {"lambert", "diffuse: f = albedo / pi", "brdf/lambert.glsl",
-     {{"albedo", ParamType::Color, 0.0, 1.0, {0.8, 0.8, 0.8}, "diffuse reflectance"}}, "cosine",
+    {"lambert",
+     "diffuse: f = albedo / pi",
+     "brdf/lambert.glsl",
+     {{"albedo", ParamType::Color, 0.0, 1.0, {0.8, 0.8, 0.8}, "diffuse reflectance"}},
+     "cosine",
      [](const ParamValues&) { return 0.0; }},
-    {"ggx", "metallic-roughness GGX microfacet (Walter 2007) + Lambert diffuse", "brdf/ggx.glsl",
+    {"ggx",
+     "metallic-roughness GGX microfacet (Walter 2007) + Lambert diffuse",
+     "brdf/ggx.glsl",
      {{"color", ParamType::Color, 0.0, 1.0, {0.95, 0.64, 0.54}, "base color (diffuse albedo, metal F0)"},
       {"roughness", ParamType::Float, 1e-3, 1.0, {0.25, 0, 0}, "GGX alpha"},
       {"metallic", ParamType::Float, 0.0, 1.0, {1.0, 0, 0}, "0 dielectric (F0 = 0.04), 1 metal"}},
-     "ggx-vndf", ggxLobeWidth},
+     "ggx-vndf",
+     ggxLobeWidth},
 };
 
 const EnvTechniqueInfo kEnvTechniques[] = {
@@ -64,7 +74,9 @@ const EnvTechniqueInfo kEnvTechniques[] = {
 
 const BrdfTechniqueInfo kBrdfTechniques[] = {
     {"cosine", "cosine-weighted hemisphere", "brdf_sampler/cosine.glsl", {}},
-    {"ggx-vndf", "GGX visible normals (Heitz 2018) + cosine for the diffuse lobe", "brdf_sampler/ggx_vndf.glsl",
+    {"ggx-vndf",
+     "GGX visible normals (Heitz 2018) + cosine for the diffuse lobe",
+     "brdf_sampler/ggx_vndf.glsl",
      {"ggx"}},
 };
 
@@ -106,38 +118,60 @@ bool BrdfTechniqueInfo::appliesTo(const std::string& brdf) const {
   return brdfs.empty() || std::find(brdfs.begin(), brdfs.end(), brdf) != brdfs.end();
 }
 
-std::span<const BrdfInfo> brdfRegistry() { return kBrdfs; }
-std::span<const EnvTechniqueInfo> envTechniqueRegistry() { return kEnvTechniques; }
-std::span<const BrdfTechniqueInfo> brdfTechniqueRegistry() { return kBrdfTechniques; }
-std::span<const SequenceInfo> sequenceRegistry() { return kSequences; }
-std::span<const MethodInfo> methodRegistry() { return kMethods; }
+std::span<const BrdfInfo> brdfRegistry() {
+  return kBrdfs;
+}
+std::span<const EnvTechniqueInfo> envTechniqueRegistry() {
+  return kEnvTechniques;
+}
+std::span<const BrdfTechniqueInfo> brdfTechniqueRegistry() {
+  return kBrdfTechniques;
+}
+std::span<const SequenceInfo> sequenceRegistry() {
+  return kSequences;
+}
+std::span<const MethodInfo> methodRegistry() {
+  return kMethods;
+}
 
 std::string strategyPart(Strategy strategy) {
   switch (strategy) {
-    case Strategy::SingleEnv: return "strategy/single_env.glsl";
-    case Strategy::SingleBrdf: return "strategy/single_brdf.glsl";
-    case Strategy::Mis: return "strategy/mis.glsl";
+    case Strategy::SingleEnv:
+      return "strategy/single_env.glsl";
+    case Strategy::SingleBrdf:
+      return "strategy/single_brdf.glsl";
+    case Strategy::Mis:
+      return "strategy/mis.glsl";
   }
   return {};
 }
 
-const BrdfInfo& findBrdf(const std::string& name) { return findIn(brdfRegistry(), name, "--brdf"); }
+const BrdfInfo& findBrdf(const std::string& name) {
+  return findIn(brdfRegistry(), name, "--brdf");
+}
 const EnvTechniqueInfo& findEnvTechnique(const std::string& name, const std::string& what) {
   return findIn(envTechniqueRegistry(), name, what);
 }
 const BrdfTechniqueInfo& findBrdfTechnique(const std::string& name, const std::string& what) {
   return findIn(brdfTechniqueRegistry(), name, what);
 }
-const SequenceInfo& findSequence(const std::string& name) { return findIn(sequenceRegistry(), name, "--seq"); }
-const MethodInfo& findMethod(const std::string& name) { return findIn(methodRegistry(), name, "--method"); }
+const SequenceInfo& findSequence(const std::string& name) {
+  return findIn(sequenceRegistry(), name, "--seq");
+}
+const MethodInfo& findMethod(const std::string& name) {
+  return findIn(methodRegistry(), name, "--method");
+}
 
 std::string describeRegistry() {
   std::ostringstream s;
   s << "methods (--method):\n";
-  for (const auto& m : methodRegistry()) s << "  " << m.name << std::string(12 - std::min<size_t>(11, m.name.size()), ' ') << m.description << "\n";
+  for (const auto& m : methodRegistry())
+    s << "  " << m.name << std::string(12 - std::min<size_t>(11, m.name.size()), ' ') << m.description
+      << "\n";
   s << "env techniques (--env-sampler, used by mis; each is also a method):\n";
   for (const auto& t : envTechniqueRegistry())
-    s << "  " << t.name << std::string(12 - std::min<size_t>(11, t.name.size()), ' ') << t.description << "; any BRDF\n";
+    s << "  " << t.name << std::string(12 - std::min<size_t>(11, t.name.size()), ' ') << t.description
+      << "; any BRDF\n";
   s << "BRDF techniques (--brdf-sampler, used by brdf and mis):\n";
   for (const auto& t : brdfTechniqueRegistry()) {
     std::string applies = "any BRDF";
@@ -145,34 +179,46 @@ std::string describeRegistry() {
       applies = "BRDFs: ";
       for (size_t i = 0; i < t.brdfs.size(); ++i) applies += (i ? ", " : "") + t.brdfs[i];
     }
-    s << "  " << t.name << std::string(12 - std::min<size_t>(11, t.name.size()), ' ') << t.description << "; " << applies << "\n";
+    s << "  " << t.name << std::string(12 - std::min<size_t>(11, t.name.size()), ' ') << t.description << "; "
+      << applies << "\n";
   }
   s << "sequences (--seq):\n";
-  for (const auto& q : sequenceRegistry()) s << "  " << q.name << std::string(12 - std::min<size_t>(11, q.name.size()), ' ') << q.description << "\n";
+  for (const auto& q : sequenceRegistry())
+    s << "  " << q.name << std::string(12 - std::min<size_t>(11, q.name.size()), ' ') << q.description
+      << "\n";
   s << "BRDFs (--brdf) and parameters (--param NAME=VALUE):\n";
   for (const auto& b : brdfRegistry()) {
-    s << "  " << b.name << std::string(12 - std::min<size_t>(11, b.name.size()), ' ') << b.description << "; best sampler: " << b.bestSampler << "\n";
+    s << "  " << b.name << std::string(12 - std::min<size_t>(11, b.name.size()), ' ') << b.description
+      << "; best sampler: " << b.bestSampler << "\n";
     for (const auto& p : b.params)
-      s << "      " << p.name << " (" << (p.type == ParamType::Color ? "color r,g,b" : p.type == ParamType::Bool ? "bool" : "float")
-        << " in [" << p.min << ", " << p.max << "], default " << formatValue(p, p.defaultValue) << "): " << p.description << "\n";
+      s << "      " << p.name << " ("
+        << (p.type == ParamType::Color  ? "color r,g,b"
+            : p.type == ParamType::Bool ? "bool"
+                                        : "float")
+        << " in [" << p.min << ", " << p.max << "], default " << formatValue(p, p.defaultValue)
+        << "): " << p.description << "\n";
   }
   return s.str();
 }
 
-ParamValues resolveParams(const BrdfInfo& brdf, const std::vector<std::pair<std::string, std::string>>& given) {
+ParamValues resolveParams(const BrdfInfo& brdf,
+                          const std::vector<std::pair<std::string, std::string>>& given) {
   ParamValues values;
   for (const auto& p : brdf.params) values[p.name] = p.defaultValue;
   for (const auto& [name, text] : given) {
-    auto decl = std::find_if(brdf.params.begin(), brdf.params.end(), [&](const ParamDecl& p) { return p.name == name; });
+    auto decl = std::find_if(brdf.params.begin(), brdf.params.end(),
+                             [&](const ParamDecl& p) { return p.name == name; });
     if (decl == brdf.params.end()) {
       std::string valid;
       for (const auto& p : brdf.params) valid += (valid.empty() ? "" : ", ") + p.name;
-      throw Error("--param " + name + ": BRDF '" + brdf.name + "' has no parameter '" + name + "'; its parameters: " + valid);
+      throw Error("--param " + name + ": BRDF '" + brdf.name + "' has no parameter '" + name +
+                  "'; its parameters: " + valid);
     }
     std::array<double, 3> v{0, 0, 0};
     const int count = decl->type == ParamType::Color ? 3 : 1;
     std::string rest = text;
-    if (decl->type == ParamType::Bool && (rest == "true" || rest == "false")) rest = rest == "true" ? "1" : "0";
+    if (decl->type == ParamType::Bool && (rest == "true" || rest == "false"))
+      rest = rest == "true" ? "1" : "0";
     int parsed = 0;
     std::istringstream in(rest);
     std::string item;
@@ -187,13 +233,15 @@ ParamValues resolveParams(const BrdfInfo& brdf, const std::vector<std::pair<std:
     }
     if (decl->type == ParamType::Color && parsed == 1) v = {v[0], v[0], v[0]}, parsed = 3;  // grey shorthand
     if (parsed != count)
-      throw Error("--param " + name + "=" + text + ": expected " + (count == 3 ? "a color r,g,b" : "one value"));
+      throw Error("--param " + name + "=" + text + ": expected " +
+                  (count == 3 ? "a color r,g,b" : "one value"));
     if (decl->type == ParamType::Bool && v[0] != 0.0 && v[0] != 1.0)
       throw Error("--param " + name + "=" + text + ": expected 0, 1, true or false");
     for (int c = 0; c < count; ++c)
       if (v[c] < decl->min || v[c] > decl->max) {
         std::ostringstream msg;
-        msg << "--param " << name << "=" << text << ": out of range [" << decl->min << ", " << decl->max << "]";
+        msg << "--param " << name << "=" << text << ": out of range [" << decl->min << ", " << decl->max
+            << "]";
         throw Error(msg.str());
       }
     values[name] = v;
@@ -226,7 +274,8 @@ std::string paramBlockGlsl(const BrdfInfo& brdf) {
     if (p.type == ParamType::Color)
       s << "  vec3 " << p.name << "; float iblxPad" << i << ";\n";
     else
-      s << "  " << (p.type == ParamType::Bool ? "bool " : "float ") << p.name << "; float iblxPad" << i << "[3];\n";
+      s << "  " << (p.type == ParamType::Bool ? "bool " : "float ") << p.name << "; float iblxPad" << i
+        << "[3];\n";
   }
   s << "};\n";
   return s.str();

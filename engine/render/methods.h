@@ -15,13 +15,14 @@
 
 namespace iblx {
 
-// ---- BRDFs -------------------------------------------------------------------------------------------------
+// ---- BRDFs
+// -------------------------------------------------------------------------------------------------
 enum class ParamType { Float, Color, Bool };
 
 struct ParamDecl {
   std::string name;
   ParamType type = ParamType::Float;
-  double min = 0.0, max = 1.0;                // bounds, inclusive (every channel for colors)
+  double min = 0.0, max = 1.0;                  // bounds, inclusive (every channel for colors)
   std::array<double, 3> defaultValue{0, 0, 0};  // floats and bools use [0]
   std::string description;
 };
@@ -39,10 +40,11 @@ struct BrdfInfo {
   std::function<double(const ParamValues&)> lobeWidth;
 };
 
-// ---- techniques --------------------------------------------------------------------------------------------
-// GPU data of one technique: storage buffers for its descriptor set, in binding order, and preprocessor
-// definitions for its GLSL part (sizes known at build time, so loops over them have constant trip counts and
-// unroll; they are part of the SPIR-V cache key through the prelude).
+// ---- techniques
+// -------------------------------------------------------------------------------------------- GPU data of
+// one technique: storage buffers for its descriptor set, in binding order, and preprocessor definitions for
+// its GLSL part (sizes known at build time, so loops over them have constant trip counts and unroll; they are
+// part of the SPIR-V cache key through the prelude).
 struct TechniqueData {
   std::vector<std::vector<std::byte>> buffers;
   std::vector<std::string> names;
@@ -66,7 +68,7 @@ struct EnvTechniqueInfo {
 struct BrdfTechniqueInfo {
   std::string name;
   std::string description;
-  std::string part;  // implements interfaces/brdf_sampler.glsl
+  std::string part;                // implements interfaces/brdf_sampler.glsl
   std::vector<std::string> brdfs;  // the BRDFs it applies to; empty = every BRDF
   bool appliesTo(const std::string& brdf) const;
 };
@@ -97,7 +99,8 @@ std::string strategyPart(Strategy strategy);
 // Lookups that throw iblx::Error listing the valid names (`what` names the flag, e.g. "--method").
 const BrdfInfo& findBrdf(const std::string& name);
 const EnvTechniqueInfo& findEnvTechnique(const std::string& name, const std::string& what = "--env-sampler");
-const BrdfTechniqueInfo& findBrdfTechnique(const std::string& name, const std::string& what = "--brdf-sampler");
+const BrdfTechniqueInfo& findBrdfTechnique(const std::string& name,
+                                           const std::string& what = "--brdf-sampler");
 const SequenceInfo& findSequence(const std::string& name);
 const MethodInfo& findMethod(const std::string& name);
 
@@ -105,7 +108,8 @@ const MethodInfo& findMethod(const std::string& name);
 std::string describeRegistry();
 
 // Fills defaults, parses "r,g,b" / "x" / "0|1|true|false" strings, range-checks; throws on unknown names.
-ParamValues resolveParams(const BrdfInfo& brdf, const std::vector<std::pair<std::string, std::string>>& given);
+ParamValues resolveParams(const BrdfInfo& brdf,
+                          const std::vector<std::pair<std::string, std::string>>& given);
 // Packs values into the BRDF parameter block: one 16-byte slot per parameter in declaration order.
 std::vector<float> packParams(const BrdfInfo& brdf, const ParamValues& values);
 // GLSL declaration of that block (set 3, binding 0) with each parameter as a plain name.

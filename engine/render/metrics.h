@@ -1,5 +1,5 @@
-// Error of an image against its reference over object pixels (DESIGN §7): MSE, relMSE with eps = 0.01, and the
-// mean signed error with its standard error (for unbiasedness z-tests).
+// Error of an image against its reference over object pixels (DESIGN §7): MSE, relMSE with eps = 0.01, and
+// the mean signed error with its standard error (for unbiasedness z-tests).
 #pragma once
 
 #include "engine/render/gbuffer.h"

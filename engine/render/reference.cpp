@@ -15,7 +15,8 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
                                 const ReferenceOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   SceneGpu gpu = uploadScene(context, scene);
-  const auto spirv = compiler.compile(assemblePrelude(referenceParts(scene)), "reference " + scene.brdf->name);
+  const auto spirv =
+      compiler.compile(assemblePrelude(referenceParts(scene)), "reference " + scene.brdf->name);
   ComputeKernel kernel(context, spirv, sceneKernelLayout(0, 0), "reference");
   kernel.bindBuffers(0, {&gpu.gbuffer, &gpu.accum, &gpu.envRgb, &gpu.envRows, &gpu.stats});
   kernel.bindBuffers(2, std::span<const Buffer* const>());
@@ -30,9 +31,10 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   const int coarse =
       options.allowMidpoint && texelAngle < smoothScale ? 0 : std::max(1, options.coarseSubdivisions);
   int fine = std::max(1, coarse);
-  double fineZoneCos = 2.0;  // > 1: no fine zone
+  double fineZoneCos = 2.0;                       // > 1: no fine zone
   if (lobe > 0.0 && texelAngle >= smoothScale) {  // a lobe that is narrow against the texels
-    // Sub-cells about a quarter of the lobe width, within a cone of a few lobe widths plus one texel diagonal.
+    // Sub-cells about a quarter of the lobe width, within a cone of a few lobe widths plus one texel
+    // diagonal.
     fine = std::clamp(int(std::ceil(4.0 * texelAngle / lobe)), 1, std::max(1, options.maxFineSubdivisions));
     fineZoneCos = std::cos(std::min(kPi, 4.0 * lobe + 1.5 * texelAngle));
   }
@@ -42,7 +44,8 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   const double horizonBand = std::sin(std::min(kPi / 2, 0.75 * texelAngle));
 
   // Chunks of rows keep each dispatch short (GPU watchdogs, progress reports).
-  const double workPerRow = double(scene.gbuffer.objectPixelCount()) * W * std::max(1.0, 4.0 * coarse * coarse);
+  const double workPerRow =
+      double(scene.gbuffer.objectPixelCount()) * W * std::max(1.0, 4.0 * coarse * coarse);
   // lavapipe also caps the loop iterations of one invocation (about 65535 back-edges in all): a dispatch
   // visits at most kTexelsPerDispatch texels per pixel, leaving the rest of the budget to sub-cell loops.
   constexpr double kTexelsPerDispatch = 8192;
@@ -66,8 +69,8 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
                                                                       vk::AccessFlagBits::eShaderWrite |
                                                                       vk::AccessFlagBits::eHostRead);
       cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader,
-                          vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eHost, {}, barrier,
-                          {}, {});
+                          vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eHost, {},
+                          barrier, {}, {});
     });
     if (options.progress) options.progress(double(std::min(row + rowsPerDispatch, H)) / H);
   }

@@ -1,6 +1,6 @@
-// The ground truth of a scene (DESIGN §4): a deterministic convolution over every environment texel on the GPU,
-// integrating the same nearest-texel reconstruction the estimators see, with finer quadrature inside texels that
-// the BRDF's narrow lobe or the horizon cuts through.
+// The ground truth of a scene (DESIGN §4): a deterministic convolution over every environment texel on the
+// GPU, integrating the same nearest-texel reconstruction the estimators see, with finer quadrature inside
+// texels that the BRDF's narrow lobe or the horizon cuts through.
 #pragma once
 
 #include "engine/render/scene.h"
@@ -11,7 +11,8 @@
 namespace iblx {
 
 struct ReferenceOptions {
-  int coarseSubdivisions = 1;  // per texel axis, each with 2x2 Gauss-Legendre points (unless the midpoint suffices)
+  int coarseSubdivisions =
+      1;  // per texel axis, each with 2x2 Gauss-Legendre points (unless the midpoint suffices)
   int maxFineSubdivisions = 128;
   bool allowMidpoint = true;  // false: the Gauss rule everywhere (for checking the midpoint rule)
   std::function<void(double fraction)> progress;  // called after each chunk of rows

@@ -13,20 +13,26 @@ namespace iblx {
 namespace {
 constexpr uint32_t kMaxSamplesPerDispatch = 256;
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 }  // namespace
 
 Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                    const ResolvedMethod& method, uint32_t seed)
-    : context_(context), scene_(scene), method_(method), gpu_(uploadScene(context, scene)), timestamps_(context),
+    : context_(context),
+      scene_(scene),
+      method_(method),
+      gpu_(uploadScene(context, scene)),
+      timestamps_(context),
       seed_(seed) {
   TechniqueData envData = method.envTechnique ? method.envTechnique->build(scene.env) : TechniqueData{};
   for (size_t i = 0; i < envData.buffers.size(); ++i)
     envBuffers_.push_back(Buffer::fromData(context, envData.buffers[i], envData.names[i]));
   const KernelParts parts = integratorParts(scene, method, envData);
   const auto spirv = compiler.compile(assemblePrelude(parts), "integrate " + method.label());
-  kernel_ = std::make_unique<ComputeKernel>(context, spirv, sceneKernelLayout(uint32_t(envBuffers_.size()), 0),
-                                            "integrate " + method.label());
+  kernel_ = std::make_unique<ComputeKernel>(
+      context, spirv, sceneKernelLayout(uint32_t(envBuffers_.size()), 0), "integrate " + method.label());
   kernel_->bindBuffers(0, {&gpu_.gbuffer, &gpu_.accum, &gpu_.envRgb, &gpu_.envRows, &gpu_.stats});
   std::vector<const Buffer*> env;
   for (const auto& b : envBuffers_) env.push_back(&b);
@@ -59,8 +65,9 @@ PassTiming Renderer::runPass(uint32_t samplesPerPass) {
   params.strategy = {method_.misEnvFraction, method_.misPower ? 1.0f : 0.0f, 0, 0};
   context_.submitAndWait([&](vk::CommandBuffer cmd) {
     timestamps_.begin(cmd);
-    // A pass is split into dispatches of at most kMaxSamplesPerDispatch samples: lavapipe ends loops after about
-    // 65535 iterations per invocation, and parts may loop per sample; short dispatches also suit GPU watchdogs.
+    // A pass is split into dispatches of at most kMaxSamplesPerDispatch samples: lavapipe ends loops after
+    // about 65535 iterations per invocation, and parts may loop per sample; short dispatches also suit GPU
+    // watchdogs.
     for (uint32_t done = 0; done < samplesPerPass; done += kMaxSamplesPerDispatch) {
       params.sampleOffset = uint32_t(samplesPerPixel_) + done;
       params.samplesPerPass = std::min(kMaxSamplesPerDispatch, samplesPerPass - done);
@@ -68,8 +75,8 @@ PassTiming Renderer::runPass(uint32_t samplesPerPass) {
         // Accumulation writes of the previous dispatch -> reads and writes of the next.
         vk::MemoryBarrier chain(vk::AccessFlagBits::eShaderWrite,
                                 vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite);
-        cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eComputeShader, {},
-                            chain, {}, {});
+        cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader,
+                            vk::PipelineStageFlagBits::eComputeShader, {}, chain, {}, {});
       }
       kernel_->record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
     }
@@ -79,8 +86,8 @@ PassTiming Renderer::runPass(uint32_t samplesPerPass) {
                                                                     vk::AccessFlagBits::eShaderWrite |
                                                                     vk::AccessFlagBits::eHostRead);
     cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader,
-                        vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eHost, {}, barrier, {},
-                        {});
+                        vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eHost, {},
+                        barrier, {}, {});
   });
   samplesPerPixel_ += samplesPerPass;
   return {timestamps_.seconds(), since(start)};

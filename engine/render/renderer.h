@@ -1,5 +1,6 @@
 // The progressive renderer (DESIGN §2, §6): builds the method's sampling data, assembles and compiles its
-// integrator, and adds one batch of samples per pixel per pass to a running mean, timed on the GPU and the wall.
+// integrator, and adds one batch of samples per pixel per pass to a running mean, timed on the GPU and the
+// wall.
 //
 //   Renderer renderer(ctx, compiler, scene, resolveMethod(methodSpec, *scene.brdf), seed);
 //   for (int i = 0; i < 16; ++i) renderer.runPass(64);
@@ -22,14 +23,14 @@ struct PassTiming {
 
 class Renderer {
  public:
-  Renderer(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene, const ResolvedMethod& method,
-           uint32_t seed = 1);
+  Renderer(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+           const ResolvedMethod& method, uint32_t seed = 1);
 
   PassTiming runPass(uint32_t samplesPerPass);
   void restart(uint32_t seed);  // drops everything accumulated
 
   uint64_t samplesPerPixel() const { return samplesPerPixel_; }
-  std::vector<float> meanRgb() const;  // width*height*3
+  std::vector<float> meanRgb() const;      // width*height*3
   std::vector<float> varianceRgb() const;  // per-pixel sample variance of one estimate, width*height*3
   uint32_t nonFiniteSamples() const;
   const ResolvedMethod& method() const { return method_; }

@@ -77,7 +77,8 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
     const std::string name = spec.brdfSampler.empty() ? brdf.bestSampler : spec.brdfSampler;
     r.brdfTechnique = &findBrdfTechnique(name);
     if (!r.brdfTechnique->appliesTo(brdf.name))
-      throw Error("--brdf-sampler " + name + " does not apply to BRDF '" + brdf.name + "' (see --list-methods)");
+      throw Error("--brdf-sampler " + name + " does not apply to BRDF '" + brdf.name +
+                  "' (see --list-methods)");
   }
   return r;
 }

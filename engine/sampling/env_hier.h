@@ -35,8 +35,8 @@ EnvHierData buildEnvHier(const EnvImage& image);
 
 // The layout shaders/env/env_hier.glsl reads: for every level but the finest, one vec4 per node holding its
 // children (q(0,0), q(1,0), q(0,1), q(1,1)), 0 where missing, so each step of the descent is one load.
-// Level info: x = offset (in vec4s), y = width, z = height, w = splitX | splitY << 1 | shiftX << 8 | shiftY << 16
-// (shift = the number of x / y doublings from this level's children down to the finest level).
+// Level info: x = offset (in vec4s), y = width, z = height, w = splitX | splitY << 1 | shiftX << 8 | shiftY
+// << 16 (shift = the number of x / y doublings from this level's children down to the finest level).
 struct EnvHierGpuData {
   std::vector<float> children;  // 4 floats per node
   std::vector<EnvHierLevel> levels;

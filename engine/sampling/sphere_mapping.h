@@ -1,6 +1,6 @@
 // The conventions of DESIGN §3 written once: lat-long <-> direction, texel solid angles, camera pixels.
-// shaders/lib/latlong.glsl is the GPU twin of this file; tests/sampling/sphere_mapping_test.cpp checks both agree
-// with the design document.
+// shaders/lib/latlong.glsl is the GPU twin of this file; tests/sampling/sphere_mapping_test.cpp checks both
+// agree with the design document.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -29,8 +29,9 @@ inline glm::dvec2 directionToLatLong(glm::dvec3 w) {
   return {u, theta / kPi};
 }
 
-// Exact solid angle of any texel in row y of a width x height lat-long map: 2*pi/W * (cos(theta0) - cos(theta1)).
-// Written as 2*sin((theta1+theta0)/2)*sin((theta1-theta0)/2) to avoid cancellation near the poles.
+// Exact solid angle of any texel in row y of a width x height lat-long map: 2*pi/W * (cos(theta0) -
+// cos(theta1)). Written as 2*sin((theta1+theta0)/2)*sin((theta1-theta0)/2) to avoid cancellation near the
+// poles.
 inline double latLongTexelSolidAngle(int y, int width, int height) {
   const double theta0 = kPi * y / height, theta1 = kPi * (y + 1) / height;
   return 2.0 * kPi / width * 2.0 * std::sin(0.5 * (theta1 + theta0)) * std::sin(0.5 * (theta1 - theta0));

@@ -6,7 +6,8 @@
 namespace iblx {
 namespace {
 
-uint32_t chooseMemoryType(const vk::raii::PhysicalDevice& physical, uint32_t typeBits, const std::string& what) {
+uint32_t chooseMemoryType(const vk::raii::PhysicalDevice& physical, uint32_t typeBits,
+                          const std::string& what) {
   const auto memory = physical.getMemoryProperties();
   using F = vk::MemoryPropertyFlagBits;
   const vk::MemoryPropertyFlags wanted[] = {F::eDeviceLocal | F::eHostVisible | F::eHostCoherent,
@@ -22,20 +23,23 @@ uint32_t chooseMemoryType(const vk::raii::PhysicalDevice& physical, uint32_t typ
 Buffer::Buffer(const VulkanContext& context, vk::DeviceSize size, std::string name)
     : size_(std::max<vk::DeviceSize>(size, 16)), name_(std::move(name)) {
   if (size_ > context.limits().maxStorageBufferRange)
-    throw Error("buffer '" + name_ + "' needs " + std::to_string(size_ >> 20) + " MiB, more than this device's " +
-                "largest storage buffer (" + std::to_string(context.limits().maxStorageBufferRange >> 20) +
+    throw Error("buffer '" + name_ + "' needs " + std::to_string(size_ >> 20) +
+                " MiB, more than this device's " + "largest storage buffer (" +
+                std::to_string(context.limits().maxStorageBufferRange >> 20) +
                 " MiB); use a smaller environment map or image");
   using U = vk::BufferUsageFlagBits;
-  buffer_ = vk::raii::Buffer(context.device(),
-                             vk::BufferCreateInfo({}, size_, U::eStorageBuffer | U::eTransferSrc | U::eTransferDst));
+  buffer_ = vk::raii::Buffer(
+      context.device(),
+      vk::BufferCreateInfo({}, size_, U::eStorageBuffer | U::eTransferSrc | U::eTransferDst));
   const auto requirements = buffer_.getMemoryRequirements();
   try {
     memory_ = vk::raii::DeviceMemory(
         context.device(),
-        vk::MemoryAllocateInfo(requirements.size,
-                               chooseMemoryType(context.physicalDevice(), requirements.memoryTypeBits, name_)));
+        vk::MemoryAllocateInfo(requirements.size, chooseMemoryType(context.physicalDevice(),
+                                                                   requirements.memoryTypeBits, name_)));
   } catch (const vk::SystemError& e) {
-    throw Error("cannot allocate " + std::to_string(size_ >> 20) + " MiB for buffer '" + name_ + "': " + e.what());
+    throw Error("cannot allocate " + std::to_string(size_ >> 20) + " MiB for buffer '" + name_ +
+                "': " + e.what());
   }
   buffer_.bindMemory(*memory_, 0);
   mapped_ = memory_.mapMemory(0, VK_WHOLE_SIZE);

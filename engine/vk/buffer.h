@@ -1,5 +1,6 @@
 // A storage buffer that owns its memory. Host-visible memory is used so that uploads and read-backs are plain
-// copies; device-local host-visible memory is preferred when the device has it (integrated GPUs, lavapipe, ReBAR).
+// copies; device-local host-visible memory is preferred when the device has it (integrated GPUs, lavapipe,
+// ReBAR).
 #pragma once
 
 #include "engine/vk/context.h"

@@ -20,7 +20,8 @@ ComputeKernel::ComputeKernel(const VulkanContext& context, std::span<const uint3
   std::vector<vk::DescriptorSetLayout> rawLayouts;
   for (const auto& l : setLayouts_) rawLayouts.push_back(*l);
   std::vector<vk::PushConstantRange> ranges;
-  if (layout.pushConstantBytes) ranges.emplace_back(vk::ShaderStageFlagBits::eCompute, 0, layout.pushConstantBytes);
+  if (layout.pushConstantBytes)
+    ranges.emplace_back(vk::ShaderStageFlagBits::eCompute, 0, layout.pushConstantBytes);
   pipelineLayout_ = vk::raii::PipelineLayout(device, vk::PipelineLayoutCreateInfo({}, rawLayouts, ranges));
   module_ = vk::raii::ShaderModule(device, vk::ShaderModuleCreateInfo({}, spirv.size_bytes(), spirv.data()));
   vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module_, "main");
@@ -28,7 +29,8 @@ ComputeKernel::ComputeKernel(const VulkanContext& context, std::span<const uint3
 
   vk::DescriptorPoolSize poolSize(vk::DescriptorType::eStorageBuffer, std::max(totalBuffers, 1u));
   pool_ = vk::raii::DescriptorPool(
-      device, vk::DescriptorPoolCreateInfo(vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, 4, poolSize));
+      device,
+      vk::DescriptorPoolCreateInfo(vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, 4, poolSize));
   vk::raii::DescriptorSets sets(device, vk::DescriptorSetAllocateInfo(*pool_, rawLayouts));
   for (auto& s : sets) sets_.push_back(std::move(s));
 }
@@ -41,7 +43,8 @@ void ComputeKernel::bindBuffers(uint32_t set, std::span<const Buffer* const> buf
   IBLX_ASSERT(set < 4);
   if (buffers.size() != layout_.buffersPerSet[set])
     throw Error("kernel '" + name_ + "': set " + std::to_string(set) + " expects " +
-                std::to_string(layout_.buffersPerSet[set]) + " buffers, got " + std::to_string(buffers.size()));
+                std::to_string(layout_.buffersPerSet[set]) + " buffers, got " +
+                std::to_string(buffers.size()));
   std::vector<vk::DescriptorBufferInfo> infos;
   infos.reserve(buffers.size());
   for (const Buffer* b : buffers) infos.emplace_back(b->handle(), 0, VK_WHOLE_SIZE);
@@ -51,14 +54,15 @@ void ComputeKernel::bindBuffers(uint32_t set, std::span<const Buffer* const> buf
   context_->device().updateDescriptorSets(writes, {});
 }
 
-void ComputeKernel::record(vk::CommandBuffer cmd, uint32_t groupsX, uint32_t groupsY, const void* pushConstants,
-                           uint32_t pushBytes) const {
+void ComputeKernel::record(vk::CommandBuffer cmd, uint32_t groupsX, uint32_t groupsY,
+                           const void* pushConstants, uint32_t pushBytes) const {
   IBLX_ASSERT(pushBytes == layout_.pushConstantBytes);
   cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_);
   std::vector<vk::DescriptorSet> raw;
   for (const auto& s : sets_) raw.push_back(*s);
   cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout_, 0, raw, {});
-  if (pushBytes) cmd.pushConstants(*pipelineLayout_, vk::ShaderStageFlagBits::eCompute, 0, pushBytes, pushConstants);
+  if (pushBytes)
+    cmd.pushConstants(*pipelineLayout_, vk::ShaderStageFlagBits::eCompute, 0, pushBytes, pushConstants);
   cmd.dispatch(groupsX, groupsY, 1);
 }
 
@@ -80,8 +84,9 @@ void TimestampPair::end(vk::CommandBuffer cmd) const {
 
 double TimestampPair::seconds() const {
   if (!context_->hasTimestamps()) return 0.0;
-  auto [result, values] = pool_.getResults<uint64_t>(0, 2, 2 * sizeof(uint64_t), sizeof(uint64_t),
-                                                     vk::QueryResultFlagBits::e64 | vk::QueryResultFlagBits::eWait);
+  auto [result, values] =
+      pool_.getResults<uint64_t>(0, 2, 2 * sizeof(uint64_t), sizeof(uint64_t),
+                                 vk::QueryResultFlagBits::e64 | vk::QueryResultFlagBits::eWait);
   if (result != vk::Result::eSuccess || values[1] < values[0]) return 0.0;
   return double(values[1] - values[0]) * context_->timestampPeriodNs() * 1e-9;
 }

@@ -1,9 +1,10 @@
 // A compute pipeline with its four role descriptor sets (DESIGN §2 / STYLE "For iblx" 6: 0 frame, 1 sequence,
 // 2 env sampler, 3 BRDF), each holding only storage buffers numbered from 0, plus one push-constant block.
 //
-//   ComputeKernel kernel(ctx, spirv, {.buffersPerSet = {4, 0, 2, 1}, .pushConstantBytes = sizeof(FrameParams)}, "x");
-//   kernel.bindBuffers(0, {&gbuffer, &accum, &env, &rows});
-//   ctx.submitAndWait([&](vk::CommandBuffer cmd) { kernel.record(cmd, groupsX, groupsY, &params, sizeof params); });
+//   ComputeKernel kernel(ctx, spirv, {.buffersPerSet = {4, 0, 2, 1}, .pushConstantBytes =
+//   sizeof(FrameParams)}, "x"); kernel.bindBuffers(0, {&gbuffer, &accum, &env, &rows});
+//   ctx.submitAndWait([&](vk::CommandBuffer cmd) { kernel.record(cmd, groupsX, groupsY, &params, sizeof
+//   params); });
 #pragma once
 
 #include "engine/vk/buffer.h"

@@ -1,4 +1,5 @@
-// Instance creation (validation layers when asked and installed), device selection with reasons, compute queue.
+// Instance creation (validation layers when asked and installed), device selection with reasons, compute
+// queue.
 #include "engine/vk/context.h"
 
 #include "engine/core/error.h"
@@ -21,31 +22,40 @@ std::string lower(std::string s) {
 
 int typeRank(vk::PhysicalDeviceType type) {
   switch (type) {
-    case vk::PhysicalDeviceType::eDiscreteGpu: return 0;
-    case vk::PhysicalDeviceType::eIntegratedGpu: return 1;
-    case vk::PhysicalDeviceType::eVirtualGpu: return 2;
-    case vk::PhysicalDeviceType::eCpu: return 3;
-    default: return 4;
+    case vk::PhysicalDeviceType::eDiscreteGpu:
+      return 0;
+    case vk::PhysicalDeviceType::eIntegratedGpu:
+      return 1;
+    case vk::PhysicalDeviceType::eVirtualGpu:
+      return 2;
+    case vk::PhysicalDeviceType::eCpu:
+      return 3;
+    default:
+      return 4;
   }
 }
 
 std::string typeName(vk::PhysicalDeviceType type) {
   switch (type) {
-    case vk::PhysicalDeviceType::eDiscreteGpu: return "discrete GPU";
-    case vk::PhysicalDeviceType::eIntegratedGpu: return "integrated GPU";
-    case vk::PhysicalDeviceType::eVirtualGpu: return "virtual GPU";
-    case vk::PhysicalDeviceType::eCpu: return "CPU";
-    default: return "other";
+    case vk::PhysicalDeviceType::eDiscreteGpu:
+      return "discrete GPU";
+    case vk::PhysicalDeviceType::eIntegratedGpu:
+      return "integrated GPU";
+    case vk::PhysicalDeviceType::eVirtualGpu:
+      return "virtual GPU";
+    case vk::PhysicalDeviceType::eCpu:
+      return "CPU";
+    default:
+      return "other";
   }
 }
 
 // Why a device cannot run iblx, or empty if it can.
 std::string rejectionReason(const vk::raii::PhysicalDevice& device, uint32_t* computeFamily) {
   const auto properties = device.getProperties();
-  if (properties.apiVersion < VK_API_VERSION_1_2) return "supports only Vulkan " +
-                                                        std::to_string(VK_API_VERSION_MAJOR(properties.apiVersion)) +
-                                                        "." + std::to_string(VK_API_VERSION_MINOR(properties.apiVersion)) +
-                                                        ", iblx needs 1.2";
+  if (properties.apiVersion < VK_API_VERSION_1_2)
+    return "supports only Vulkan " + std::to_string(VK_API_VERSION_MAJOR(properties.apiVersion)) + "." +
+           std::to_string(VK_API_VERSION_MINOR(properties.apiVersion)) + ", iblx needs 1.2";
   const auto families = device.getQueueFamilyProperties();
   for (uint32_t i = 0; i < families.size(); ++i) {
     if (families[i].queueFlags & vk::QueueFlagBits::eCompute) {
@@ -146,11 +156,12 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     const std::string name = properties.deviceName.data();
     if (reason.empty() && !selector.empty()) {
       const bool isIndex = std::all_of(selector.begin(), selector.end(), ::isdigit);
-      const bool match = isIndex ? std::stoul(selector) == i : lower(name).find(lower(selector)) != std::string::npos;
+      const bool match =
+          isIndex ? std::stoul(selector) == i : lower(name).find(lower(selector)) != std::string::npos;
       if (!match) reason = "does not match --device '" + selector + "'";
     }
-    report += "\n  [" + std::to_string(i) + "] " + name + " (" + typeName(properties.deviceType) + "): " +
-              (reason.empty() ? "usable" : reason);
+    report += "\n  [" + std::to_string(i) + "] " + name + " (" + typeName(properties.deviceType) +
+              "): " + (reason.empty() ? "usable" : reason);
     if (!reason.empty()) continue;
     if (best < 0 || typeRank(properties.deviceType) < typeRank(devices[best].getProperties().deviceType)) {
       best = int(i);
@@ -158,9 +169,10 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     }
   }
   if (best < 0) {
-    throw Error(devices.empty() ? "no Vulkan device found; install a driver (for CPU rendering: the Debian package "
-                                  "mesa-vulkan-drivers, which provides lavapipe)"
-                                : "no usable Vulkan device:" + report);
+    throw Error(devices.empty()
+                    ? "no Vulkan device found; install a driver (for CPU rendering: the Debian package "
+                      "mesa-vulkan-drivers, which provides lavapipe)"
+                    : "no usable Vulkan device:" + report);
   }
   physicalDevice_ = std::move(devices[best]);
   queueFamily_ = bestFamily;
@@ -182,7 +194,8 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
 }
 
 void VulkanContext::submitAndWait(const std::function<void(vk::CommandBuffer)>& record) const {
-  vk::raii::CommandBuffers buffers(device_, vk::CommandBufferAllocateInfo(*commandPool_, vk::CommandBufferLevel::ePrimary, 1));
+  vk::raii::CommandBuffers buffers(
+      device_, vk::CommandBufferAllocateInfo(*commandPool_, vk::CommandBufferLevel::ePrimary, 1));
   vk::raii::CommandBuffer& cmd = buffers[0];
   cmd.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
   record(*cmd);

@@ -29,8 +29,12 @@ class EmbeddedIncluder : public glslang::TShader::Includer {
  public:
   explicit EmbeddedIncluder(const std::map<std::string, std::string>& sources) : sources_(sources) {}
 
-  IncludeResult* includeLocal(const char* headerName, const char*, size_t) override { return find(headerName); }
-  IncludeResult* includeSystem(const char* headerName, const char*, size_t) override { return find(headerName); }
+  IncludeResult* includeLocal(const char* headerName, const char*, size_t) override {
+    return find(headerName);
+  }
+  IncludeResult* includeSystem(const char* headerName, const char*, size_t) override {
+    return find(headerName);
+  }
   void releaseInclude(IncludeResult* result) override { delete result; }
 
  private:
@@ -45,8 +49,10 @@ class EmbeddedIncluder : public glslang::TShader::Includer {
 
 std::filesystem::path defaultCacheDir() {
   if (const char* dir = std::getenv("IBLX_CACHE_DIR")) return dir;
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::filesystem::path(xdg) / "iblx";
-  if (const char* home = std::getenv("HOME"); home && *home) return std::filesystem::path(home) / ".cache" / "iblx";
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
+    return std::filesystem::path(xdg) / "iblx";
+  if (const char* home = std::getenv("HOME"); home && *home)
+    return std::filesystem::path(home) / ".cache" / "iblx";
   return {};
 }
 
@@ -64,10 +70,13 @@ ShaderCompiler::ShaderCompiler(std::filesystem::path cacheDir) {
   cacheDir_ = cacheDir.empty() ? defaultCacheDir() : cacheDir == "-" ? std::filesystem::path() : cacheDir;
 }
 
-void ShaderCompiler::addSource(const std::string& path, std::string text) { sources_[path] = std::move(text); }
+void ShaderCompiler::addSource(const std::string& path, std::string text) {
+  sources_[path] = std::move(text);
+}
 
 std::vector<uint32_t> ShaderCompiler::compile(const std::string& prelude, const std::string& debugName) {
-  // Hashing every source (not only those included) over-invalidates a little but can never serve stale SPIR-V.
+  // Hashing every source (not only those included) over-invalidates a little but can never serve stale
+  // SPIR-V.
   ContentHash hash;
   hash.add(prelude).add(glslang::GetGlslVersionString()).add("spv1.5-vk1.2");
   for (const auto& [path, text] : sources_) hash.add(path).add(text);
@@ -77,14 +86,16 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& prelude, const 
   if (!cacheFile.empty()) {
     std::ifstream in(cacheFile, std::ios::binary);
     if (in) {
-      // Layout: SPIR-V words, then the 64-bit content hash of those words (a torn or foreign file is ignored).
+      // Layout: SPIR-V words, then the 64-bit content hash of those words (a torn or foreign file is
+      // ignored).
       std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
       if (bytes.size() > 8 && (bytes.size() - 8) % 4 == 0) {
         std::vector<uint32_t> words((bytes.size() - 8) / 4);
         std::memcpy(words.data(), bytes.data(), bytes.size() - 8);
         uint64_t stored = 0;
         std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
-        if (words[0] == 0x07230203u && stored == ContentHash().add(std::span<const uint32_t>(words)).value()) {
+        if (words[0] == 0x07230203u &&
+            stored == ContentHash().add(std::span<const uint32_t>(words)).value()) {
           ++cacheHits_;
           return words;
         }
@@ -118,10 +129,11 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& prelude, const 
   if (!cacheFile.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(cacheFile.parent_path(), ec);
-    // A name unique to this process and call, then an atomic rename: concurrent compilers never see a torn file.
+    // A name unique to this process and call, then an atomic rename: concurrent compilers never see a torn
+    // file.
     static std::atomic<uint64_t> counter{0};
-    const auto temp = cacheFile.string() + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++) +
-                      "." + std::to_string(std::random_device{}());
+    const auto temp = cacheFile.string() + ".tmp." + std::to_string(::getpid()) + "." +
+                      std::to_string(counter++) + "." + std::to_string(std::random_device{}());
     std::ofstream out(temp, std::ios::binary);
     out.write(reinterpret_cast<const char*>(spirv.data()), std::streamsize(spirv.size() * 4));
     const uint64_t check = ContentHash().add(std::span<const uint32_t>(spirv)).value();
@@ -131,7 +143,8 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& prelude, const 
     if (!out || ec) {
       std::filesystem::remove(temp, ec);
       static bool warned = false;
-      if (!warned) warn("cannot write the SPIR-V cache in " + cacheDir_.string() + "; shaders will be recompiled");
+      if (!warned)
+        warn("cannot write the SPIR-V cache in " + cacheDir_.string() + "; shaders will be recompiled");
       warned = true;
     }
   }

@@ -40,7 +40,7 @@ struct FrameParams {
   uint sampleOffset;    // samples already accumulated per pixel
   uint samplesPerPass;  // samples added by this dispatch
   uint seed;
-  uint rowBegin;  // reference kernel: first environment row of this dispatch
+  uint rowBegin;     // reference kernel: first environment row of this dispatch
   vec4 envRotation;  // x: cos, y: sin of the rotation about +Y (world -> env), zw unused
   vec4 strategy;     // x: MIS fraction of env samples, y: heuristic (0 balance, 1 power);
                      // reference: z sin of the horizon band, w subdivisions per axis inside it

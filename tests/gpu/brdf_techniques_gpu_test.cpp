@@ -59,10 +59,12 @@ TEST_CASE("brdf techniques: pdf integrates to 1 and chi2 passes, grazing views i
       Chi2Options options;
       options.testCount = int(all.size() * std::size(views));
       options.label = "brdf-technique";
-      // Below-horizon samples of the specular lobe live in thin slivers next to the horizon: finer base cells.
+      // Below-horizon samples of the specular lobe live in thin slivers next to the horizon: finer base
+      // cells.
       options.ires = 12;
       // Narrow lobes need finer cells around the peak: the harness refines sub-cells adaptively.
-      const Chi2Result r = chi2Test(directions, [&](std::span<const glm::dvec3> d) { return probe.pdf(d); }, options);
+      const Chi2Result r = chi2Test(
+          directions, [&](std::span<const glm::dvec3> d) { return probe.pdf(d); }, options);
       INFO(r.message);
       CHECK(r.passed);
       CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(5e-3));

@@ -38,7 +38,8 @@ void checkTechniqueOnEnv(const std::string& technique, const NamedEnv& env, int 
     REQUIRE(std::isfinite(s.direction.x));
     if (!(s.pdf > 0.0)) continue;  // a zero-pdf sample contributes nothing and is not part of the histogram
     directions.push_back(s.direction);
-    // The pdf returned with a sample is the pdf() of that direction, except within float rounding of a texel edge.
+    // The pdf returned with a sample is the pdf() of that direction, except within float rounding of a texel
+    // edge.
     if (std::abs(s.pdf - s.pdfLookup) > 1e-4 * s.pdf) ++mismatches;
   }
   CHECK(mismatches <= kSamples / 10000);
@@ -46,7 +47,8 @@ void checkTechniqueOnEnv(const std::string& technique, const NamedEnv& env, int 
   Chi2Options options;
   options.testCount = testCount;
   options.label = technique + "-" + env.name;
-  const Chi2Result result = chi2Test(directions, [&](std::span<const glm::dvec3> d) { return probe.pdf(d); }, options);
+  const Chi2Result result = chi2Test(
+      directions, [&](std::span<const glm::dvec3> d) { return probe.pdf(d); }, options);
   INFO(result.message);
   CHECK(result.passed);
   CHECK(result.pdfIntegral == doctest::Approx(1.0).epsilon(2e-3));
@@ -59,7 +61,9 @@ TEST_CASE("env techniques: pdf integrates to 1 and chi2 passes on smooth and har
   const int testCount = int(envTechniqueRegistry().size() * envs.size());
   for (const auto& technique : envTechniqueRegistry())
     for (const auto& env : envs) {
-      SUBCASE((technique.name + " " + env.name).c_str()) { checkTechniqueOnEnv(technique.name, env, testCount); }
+      SUBCASE((technique.name + " " + env.name).c_str()) {
+        checkTechniqueOnEnv(technique.name, env, testCount);
+      }
     }
   checkNoNewValidationErrors();
 }

@@ -31,8 +31,8 @@ struct ProbeRunner {
   std::unique_ptr<ComputeKernel> kernel;
   glm::dvec3 vector;  // the normal (env probe) or wo (BRDF probe)
 
-  ProbeRunner(Scene s, const std::string& kernelFile, std::vector<std::string> parts, const TechniqueData& data,
-              glm::dvec3 v)
+  ProbeRunner(Scene s, const std::string& kernelFile, std::vector<std::string> parts,
+              const TechniqueData& data, glm::dvec3 v)
       : scene(std::move(s)), gpu(uploadScene(gpuContext(), scene)), vector(v) {
     for (size_t i = 0; i < data.buffers.size(); ++i)
       techniqueBuffers.push_back(Buffer::fromData(gpuContext(), data.buffers[i], data.names[i]));
@@ -51,9 +51,9 @@ struct ProbeRunner {
   // Runs the probe over `input` in chunks that respect maxComputeWorkGroupCount and maxStorageBufferRange.
   std::vector<gpu::vec4> run(const std::vector<gpu::vec4>& input, uint32_t mode) {
     const auto& limits = gpuContext().limits();
-    const std::size_t maxItems = std::min<std::size_t>(
-        {std::size_t(limits.maxComputeWorkGroupCount[0]) * 64, limits.maxStorageBufferRange / (2 * sizeof(gpu::vec4)),
-         std::size_t(1) << 20});
+    const std::size_t maxItems =
+        std::min<std::size_t>({std::size_t(limits.maxComputeWorkGroupCount[0]) * 64,
+                               limits.maxStorageBufferRange / (2 * sizeof(gpu::vec4)), std::size_t(1) << 20});
     std::vector<gpu::vec4> output;
     output.reserve(2 * input.size());
     for (std::size_t begin = 0; begin < input.size(); begin += maxItems) {
@@ -80,8 +80,8 @@ struct ProbeRunner {
       kernel->record(cmd, uint32_t((input.size() + 63) / 64), 1, &params, sizeof params);
       // Shader writes -> host reads after the fence.
       vk::MemoryBarrier barrier(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eHostRead);
-      cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eHost, {}, barrier,
-                          {}, {});
+      cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eHost, {},
+                          barrier, {}, {});
     });
     return out.readAll<gpu::vec4>();
   }
@@ -110,7 +110,8 @@ struct ProbeRunner {
   }
 };
 
-Scene probeScene(EnvImage env, const std::string& brdf, const std::vector<std::pair<std::string, std::string>>& params) {
+Scene probeScene(EnvImage env, const std::string& brdf,
+                 const std::vector<std::pair<std::string, std::string>>& params) {
   SceneSpec spec;
   spec.brdf = brdf;
   spec.params = params;
@@ -129,7 +130,8 @@ ShaderCompiler& gpuCompiler() {
   static ShaderCompiler compiler = [] {
     ShaderCompiler c;
     for (const char* probe : {"env_sampler_probe.comp", "brdf_sampler_probe.comp"})
-      c.addSource(std::string("probe/") + probe, readFile(std::string(IBLX_TEST_SOURCE_DIR) + "/gpu/probe/" + probe));
+      c.addSource(std::string("probe/") + probe,
+                  readFile(std::string(IBLX_TEST_SOURCE_DIR) + "/gpu/probe/" + probe));
     return c;
   }();
   return compiler;
@@ -151,15 +153,20 @@ EnvTechniqueProbe::EnvTechniqueProbe(const std::string& technique, const EnvImag
                                  std::vector<std::string>{info.part}, info.build(env), normal);
 }
 EnvTechniqueProbe::~EnvTechniqueProbe() = default;
-std::vector<ProbeSample> EnvTechniqueProbe::sample(std::span<const glm::dvec2> u) { return impl_->sample(u); }
-std::vector<double> EnvTechniqueProbe::pdf(std::span<const glm::dvec3> d) { return impl_->pdf(d); }
+std::vector<ProbeSample> EnvTechniqueProbe::sample(std::span<const glm::dvec2> u) {
+  return impl_->sample(u);
+}
+std::vector<double> EnvTechniqueProbe::pdf(std::span<const glm::dvec3> d) {
+  return impl_->pdf(d);
+}
 
 struct BrdfTechniqueProbe::Impl : ProbeRunner {
   using ProbeRunner::ProbeRunner;
 };
 
 BrdfTechniqueProbe::BrdfTechniqueProbe(const std::string& technique, const std::string& brdf,
-                                       const std::vector<std::pair<std::string, std::string>>& params, glm::dvec3 wo) {
+                                       const std::vector<std::pair<std::string, std::string>>& params,
+                                       glm::dvec3 wo) {
   const auto& info = findBrdfTechnique(technique);
   Scene scene = probeScene(EnvImage{2, 1, std::vector<float>(6, 1.0f)}, brdf, params);
   const std::string evalPart = scene.brdf->evalPart;
@@ -167,8 +174,12 @@ BrdfTechniqueProbe::BrdfTechniqueProbe(const std::string& technique, const std::
                                  std::vector<std::string>{evalPart, info.part}, TechniqueData{}, wo);
 }
 BrdfTechniqueProbe::~BrdfTechniqueProbe() = default;
-std::vector<ProbeSample> BrdfTechniqueProbe::sample(std::span<const glm::dvec2> u) { return impl_->sample(u); }
-std::vector<double> BrdfTechniqueProbe::pdf(std::span<const glm::dvec3> d) { return impl_->pdf(d); }
+std::vector<ProbeSample> BrdfTechniqueProbe::sample(std::span<const glm::dvec2> u) {
+  return impl_->sample(u);
+}
+std::vector<double> BrdfTechniqueProbe::pdf(std::span<const glm::dvec3> d) {
+  return impl_->pdf(d);
+}
 std::vector<glm::dvec3> BrdfTechniqueProbe::evalCos(std::span<const glm::dvec3> d) {
   const auto out = impl_->directionsMode(d, 2);
   std::vector<glm::dvec3> values(d.size());

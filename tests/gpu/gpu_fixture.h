@@ -1,5 +1,5 @@
-// Shared GPU test fixture: one Vulkan context (validation layers on when installed) and one shader compiler that
-// also sees the probe kernels under tests/gpu/probe, plus the probe runners for env and BRDF techniques.
+// Shared GPU test fixture: one Vulkan context (validation layers on when installed) and one shader compiler
+// that also sees the probe kernels under tests/gpu/probe, plus the probe runners for env and BRDF techniques.
 #pragma once
 
 #include "engine/render/scene.h"

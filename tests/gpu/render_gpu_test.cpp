@@ -1,5 +1,6 @@
-// End-to-end tests of the integrator and the reference on lavapipe at small sizes: white furnace, unbiasedness
-// (z-test of the mean signed error with the measured variance), 1/N convergence, and no NaN/Inf on hard cases.
+// End-to-end tests of the integrator and the reference on lavapipe at small sizes: white furnace,
+// unbiasedness (z-test of the mean signed error with the measured variance), 1/N convergence, and no NaN/Inf
+// on hard cases.
 #include "engine/render/metrics.h"
 #include "engine/render/reference.h"
 #include "engine/core/error.h"
@@ -19,8 +20,9 @@ using namespace iblx::test;
 
 namespace {
 
-// Every (method, technique) combination the registry offers for a BRDF: single env techniques, every applicable
-// BRDF technique alone, and MIS of every env technique with the BRDF's best sampler (balance and power).
+// Every (method, technique) combination the registry offers for a BRDF: single env techniques, every
+// applicable BRDF technique alone, and MIS of every env technique with the BRDF's best sampler (balance and
+// power).
 std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& sequence) {
   std::vector<MethodSpec> specs;
   for (const auto& m : methodRegistry()) {
@@ -44,8 +46,8 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
   return specs;
 }
 
-Scene sceneWith(EnvImage env, const std::string& brdf, std::vector<std::pair<std::string, std::string>> params,
-                int size) {
+Scene sceneWith(EnvImage env, const std::string& brdf,
+                std::vector<std::pair<std::string, std::string>> params, int size) {
   SceneSpec spec;
   spec.brdf = brdf;
   spec.params = std::move(params);
@@ -59,8 +61,9 @@ struct ZTest {
   double standardError[3] = {0, 0, 0};
 };
 
-// z of the image-mean signed error per channel: sum over pixels of (x_p - r_p), divided by its standard deviation
-// sqrt(sum var_p / N) (pixels are independent; the variance is the measured per-pixel sample variance).
+// z of the image-mean signed error per channel: sum over pixels of (x_p - r_p), divided by its standard
+// deviation sqrt(sum var_p / N) (pixels are independent; the variance is the measured per-pixel sample
+// variance).
 ZTest zTest(const Scene& scene, const Renderer& renderer, const std::vector<float>& reference) {
   const auto mean = renderer.meanRgb();
   const auto var = renderer.varianceRgb();
@@ -140,26 +143,28 @@ TEST_CASE("reference: the midpoint rule on fine maps agrees with the Gauss rule"
     const double d = std::abs(midpoint.rgb[i] - exact.rgb[i]) / (std::abs(exact.rgb[i]) + 1e-3);
     if (d > worst) worst = d, worstIndex = i;
   }
-  INFO("worst relative difference " << worst << " at pixel " << worstIndex / 3 << ": " << midpoint.rgb[worstIndex]
-                                    << " vs " << exact.rgb[worstIndex]);
+  INFO("worst relative difference " << worst << " at pixel " << worstIndex / 3 << ": "
+                                    << midpoint.rgb[worstIndex] << " vs " << exact.rgb[worstIndex]);
   CHECK(worst < 1e-3);
   checkNoNewValidationErrors();
 }
 
 TEST_CASE("one pass of 2048 samples equals 32 passes of 64 (no truncated loops)") {
-  // The same sample indices give the same samples, so the running means agree to float rounding. Guards against
-  // lavapipe's per-invocation loop cap silently ending the sample loop of a long pass.
+  // The same sample indices give the same samples, so the running means agree to float rounding. Guards
+  // against lavapipe's per-invocation loop cap silently ending the sample loop of a long pass.
   const Scene scene = sceneWith(smoothSky(32, 16), "ggx", {}, 16);
   for (const char* sequence : {"random", "sobol"}) {
     MethodSpec spec;
     spec.sequence = sequence;
     const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
-    Renderer once(gpuContext(), gpuCompiler(), scene, method, 9), many(gpuContext(), gpuCompiler(), scene, method, 9);
+    Renderer once(gpuContext(), gpuCompiler(), scene, method, 9),
+        many(gpuContext(), gpuCompiler(), scene, method, 9);
     once.runPass(2048);
     for (int i = 0; i < 32; ++i) many.runPass(64);
     const auto a = once.meanRgb(), b = many.meanRgb();
     double worst = 0.0;
-    for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, double(std::abs(a[i] - b[i])) / (std::abs(b[i]) + 1e-3));
+    for (size_t i = 0; i < a.size(); ++i)
+      worst = std::max(worst, double(std::abs(a[i] - b[i])) / (std::abs(b[i]) + 1e-3));
     INFO(sequence << ": worst relative difference " << worst);
     CHECK(worst < 1e-4);
   }
@@ -175,11 +180,14 @@ TEST_CASE("every method converges to the convolution reference (z-test)") {
   };
   const Case cases[] = {
       {"lambert/smooth", smoothSky(32, 16), "lambert", {}},
-      {"ggx a=0.3 metallic=0.5/smooth", smoothSky(32, 16), "ggx", {{"roughness", "0.3"}, {"metallic", "0.5"}}},
+      {"ggx a=0.3 metallic=0.5/smooth",
+       smoothSky(32, 16),
+       "ggx",
+       {{"roughness", "0.3"}, {"metallic", "0.5"}}},
       {"ggx a=0.15/sun+zero", sunAndZeroHalf(32, 16), "ggx", {{"roughness", "0.15"}, {"metallic", "1"}}},
   };
-  // About 250 z-values (cases x methods x sequences x channels); |z| < 5.5 has a two-sided false-alarm rate of
-  // 3.8e-8 each, 1e-5 for the family, while a bias of 5.5 standard errors (here ~1e-3 relative) fails.
+  // About 250 z-values (cases x methods x sequences x channels); |z| < 5.5 has a two-sided false-alarm rate
+  // of 3.8e-8 each, 1e-5 for the family, while a bias of 5.5 standard errors (here ~1e-3 relative) fails.
   const double zBound = 5.5;
   for (const auto& c : cases) {
     const Scene scene = sceneWith(c.env, c.brdf, c.params, 24);
@@ -192,7 +200,8 @@ TEST_CASE("every method converges to the convolution reference (z-test)") {
         for (int pass = 0; pass < 8; ++pass) renderer.runPass(64);
         const ZTest t = zTest(scene, renderer, ref.rgb);
         for (int ch = 0; ch < 3; ++ch) {
-          INFO("channel " << ch << ": mean error " << t.meanError[ch] << ", standard error " << t.standardError[ch]);
+          INFO("channel " << ch << ": mean error " << t.meanError[ch] << ", standard error "
+                          << t.standardError[ch]);
           CHECK(std::abs(t.z[ch]) < zBound);
         }
         CHECK(renderer.nonFiniteSamples() == 0);
@@ -228,7 +237,8 @@ TEST_CASE("MSE falls like 1/N with random sampling") {
       mseTimesN.push_back(e.mse * n);
     }
     // The slope of log MSE against log N between 16 and 1024 spp is -1 within the noise.
-    const double slope = std::log(mseTimesN.back() / 1024.0 / (mseTimesN.front() / 16.0)) / std::log(1024.0 / 16.0);
+    const double slope =
+        std::log(mseTimesN.back() / 1024.0 / (mseTimesN.front() / 16.0)) / std::log(1024.0 / 16.0);
     CHECK(slope == doctest::Approx(-1.0).epsilon(0.1));
   }
   checkNoNewValidationErrors();
@@ -251,7 +261,10 @@ TEST_CASE("hard cases: no NaN or Inf for any method") {
   const Case cases[] = {
       {"sun 1e6 + zero half, lambert", sunAndZeroHalf(64, 32), "lambert", {}},
       {"sun 1e6 + zero half, ggx a=1e-3", sunAndZeroHalf(64, 32), "ggx", {{"roughness", "0.001"}}},
-      {"pole energy, ggx a=0.05 dielectric", poleEnergy(64, 32), "ggx", {{"roughness", "0.05"}, {"metallic", "0"}}},
+      {"pole energy, ggx a=0.05 dielectric",
+       poleEnergy(64, 32),
+       "ggx",
+       {{"roughness", "0.05"}, {"metallic", "0"}}},
       {"sanitized NaN/Inf/negative, ggx", broken, "ggx", {}},
   };
   for (const auto& c : cases) {
@@ -275,11 +288,14 @@ TEST_CASE("hard cases: no NaN or Inf for any method") {
 TEST_CASE("shader compiler: errors name the part file and line; the SPIR-V cache is used") {
   const auto dir = std::filesystem::temp_directory_path() / ("iblx-cache-test-" + std::to_string(::getpid()));
   ShaderCompiler compiler(dir);
-  compiler.addSource("test/broken_part.glsl", "// a comment\nvec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {\n"
-                                               "  return undeclaredThing;\n}\n");
-  KernelParts parts{"integrate.comp",
-                    {"sequence/random.glsl", "test/broken_part.glsl", "brdf/lambert.glsl", "strategy/single_env.glsl"},
-                    paramBlockGlsl(findBrdf("lambert")), {}};
+  compiler.addSource("test/broken_part.glsl",
+                     "// a comment\nvec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {\n"
+                     "  return undeclaredThing;\n}\n");
+  KernelParts parts{
+      "integrate.comp",
+      {"sequence/random.glsl", "test/broken_part.glsl", "brdf/lambert.glsl", "strategy/single_env.glsl"},
+      paramBlockGlsl(findBrdf("lambert")),
+      {}};
   try {
     compiler.compile(assemblePrelude(parts), "broken");
     FAIL("expected a compile error");
@@ -293,8 +309,9 @@ TEST_CASE("shader compiler: errors name the part file and line; the SPIR-V cache
   const auto first = compiler.compile(assemblePrelude(parts), "ok");
   CHECK(compiler.compilations() == 2);
   ShaderCompiler again(dir);  // same sources: every source is part of the key
-  again.addSource("test/broken_part.glsl", "// a comment\nvec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {\n"
-                                            "  return undeclaredThing;\n}\n");
+  again.addSource("test/broken_part.glsl",
+                  "// a comment\nvec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {\n"
+                  "  return undeclaredThing;\n}\n");
   const auto second = again.compile(assemblePrelude(parts), "ok");
   CHECK(again.cacheHits() == 1);
   CHECK(first == second);

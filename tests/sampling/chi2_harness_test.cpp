@@ -1,7 +1,6 @@
 // Tests of the shared chi-square harness (tests/support/chi2.h): incomplete gamma, known passes and failures.
 #include "tests/support/chi2.h"
 
-
 #include <doctest/doctest.h>
 
 #include <cmath>

@@ -147,8 +147,8 @@ TEST_CASE("sphere_mapping: texel warp is uniform in phi and cos(theta) and inver
   // Corners of the map stay inside it.
   CHECK(directionToTexel({0, 1, 0}, w, h) == glm::ivec2(0, 0));
   CHECK(directionToTexel({0, -1, 0}, w, h) == glm::ivec2(0, h - 1));
-  // A phi that rounds up to 2 pi stays in the last column, as on the GPU (regression: the CPU used to wrap it to
-  // column 0, so CPU twins and GPU disagreed on the pdf there).
+  // A phi that rounds up to 2 pi stays in the last column, as on the GPU (regression: the CPU used to wrap it
+  // to column 0, so CPU twins and GPU disagreed on the pdf there).
   CHECK(directionToTexel({1, 0, -1e-17}, w, h).x == w - 1);
   // The last column wraps to phi = 2 pi: t.x close to 1 in column W-1.
   const glm::dvec3 seam = texelToDirection(w - 1, 3, {1.0 - 1e-12, 0.5}, w, h);

@@ -31,7 +31,9 @@ void ArgParser::parse(const std::vector<std::string>& args) const {
     for (const auto& o : options_)
       if (o.flag == flag) option = &o;
     if (!option) {
-      if (flag.rfind("-", 0) != 0) throw Error("iblx " + command_ + ": unexpected argument '" + flag + "' (see iblx " + command_ + " --help)");
+      if (flag.rfind("-", 0) != 0)
+        throw Error("iblx " + command_ + ": unexpected argument '" + flag + "' (see iblx " + command_ +
+                    " --help)");
       throw Error("iblx " + command_ + ": unknown flag '" + flag + "' (see iblx " + command_ + " --help)");
     }
     if (option->takesValue && !inlineValue) {
@@ -61,7 +63,8 @@ uint32_t parseUint(const std::string& flag, const std::string& text, uint32_t mi
   if (text.empty() || end != text.c_str() + text.size() || errno != 0)
     throw Error(flag + " " + text + ": not an integer");
   if (v < min || v > max)
-    throw Error(flag + " " + text + ": out of range [" + std::to_string(min) + ", " + std::to_string(max) + "]");
+    throw Error(flag + " " + text + ": out of range [" + std::to_string(min) + ", " + std::to_string(max) +
+                "]");
   return uint32_t(v);
 }
 
@@ -88,9 +91,11 @@ void parseSize(const std::string& flag, const std::string& text, int& width, int
 void addSceneFlags(ArgParser& p, RenderSpec& s) {
   p.value("--env", "FILE", ".exr or .hdr lat-long map (default: assets/default_sky.exr)",
           [&](const std::string& v) { s.scene.envPath = v; });
-  p.value("--env-rotation", "DEG", "rotation of the environment about +Y",
-          [&](const std::string& v) { s.scene.envRotationDeg = parseDouble("--env-rotation", v, -1e6, 1e6); });
-  p.value("--brdf", "NAME", "built-in BRDF: lambert | ggx (default ggx)", [&](const std::string& v) { s.scene.brdf = v; });
+  p.value("--env-rotation", "DEG", "rotation of the environment about +Y", [&](const std::string& v) {
+    s.scene.envRotationDeg = parseDouble("--env-rotation", v, -1e6, 1e6);
+  });
+  p.value("--brdf", "NAME", "built-in BRDF: lambert | ggx (default ggx)",
+          [&](const std::string& v) { s.scene.brdf = v; });
   p.value("--param", "NAME=VALUE", "BRDF parameter, repeatable; colors as r,g,b", [&](const std::string& v) {
     const auto eq = v.find('=');
     if (eq == std::string::npos || eq == 0) throw Error("--param " + v + ": expected NAME=VALUE");
@@ -108,7 +113,8 @@ void addMethodFlags(ArgParser& p, RenderSpec& s) {
           [&](const std::string& v) { s.method.envSampler = v; });
   p.value("--brdf-sampler", "NAME", "BRDF technique used by brdf and mis (default: the BRDF's best)",
           [&](const std::string& v) { s.method.brdfSampler = v; });
-  p.value("--seq", "NAME", "random | sobol (default random)", [&](const std::string& v) { s.method.sequence = v; });
+  p.value("--seq", "NAME", "random | sobol (default random)",
+          [&](const std::string& v) { s.method.sequence = v; });
   p.value("--mis-heuristic", "NAME", "balance | power (default balance)",
           [&](const std::string& v) { s.method.misHeuristic = v; });
   p.value("--mis-split", "F", "fraction of MIS samples given to the env technique (default 0.5)",
@@ -131,7 +137,8 @@ void addRunFlags(ArgParser& p, RenderSpec& s) {
           [&](const std::string& v) { s.out = v; });
   p.value("--exposure", "EV", "exposure for .png output (default 0)",
           [&](const std::string& v) { s.exposure = parseDouble("--exposure", v, -64, 64); });
-  p.toggle("--reference", "also compute the ground truth and report the error against it", [&] { s.reference = true; });
+  p.toggle("--reference", "also compute the ground truth and report the error against it",
+           [&] { s.reference = true; });
   p.toggle("--json", "print one JSON object with the run's figures", [&] { s.json = true; });
 }
 
@@ -153,7 +160,8 @@ void checkImagePath(const std::string& flag, const std::string& path, bool exrOn
   std::string ext = p.extension().string();
   for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".exr" && (exrOnly || ext != ".png"))
-    throw Error(flag + " " + path + ": unsupported image format '" + ext + "'; use " + (exrOnly ? ".exr" : ".exr or .png"));
+    throw Error(flag + " " + path + ": unsupported image format '" + ext + "'; use " +
+                (exrOnly ? ".exr" : ".exr or .png"));
   const auto parent = p.parent_path();
   if (!parent.empty() && !std::filesystem::is_directory(parent))
     throw Error(flag + " " + path + ": directory '" + parent.string() + "' does not exist");

@@ -26,7 +26,8 @@ struct RenderSpec {
   bool validation = false;
 };
 
-// A tiny flag parser: each subcommand registers what it accepts, so an unknown flag is an error that lists them.
+// A tiny flag parser: each subcommand registers what it accepts, so an unknown flag is an error that lists
+// them.
 class ArgParser {
  public:
   explicit ArgParser(std::string command) : command_(std::move(command)) {}

@@ -4,6 +4,7 @@
 #include "tools/cli/commands.h"
 
 #include <algorithm>
+#include <map>
 #include <cstdio>
 
 namespace iblx::cli {
@@ -21,6 +22,7 @@ int cmdBench(const Args& args) {
   ArgParser parser("bench");
   bool help = false;
   std::vector<std::string> sequences, methods;
+  uint32_t repeat = 1;
   addSceneFlags(parser, spec);
   addDeviceFlags(parser, spec);
   parser.value("--spp", "N", "samples per pixel per pass (default 64)",
@@ -31,6 +33,8 @@ int cmdBench(const Args& args) {
                [&](const std::string& v) { sequences.push_back(v); });
   parser.value("--method", "NAME", "only this method (repeatable; default: every method)",
                [&](const std::string& v) { methods.push_back(findMethod(v).name); });
+  parser.value("--repeat", "N", "measure every method N times, in rounds, and report medians (default 1)",
+               [&](const std::string& v) { repeat = parseUint("--repeat", v, 1, 1000); });
   parser.toggle("--json", "one JSON object per line instead of the table", [&] { spec.json = true; });
   parser.toggle("--help", "show this help", [&] { help = true; });
   parser.parse(args);
@@ -45,40 +49,65 @@ int cmdBench(const Args& args) {
   ShaderCompiler compiler;
   const double objectPixels = double(scene.gbuffer.objectPixelCount());
   if (!spec.json)
-    std::printf("iblx bench: %s, %dx%d (%.0f object pixels), env %dx%d, BRDF %s, %u spp/pass, median of %u passes\n"
-                "%-44s %14s %14s %10s\n",
-                context.deviceName().c_str(), scene.gbuffer.width, scene.gbuffer.height, objectPixels, scene.env.width,
-                scene.env.height, scene.brdf->name.c_str(), spec.samplesPerPass, spec.passes, "method", "Msamples/s GPU",
-                "Msamples/s wall", "vs uniform");
-  for (const auto& sequence : sequences) {
-    double uniformRate = 0.0;
+    std::printf(
+        "iblx bench: %s, %dx%d (%.0f object pixels), env %dx%d, BRDF %s, %u spp/pass, median of %u passes\n"
+        "%-44s %14s %14s %10s\n",
+        context.deviceName().c_str(), scene.gbuffer.width, scene.gbuffer.height, objectPixels,
+        scene.env.width, scene.env.height, scene.brdf->name.c_str(), spec.samplesPerPass, spec.passes,
+        "method", "Msamples/s GPU", "Msamples/s wall", "vs uniform");
+  // Every (sequence, method) is measured `repeat` times in rounds, so slow phases of a noisy machine spread
+  // over all methods; each measurement is the median over timed passes, and the figure is the median over
+  // rounds.
+  struct Row {
+    std::string label;
+    std::vector<double> gpu, wall;
+  };
+  std::vector<Row> rows;
+  std::vector<ResolvedMethod> resolved;
+  for (const auto& sequence : sequences)
     for (const auto& m : methodRegistry()) {
       if (!methods.empty() && std::find(methods.begin(), methods.end(), m.name) == methods.end()) continue;
       MethodSpec methodSpec;
       methodSpec.method = m.name;
       methodSpec.sequence = sequence;
-      const ResolvedMethod method = resolveMethod(methodSpec, *scene.brdf);
-      Renderer renderer(context, compiler, scene, method, 1);
-      renderer.runPass(spec.samplesPerPass);  // warm-up: first-use costs stay out of the figures
+      resolved.push_back(resolveMethod(methodSpec, *scene.brdf));
+      rows.push_back({resolved.back().label(), {}, {}});
+    }
+  const double samples = objectPixels * spec.samplesPerPass;
+  for (uint32_t round = 0; round < repeat; ++round)
+    for (size_t r = 0; r < rows.size(); ++r) {
+      Renderer renderer(context, compiler, scene, resolved[r], 1);
+      renderer.runPass(
+          spec.samplesPerPass);  // warm-up: first-use costs (pipeline JIT) stay out of the figures
       std::vector<double> gpuRates, wallRates;
-      const double samples = objectPixels * spec.samplesPerPass;
       for (uint32_t i = 0; i < spec.passes; ++i) {
         const PassTiming t = renderer.runPass(spec.samplesPerPass);
         if (t.gpuSeconds > 0) gpuRates.push_back(samples / t.gpuSeconds);
         wallRates.push_back(samples / t.wallSeconds);
       }
-      const double gpuRate = median(gpuRates), wallRate = median(wallRates);
-      const double rate = gpuRate > 0 ? gpuRate : wallRate;
-      if (m.name == "uniform") uniformRate = rate;
-      const double ratio = uniformRate > 0 ? uniformRate / rate : 0.0;
-      if (spec.json)
-        std::printf("{\"method\": \"%s\", \"gpu_samples_per_s\": %.1f, \"samples_per_s\": %.1f, "
-                    "\"slowdown_vs_uniform\": %.3f}\n",
-                    method.label().c_str(), gpuRate, wallRate, ratio);
-      else
-        std::printf("%-44s %14.2f %14.2f %9.2fx\n", method.label().c_str(), gpuRate * 1e-6, wallRate * 1e-6, ratio);
-      std::fflush(stdout);
+      rows[r].gpu.push_back(median(gpuRates));
+      rows[r].wall.push_back(median(wallRates));
+      if (repeat > 1)
+        progressLine("round " + std::to_string(round + 1) + "/" + std::to_string(repeat) + ": " +
+                     rows[r].label);
     }
+  endProgressLine();
+  std::map<std::string, double> uniformRate;  // per sequence
+  for (const auto& row : rows) {
+    const double gpuRate = median(row.gpu), wallRate = median(row.wall);
+    const double rate = gpuRate > 0 ? gpuRate : wallRate;
+    const std::string sequence = row.label.substr(row.label.rfind('/') + 1);
+    if (row.label.rfind("uniform/", 0) == 0) uniformRate[sequence] = rate;
+    const double ratio = uniformRate.count(sequence) ? uniformRate[sequence] / rate : 0.0;
+    const auto [lo, hi] = std::minmax_element(row.gpu.begin(), row.gpu.end());
+    if (spec.json)
+      std::printf(
+          "{\"method\": \"%s\", \"gpu_samples_per_s\": %.1f, \"samples_per_s\": %.1f, "
+          "\"gpu_min\": %.1f, \"gpu_max\": %.1f, \"rounds\": %u, \"slowdown_vs_uniform\": %.3f}\n",
+          jsonEscape(row.label).c_str(), gpuRate, wallRate, *lo, *hi, repeat, ratio);
+    else
+      std::printf("%-44s %14.2f %14.2f %9.2fx   (GPU %.2f-%.2f over %u rounds)\n", row.label.c_str(),
+                  gpuRate * 1e-6, wallRate * 1e-6, ratio, *lo * 1e-6, *hi * 1e-6, repeat);
   }
   return 0;
 }

@@ -18,14 +18,19 @@ int cmdMakeSky(const Args& args) {
   parser.value("--size", "WxH", "map size (default 256x128)",
                [&](const std::string& v) { parseSize("--size", v, options.width, options.height); });
   parser.value("--sun-elevation", "DEG", "sun elevation above the horizon (default 35)",
-               [&](const std::string& v) { options.sunElevationDegrees = parseDouble("--sun-elevation", v, -90, 90); });
-  parser.value("--sun-azimuth", "DEG", "sun azimuth phi (default 60)",
-               [&](const std::string& v) { options.sunAzimuthDegrees = parseDouble("--sun-azimuth", v, -360, 360); });
-  parser.value("--sun-radius", "DEG", "angular radius of the sun disc (default 1.5)", [&](const std::string& v) {
-    options.sunAngularRadiusDegrees = parseDouble("--sun-radius", v, 0.01, 45);
+               [&](const std::string& v) {
+                 options.sunElevationDegrees = parseDouble("--sun-elevation", v, -90, 90);
+               });
+  parser.value("--sun-azimuth", "DEG", "sun azimuth phi (default 60)", [&](const std::string& v) {
+    options.sunAzimuthDegrees = parseDouble("--sun-azimuth", v, -360, 360);
   });
-  parser.value("--sun-radiance", "L", "radiance of the sun disc (default 2e4, about 1e4 x the sky)",
-               [&](const std::string& v) { options.sunRadiance = parseDouble("--sun-radiance", v, 0, 1e12); });
+  parser.value("--sun-radius", "DEG", "angular radius of the sun disc (default 1.5)",
+               [&](const std::string& v) {
+                 options.sunAngularRadiusDegrees = parseDouble("--sun-radius", v, 0.01, 45);
+               });
+  parser.value(
+      "--sun-radiance", "L", "radiance of the sun disc (default 2e4, about 1e4 x the sky)",
+      [&](const std::string& v) { options.sunRadiance = parseDouble("--sun-radiance", v, 0, 1e12); });
   parser.toggle("--help", "show this help", [&] { help = true; });
   parser.parse(args);
   if (help) {

@@ -15,7 +15,8 @@ int cmdReference(const Args& args) {
   bool help = false;
   addSceneFlags(parser, spec);
   addDeviceFlags(parser, spec);
-  parser.value("--out", "FILE", "output .exr (default reference.exr)", [&](const std::string& v) { spec.out = v; });
+  parser.value("--out", "FILE", "output .exr (default reference.exr)",
+               [&](const std::string& v) { spec.out = v; });
   parser.toggle("--help", "show this help", [&] { help = true; });
   parser.parse(args);
   if (help) {

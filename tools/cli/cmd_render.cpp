@@ -49,7 +49,8 @@ int cmdRender(const Args& args) {
   double gpuSeconds = 0.0, renderWallSeconds = 0.0;
   uint32_t passes = 0;
   for (;;) {
-    const bool done = spec.timeBudgetSeconds ? renderWallSeconds >= *spec.timeBudgetSeconds : passes >= spec.passes;
+    const bool done =
+        spec.timeBudgetSeconds ? renderWallSeconds >= *spec.timeBudgetSeconds : passes >= spec.passes;
     if (done) break;
     if (renderer.samplesPerPixel() + spec.samplesPerPass > 0xffffffffull) {
       warn("--time stopped at 2^32 samples per pixel (the sample index would wrap)");
@@ -67,7 +68,8 @@ int cmdRender(const Args& args) {
   endProgressLine();
   const auto rgb = renderer.meanRgb();
   if (const uint32_t bad = renderer.nonFiniteSamples())
-    warn(std::to_string(bad) + " NaN/Inf sample estimates were replaced by 0 (a sampler bug: please report it)");
+    warn(std::to_string(bad) +
+         " NaN/Inf sample estimates were replaced by 0 (a sampler bug: please report it)");
 
   std::optional<ErrorMetrics> error;
   double referenceSeconds = 0.0;
@@ -86,25 +88,27 @@ int cmdRender(const Args& args) {
   const double samplesPerSecond = renderWallSeconds > 0 ? samples / renderWallSeconds : 0.0;
   const double gpuSamplesPerSecond = gpuSeconds > 0 ? samples / gpuSeconds : 0.0;
   if (spec.json) {
-    std::printf("{\"method\": \"%s\", \"device\": \"%s\", \"width\": %d, \"height\": %d, \"spp\": %llu, "
-                "\"passes\": %u, \"gpu_s\": %.6f, \"wall_s\": %.6f, \"setup_s\": %.6f, \"total_wall_s\": %.6f, "
-                "\"samples_per_s\": %.1f, \"gpu_samples_per_s\": %.1f, \"non_finite\": %u",
-                jsonEscape(method.label()).c_str(), jsonEscape(context.deviceName()).c_str(), scene.gbuffer.width,
-                scene.gbuffer.height,
-                static_cast<unsigned long long>(renderer.samplesPerPixel()), passes, gpuSeconds, renderWallSeconds,
-                renderer.setupSeconds(), totalWall, samplesPerSecond, gpuSamplesPerSecond, renderer.nonFiniteSamples());
+    std::printf(
+        "{\"method\": \"%s\", \"device\": \"%s\", \"width\": %d, \"height\": %d, \"spp\": %llu, "
+        "\"passes\": %u, \"gpu_s\": %.6f, \"wall_s\": %.6f, \"setup_s\": %.6f, \"total_wall_s\": %.6f, "
+        "\"samples_per_s\": %.1f, \"gpu_samples_per_s\": %.1f, \"non_finite\": %u",
+        jsonEscape(method.label()).c_str(), jsonEscape(context.deviceName()).c_str(), scene.gbuffer.width,
+        scene.gbuffer.height, static_cast<unsigned long long>(renderer.samplesPerPixel()), passes, gpuSeconds,
+        renderWallSeconds, renderer.setupSeconds(), totalWall, samplesPerSecond, gpuSamplesPerSecond,
+        renderer.nonFiniteSamples());
     if (error)
-      std::printf(", \"mse\": %.9g, \"relmse\": %.9g, \"mean_signed_error\": %.9g, \"reference_s\": %.3f", error->mse,
-                  error->relMse, error->meanSignedError, referenceSeconds);
+      std::printf(", \"mse\": %.9g, \"relmse\": %.9g, \"mean_signed_error\": %.9g, \"reference_s\": %.3f",
+                  error->mse, error->relMse, error->meanSignedError, referenceSeconds);
     std::printf(", \"out\": \"%s\"}\n", jsonEscape(spec.out).c_str());
   } else {
-    std::printf("%s on %s: %llu spp in %u passes, %.3f s wall (%.3f s GPU), %.2f M samples/s (%.2f M/s GPU)\n",
-                method.label().c_str(), context.deviceName().c_str(),
-                static_cast<unsigned long long>(renderer.samplesPerPixel()), passes, renderWallSeconds, gpuSeconds,
-                samplesPerSecond * 1e-6, gpuSamplesPerSecond * 1e-6);
+    std::printf(
+        "%s on %s: %llu spp in %u passes, %.3f s wall (%.3f s GPU), %.2f M samples/s (%.2f M/s GPU)\n",
+        method.label().c_str(), context.deviceName().c_str(),
+        static_cast<unsigned long long>(renderer.samplesPerPixel()), passes, renderWallSeconds, gpuSeconds,
+        samplesPerSecond * 1e-6, gpuSamplesPerSecond * 1e-6);
     if (error)
-      std::printf("error vs reference (%.2f s): MSE %.4g, relMSE %.4g, mean signed error %.3g\n", referenceSeconds,
-                  error->mse, error->relMse, error->meanSignedError);
+      std::printf("error vs reference (%.2f s): MSE %.4g, relMSE %.4g, mean signed error %.3g\n",
+                  referenceSeconds, error->mse, error->relMse, error->meanSignedError);
     std::printf("wrote %s (total %.2f s)\n", spec.out.c_str(), totalWall);
   }
   return 0;
