@@ -11,6 +11,7 @@ vec3 brdfEval(vec3 wi, vec3 wo) {
   vec3 f0 = mix(vec3(0.04), color, metallic);
   vec3 specular = fresnelSchlick(f0, dot(wi, h)) * (ggxD(h, roughness) * ggxG2(wi, wo, roughness) /
                                                    (4.0 * wi.z * wo.z));
+  if (metallic >= 1.0) return specular;  // a uniform branch: no diffuse lobe to evaluate
   float diffuseWeight = (1.0 - fresnelSchlick(vec3(0.04), wi.z).x) * (1.0 - fresnelSchlick(vec3(0.04), wo.z).x);
   return (1.0 - metallic) * diffuseWeight * color * kInvPi + specular;
 }
