@@ -64,13 +64,7 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
     params.rowBegin = uint32_t(row);
     context.submitAndWait([&](vk::CommandBuffer cmd) {
       kernel.record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
-      // Shader writes of this chunk -> the next chunk's shader reads/writes and the host's reads.
-      vk::MemoryBarrier barrier(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eShaderRead |
-                                                                      vk::AccessFlagBits::eShaderWrite |
-                                                                      vk::AccessFlagBits::eHostRead);
-      cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader,
-                          vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eHost, {},
-                          barrier, {}, {});
+      recordShaderWriteBarrier(cmd, true);  // -> the next chunk and the host
     });
     if (options.progress) options.progress(double(std::min(row + rowsPerDispatch, H)) / H);
   }

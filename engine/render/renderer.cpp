@@ -71,23 +71,11 @@ PassTiming Renderer::runPass(uint32_t samplesPerPass) {
     for (uint32_t done = 0; done < samplesPerPass; done += kMaxSamplesPerDispatch) {
       params.sampleOffset = uint32_t(samplesPerPixel_) + done;
       params.samplesPerPass = std::min(kMaxSamplesPerDispatch, samplesPerPass - done);
-      if (done > 0) {
-        // Accumulation writes of the previous dispatch -> reads and writes of the next.
-        vk::MemoryBarrier chain(vk::AccessFlagBits::eShaderWrite,
-                                vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite);
-        cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader,
-                            vk::PipelineStageFlagBits::eComputeShader, {}, chain, {}, {});
-      }
+      if (done > 0) recordShaderWriteBarrier(cmd, false);  // accumulation of the previous dispatch -> this one
       kernel_->record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
     }
     timestamps_.end(cmd);
-    // Shader writes -> the next dispatch's shader reads/writes and the host's reads after the fence.
-    vk::MemoryBarrier barrier(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eShaderRead |
-                                                                    vk::AccessFlagBits::eShaderWrite |
-                                                                    vk::AccessFlagBits::eHostRead);
-    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader,
-                        vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eHost, {},
-                        barrier, {}, {});
+    recordShaderWriteBarrier(cmd, true);  // -> the next pass and the host
   });
   samplesPerPixel_ += samplesPerPass;
   return {timestamps_.seconds(), since(start)};

@@ -66,6 +66,17 @@ void ComputeKernel::record(vk::CommandBuffer cmd, uint32_t groupsX, uint32_t gro
   cmd.dispatch(groupsX, groupsY, 1);
 }
 
+void recordShaderWriteBarrier(vk::CommandBuffer cmd, bool host) {
+  vk::AccessFlags dstAccess = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite;
+  vk::PipelineStageFlags dstStages = vk::PipelineStageFlagBits::eComputeShader;
+  if (host) {
+    dstAccess |= vk::AccessFlagBits::eHostRead;
+    dstStages |= vk::PipelineStageFlagBits::eHost;
+  }
+  vk::MemoryBarrier barrier(vk::AccessFlagBits::eShaderWrite, dstAccess);
+  cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, dstStages, {}, barrier, {}, {});
+}
+
 TimestampPair::TimestampPair(const VulkanContext& context) : context_(&context) {
   if (context.hasTimestamps())
     pool_ = vk::raii::QueryPool(context.device(), vk::QueryPoolCreateInfo({}, vk::QueryType::eTimestamp, 2));

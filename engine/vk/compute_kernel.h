@@ -46,6 +46,10 @@ class ComputeKernel {
   std::vector<vk::raii::DescriptorSet> sets_;
 };
 
+// Barrier after a dispatch: its shader writes become visible to later dispatches' shader reads and writes and,
+// with `host`, to host reads after the submission's fence.
+void recordShaderWriteBarrier(vk::CommandBuffer cmd, bool host);
+
 // Two GPU timestamps around recorded work; seconds() after the submission completed.
 class TimestampPair {
  public:

@@ -78,10 +78,7 @@ struct ProbeRunner {
     params.quadrature = {float(vector.x), float(vector.y), float(vector.z), 0};
     gpuContext().submitAndWait([&](vk::CommandBuffer cmd) {
       kernel->record(cmd, uint32_t((input.size() + 63) / 64), 1, &params, sizeof params);
-      // Shader writes -> host reads after the fence.
-      vk::MemoryBarrier barrier(vk::AccessFlagBits::eShaderWrite, vk::AccessFlagBits::eHostRead);
-      cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eHost, {},
-                          barrier, {}, {});
+      recordShaderWriteBarrier(cmd, true);
     });
     return out.readAll<gpu::vec4>();
   }

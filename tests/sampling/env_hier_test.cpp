@@ -3,64 +3,19 @@
 #include "engine/sampling/env_hier.h"
 
 #include "engine/core/error.h"
-#include "engine/core/log.h"
-#include "tests/support/chi2.h"
+#include "tests/sampling/env_sampler_checks.h"
 #include "tests/support/hard_envs.h"
 
 #include <doctest/doctest.h>
 
 #include <bit>
 #include <cmath>
-#include <limits>
-#include <string>
 #include <vector>
 
 using namespace iblx;
 
-namespace {
-
-constexpr std::size_t kChi2Samples = 200000;
-
-// 4 x 2 map with weights {1, 0, 3, 0} on the top row and {2, 2, 2, 2} on the bottom row; both rows subtend
-// Omega = pi/2 per texel, so the row weights are 2 pi and 4 pi (total 6 pi).
-EnvImage handWorkedImage() {
-  return test::makeEnv(4, 2, [](int x, int y, double, double) {
-    const double v = y == 0 ? std::vector<double>{1, 0, 3, 0}[std::size_t(x)] : 2.0;
-    return std::array<double, 3>{v, v, v};
-  });
-}
-
-// Silences the "black environment" warning and counts it.
-struct WarningCounter {
-  int count = 0;
-  LogSink previous;
-  WarningCounter() : previous(setWarningSink([this](const std::string&) { ++count; })) {}
-  ~WarningCounter() { setWarningSink(previous); }
-};
-
-std::vector<double> batchPdf(const EnvHierSampler& sampler, std::span<const glm::dvec3> directions) {
-  std::vector<double> p(directions.size());
-  for (std::size_t i = 0; i < directions.size(); ++i) p[i] = sampler.pdf(directions[i]);
-  return p;
-}
-
-test::Chi2Result runChi2(const EnvHierSampler& sampler, const std::string& label, int testCount,
-                         uint64_t seed) {
-  std::vector<glm::dvec3> directions;
-  directions.reserve(kChi2Samples);
-  for (const glm::dvec2 u : test::uniformPoints(kChi2Samples, seed))
-    directions.push_back(sampler.sample(u).direction);
-  test::Chi2Options options;
-  options.label = label;
-  options.testCount = testCount;
-  return test::chi2Test(
-      directions, [&](std::span<const glm::dvec3> w) { return batchPdf(sampler, w); }, options);
-}
-
-}  // namespace
-
 TEST_CASE("env-hier: hand-worked 4x2 table") {
-  const EnvHierData data = buildEnvHier(handWorkedImage());
+  const EnvHierData data = buildEnvHier(test::handWorkedImage());
   REQUIRE(data.width == 4);
   REQUIRE(data.height == 2);
   // Finest 4x2: weight * pi/2 = {pi/2, 0, 3pi/2, 0; pi, pi, pi, pi}; 2x1: {5pi/2, 7pi/2}; root 6pi.
@@ -165,115 +120,27 @@ TEST_CASE("env-hier: pyramid layout on hard envs") {
 }
 
 TEST_CASE("env-hier: sample -> invert round trip and pdf consistency on hard envs") {
-  for (const auto& env : test::samplerTestEnvs()) {
-    CAPTURE(env.name);
-    const EnvHierSampler sampler(buildEnvHier(env.image));
-    int boundary = 0;
-    for (const glm::dvec2 u : test::uniformPoints(20000, 5)) {
-      const EnvSample s = sampler.sample(u);
-      REQUIRE(s.pdfSolidAngle > 0.0);
-      REQUIRE(std::isfinite(s.pdfSolidAngle));
-      // A direction on a texel border may be located in the neighbour (measure zero); count those.
-      if (directionToTexel(s.direction, env.image.width, env.image.height) != s.texel) {
-        ++boundary;
-        continue;
-      }
-      CHECK(sampler.pdf(s.direction) == s.pdfSolidAngle);  // same float operations, bit for bit
-      const auto back = sampler.invert(s.direction);
-      REQUIRE(back);
-      CHECK(std::abs(back->x - double(toGpuU(u.x))) < 1e-6);
-      CHECK(std::abs(back->y - double(toGpuU(u.y))) < 1e-6);
-      CHECK(sampler.sample(*back).texel == s.texel);
-    }
-    CHECK(boundary <= 2);
-  }
+  test::checkRoundTripOnHardEnvs<EnvHierSampler>(buildEnvHier);
 }
 
 TEST_CASE("env-hier: chi2 on hard envs") {
-  const auto envs = test::samplerTestEnvs();
-  uint64_t seed = 100;
-  for (const auto& env : envs) {
-    CAPTURE(env.name);
-    const EnvHierSampler sampler(buildEnvHier(env.image));
-    const test::Chi2Result r = runChi2(sampler, "env-hier-" + env.name, int(envs.size()), seed++);
-    INFO(r.message);
-    CHECK(r.passed);
-    CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(1e-3));
-  }
+  test::checkChi2OnHardEnvs<EnvHierSampler>(buildEnvHier, "env-hier");
 }
 
 TEST_CASE("env-hier: zero-weight texels are never sampled") {
-  for (const auto& env : test::samplerTestEnvs()) {
-    CAPTURE(env.name);
-    const EnvImage& img = env.image;
-    const EnvHierSampler sampler(buildEnvHier(img));
-    for (int y = 0; y < img.height; ++y)
-      for (int x = 0; x < img.width; ++x)
-        if (img.weight(x, y) == 0.0) CHECK(sampler.texelProbability(x, y) == 0.0f);
-    for (const glm::dvec2 u : test::uniformPoints(20000, 9)) {
-      const EnvSample s = sampler.sample(u);
-      CHECK(img.weight(s.texel.x, s.texel.y) > 0.0);
-      CHECK(sampler.pdf(s.direction) > 0.0);
-    }
-  }
+  test::checkZeroWeightTexelsNeverSampled<EnvHierSampler>(buildEnvHier);
 }
 
 TEST_CASE("env-hier: all-zero image samples the sphere uniformly") {
-  WarningCounter warnings;
-  const EnvImage black = test::constantEnv(50, 25, 0.0f);
-  const EnvHierSampler sampler(buildEnvHier(black));
-  CHECK(warnings.count == 1);
-  for (const glm::dvec2 u : test::uniformPoints(2000, 17)) {
-    const EnvSample s = sampler.sample(u);
-    CHECK(s.pdfSolidAngle == doctest::Approx(1.0 / (4.0 * kPi)).epsilon(1e-5));
-  }
-  const test::Chi2Result r = runChi2(sampler, "env-hier-black", 1, 18);
-  INFO(r.message);
-  CHECK(r.passed);
-  CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(1e-3));
+  test::checkAllZeroImageIsUniform<EnvHierSampler>(buildEnvHier, "env-hier");
 }
 
 TEST_CASE("env-hier: 1e6 sun with a zero half") {
-  // Larger than the chi2 fixtures, so the sky's share of the sun row is near the float spacing of the CDF.
-  const EnvImage img = test::sunAndZeroHalf(512, 256);
-  const EnvHierSampler sampler(buildEnvHier(img));
-  // Probability of the two sun texels read from the tables: about 97 % of the mass.
-  const int sunX = img.width / 3, sunY = img.height / 4;
-  const double sunProb =
-      double(sampler.texelProbability(sunX, sunY)) + sampler.texelProbability(sunX + 1, sunY);
-  CHECK(sunProb > 0.9);
-  int sunHits = 0;
-  for (const glm::dvec2 u : test::uniformPoints(50000, 21)) {
-    const EnvSample s = sampler.sample(u);
-    REQUIRE(std::isfinite(s.direction.x));
-    REQUIRE(std::isfinite(s.direction.y));
-    REQUIRE(std::isfinite(s.direction.z));
-    REQUIRE(std::isfinite(s.pdfSolidAngle));
-    REQUIRE(s.pdfSolidAngle > 0.0);
-    CHECK(s.direction.y > 0.0);  // never in the black lower half
-    CHECK(sampler.pdf(s.direction) > 0.0);
-    sunHits += img.weight(s.texel.x, s.texel.y) > 1.0;
-  }
-  CHECK(sunHits / 50000.0 == doctest::Approx(sunProb).epsilon(0.01));
-  // Extreme u values stay finite too.
-  for (const glm::dvec2 u : {glm::dvec2(0.0), glm::dvec2(1.0), glm::dvec2(std::nextafter(1.0, 0.0), 0.0)}) {
-    const EnvSample s = sampler.sample(u);
-    CHECK(std::isfinite(s.pdfSolidAngle));
-    CHECK(s.pdfSolidAngle > 0.0);
-  }
+  test::checkSunWithZeroHalf<EnvHierSampler>(buildEnvHier);
 }
 
 TEST_CASE("env-hier: rejects invalid images") {
-  EnvImage img = test::constantEnv(8, 4, 1.0f);
-  img.rgb[5] = -1.0f;
-  CHECK_THROWS_AS(buildEnvHier(img), Error);
-  img.rgb[5] = std::numeric_limits<float>::quiet_NaN();
-  CHECK_THROWS_AS(buildEnvHier(img), Error);
-  img.rgb[5] = std::numeric_limits<float>::infinity();
-  CHECK_THROWS_AS(buildEnvHier(img), Error);
-  img.rgb.pop_back();
-  CHECK_THROWS_AS(buildEnvHier(img), Error);
-  CHECK_THROWS_AS(buildEnvHier(EnvImage{}), Error);
+  test::checkBuildRejectsInvalidImages(buildEnvHier);
   EnvHierData bad = buildEnvHier(test::constantEnv(8, 4, 1.0f));
   bad.nodes.pop_back();
   CHECK_THROWS_AS(EnvHierSampler{bad}, Error);
