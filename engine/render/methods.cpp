@@ -218,7 +218,9 @@ ParamValues resolveParams(const BrdfInfo& brdf,
     const int count = decl->type == ParamType::Color ? 3 : 1;
     std::string rest = text;
     if (decl->type == ParamType::Bool && (rest == "true" || rest == "false"))
-      rest = rest == "true" ? "1" : "0";
+      rest.assign(1, rest == "true"
+                         ? '1'
+                         : '0');  // assign(count, char): GCC 12 warns falsely on operator=(const char*)
     int parsed = 0;
     std::istringstream in(rest);
     std::string item;
