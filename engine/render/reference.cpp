@@ -18,7 +18,7 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   const auto spirv =
       compiler.compile(assemblePrelude(referenceParts(scene)), "reference " + scene.brdf->name);
   ComputeKernel kernel(context, spirv, sceneKernelLayout(0, 0), "reference");
-  kernel.bindBuffers(0, {&gpu.gbuffer, &gpu.accum, &gpu.envRgb, &gpu.envRows, &gpu.stats});
+  kernel.bindBuffers(0, gpu.frameSet());
   kernel.bindBuffers(2, std::span<const Buffer* const>());
   kernel.bindBuffers(3, {&gpu.brdfParams});
 

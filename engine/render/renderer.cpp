@@ -33,7 +33,7 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   const auto spirv = compiler.compile(assemblePrelude(parts), "integrate " + method.label());
   kernel_ = std::make_unique<ComputeKernel>(
       context, spirv, sceneKernelLayout(uint32_t(envBuffers_.size()), 0), "integrate " + method.label());
-  kernel_->bindBuffers(0, {&gpu_.gbuffer, &gpu_.accum, &gpu_.envRgb, &gpu_.envRows, &gpu_.stats});
+  kernel_->bindBuffers(0, gpu_.frameSet());
   std::vector<const Buffer*> env;
   for (const auto& b : envBuffers_) env.push_back(&b);
   kernel_->bindBuffers(2, env);
@@ -71,7 +71,8 @@ PassTiming Renderer::runPass(uint32_t samplesPerPass) {
     for (uint32_t done = 0; done < samplesPerPass; done += kMaxSamplesPerDispatch) {
       params.sampleOffset = uint32_t(samplesPerPixel_) + done;
       params.samplesPerPass = std::min(kMaxSamplesPerDispatch, samplesPerPass - done);
-      if (done > 0) recordShaderWriteBarrier(cmd, false);  // accumulation of the previous dispatch -> this one
+      if (done > 0)
+        recordShaderWriteBarrier(cmd, false);  // accumulation of the previous dispatch -> this one
       kernel_->record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
     }
     timestamps_.end(cmd);

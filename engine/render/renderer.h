@@ -33,7 +33,6 @@ class Renderer {
   std::vector<float> meanRgb() const;      // width*height*3
   std::vector<float> varianceRgb() const;  // per-pixel sample variance of one estimate, width*height*3
   uint32_t nonFiniteSamples() const;
-  const ResolvedMethod& method() const { return method_; }
   double setupSeconds() const { return setupSeconds_; }  // table builds + shader compile + upload
 
  private:

@@ -7,6 +7,7 @@
 #include "engine/render/methods.h"
 #include "engine/vk/buffer.h"
 
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -61,6 +62,8 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf);
 // Set-0 and set-3 buffers shared by the integrator and the reference kernel.
 struct SceneGpu {
   Buffer gbuffer, accum, envRgb, envRows, stats, brdfParams;
+  // Set 0 (shaders/lib/frame_resources.glsl) in binding order.
+  std::array<const Buffer*, 5> frameSet() const { return {&gbuffer, &accum, &envRgb, &envRows, &stats}; }
 };
 SceneGpu uploadScene(const VulkanContext& context, const Scene& scene);
 

@@ -19,12 +19,6 @@ namespace {
 
 constexpr std::size_t kSamples = 200000;
 
-// Hard maps of the issue: a sun 1e6 x the sky in 2 texels plus an exactly-zero half, and a smooth map.
-std::vector<NamedEnv> envsUnderTest() {
-  auto envs = samplerTestEnvs();
-  return envs;
-}
-
 void checkTechniqueOnEnv(const std::string& technique, const NamedEnv& env, int testCount) {
   INFO("technique " << technique << " on " << env.name);
   const glm::dvec3 normal = glm::normalize(glm::dvec3(0.3, 0.8, 0.5));
@@ -57,7 +51,7 @@ void checkTechniqueOnEnv(const std::string& technique, const NamedEnv& env, int 
 }  // namespace
 
 TEST_CASE("env techniques: pdf integrates to 1 and chi2 passes on smooth and hard maps") {
-  const auto envs = envsUnderTest();
+  const auto envs = samplerTestEnvs();
   const int testCount = int(envTechniqueRegistry().size() * envs.size());
   for (const auto& technique : envTechniqueRegistry())
     for (const auto& env : envs) {
@@ -70,7 +64,7 @@ TEST_CASE("env techniques: pdf integrates to 1 and chi2 passes on smooth and har
 
 template <typename CpuSampler, typename Build>
 void checkAgainstCpuTwin(const std::string& technique, Build build) {
-  for (const auto& env : envsUnderTest()) {
+  for (const auto& env : samplerTestEnvs()) {
     INFO(technique << " on " << env.name);
     const CpuSampler cpu(build(env.image));
     EnvTechniqueProbe probe(technique, env.image);

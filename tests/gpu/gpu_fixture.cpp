@@ -41,7 +41,7 @@ struct ProbeRunner {
     KernelLayout layout = sceneKernelLayout(uint32_t(techniqueBuffers.size()), 0);
     layout.buffersPerSet[1] = 2;
     kernel = std::make_unique<ComputeKernel>(gpuContext(), spirv, layout, kernelFile);
-    kernel->bindBuffers(0, {&gpu.gbuffer, &gpu.accum, &gpu.envRgb, &gpu.envRows, &gpu.stats});
+    kernel->bindBuffers(0, gpu.frameSet());
     std::vector<const Buffer*> set2;
     for (const auto& b : techniqueBuffers) set2.push_back(&b);
     kernel->bindBuffers(2, set2);
