@@ -17,21 +17,17 @@ TechniqueData noData(const EnvImage&) {
   return {};
 }
 
-// Iterations of the branch-free lower-bound search over n bins: len goes n, n - n/2, ... down to 1.
-int searchSteps(int n) {
-  int steps = 0;
-  for (int len = n; len > 1; len -= len >> 1) ++steps;
-  return steps;
-}
-
 TechniqueData makeEnvCdf(const EnvImage& image) {
   const EnvCdfData cdf = buildEnvCdf(image);
   std::vector<float> packed(cdf.marginalCdf);  // layout of shaders/env/env_cdf.glsl: marginal, then rows
   packed.insert(packed.end(), cdf.conditionalCdf.begin(), cdf.conditionalCdf.end());
+  std::vector<std::uint32_t> guide(cdf.marginalGuide);
+  guide.insert(guide.end(), cdf.conditionalGuide.begin(), cdf.conditionalGuide.end());
   TechniqueData data;
   data.add("env-cdf tables", std::span<const float>(packed));
-  data.defines = {{"ENV_CDF_ROW_SEARCH_STEPS", std::to_string(searchSteps(image.height))},
-                  {"ENV_CDF_COLUMN_SEARCH_STEPS", std::to_string(searchSteps(image.width))}};
+  data.add("env-cdf guide", std::span<const std::uint32_t>(guide));
+  data.defines = {{"ENV_CDF_ROW_GUIDE_SIZE", std::to_string(envCdfGuideSize(image.height)) + "u"},
+                  {"ENV_CDF_COLUMN_GUIDE_SIZE", std::to_string(envCdfGuideSize(image.width)) + "u"}};
   return data;
 }
 

@@ -35,6 +35,28 @@ int findBin(const float* cdf, int n, float u) {
   return std::clamp(int(first - cdf) - 1, 0, n - 1);
 }
 
+// Guide cell k of a CDF over n bins with G cells: lo = bin of u = k/G, hi = bin of the largest float below
+// (k+1)/G. Both bounds are floats exactly (G is a power of two), so [lo, hi] holds the bin of every u in the cell.
+void writeGuide(const float* cdf, int n, std::uint32_t* guide) {
+  const int cells = envCdfGuideSize(n);
+  for (int k = 0; k < cells; ++k) {
+    const float start = float(k) / float(cells), end = float(k + 1) / float(cells);
+    const int lo = findBin(cdf, n, start);
+    // Largest i with cdf[i] < end: (first entry among cdf[1..n] >= end) - 1.
+    const int hi = std::clamp(int(std::lower_bound(cdf + 1, cdf + n + 1, end) - cdf) - 1, lo, n - 1);
+    guide[k] = std::uint32_t(lo) | std::uint32_t(hi) << 16;
+  }
+}
+
+// findBin through guide cell u * G: the same bin, found by a search over [lo, hi] only (as on the GPU).
+int findBinGuided(const float* cdf, const std::uint32_t* guide, int n, float u) {
+  const int cells = envCdfGuideSize(n);
+  const std::uint32_t g = guide[std::min(int(u * float(cells)), cells - 1)];
+  const int lo = int(g & 0xffffu), hi = int(g >> 16);
+  const float* first = std::upper_bound(cdf + lo + 1, cdf + hi + 1, u);
+  return int(first - cdf) - 1;
+}
+
 // Rescaled offset of u inside [lo, lo + width), in float as on the GPU.
 float remapInBin(float u, float lo, float width) {
   return width > 0.0f ? std::clamp((u - lo) / width, 0.0f, kOneMinusEpsilonF) : 0.0f;
@@ -42,9 +64,19 @@ float remapInBin(float u, float lo, float width) {
 
 }  // namespace
 
+int envCdfGuideSize(int n) {
+  int cells = 1;
+  while (cells < n) cells *= 2;
+  return cells;
+}
+
 EnvCdfData buildEnvCdf(const EnvImage& image) {
   const std::vector<double> weights = texelSamplingWeights(image, "env-cdf");
   const int width = image.width, height = image.height;
+  if (width > kEnvCdfMaxBins || height > kEnvCdfMaxBins)
+    throw Error("env-cdf: a " + std::to_string(width) + " x " + std::to_string(height) +
+                " map is larger than the " + std::to_string(kEnvCdfMaxBins) +
+                " texels per side its guide tables address; use env-hier");
   EnvCdfData data;
   data.width = width;
   data.height = height;
@@ -65,13 +97,23 @@ EnvCdfData buildEnvCdf(const EnvImage& image) {
     for (int y = 0; y < height; ++y) rowWeights[std::size_t(y)] = latLongTexelSolidAngle(y, width, height);
   }
   writeCdf(rowWeights, data.marginalCdf.data());
+
+  const std::size_t rowGuide = std::size_t(envCdfGuideSize(width));
+  data.marginalGuide.resize(std::size_t(envCdfGuideSize(height)));
+  data.conditionalGuide.resize(std::size_t(height) * rowGuide);
+  writeGuide(data.marginalCdf.data(), height, data.marginalGuide.data());
+  for (int y = 0; y < height; ++y)
+    writeGuide(data.conditionalCdf.data() + std::size_t(y) * std::size_t(width + 1), width,
+               data.conditionalGuide.data() + std::size_t(y) * rowGuide);
   return data;
 }
 
 EnvCdfSampler::EnvCdfSampler(EnvCdfData data) : data_(std::move(data)) {
   const int width = data_.width, height = data_.height;
   if (width <= 0 || height <= 0 || data_.marginalCdf.size() != std::size_t(height) + 1 ||
-      data_.conditionalCdf.size() != std::size_t(height) * std::size_t(width + 1))
+      data_.conditionalCdf.size() != std::size_t(height) * std::size_t(width + 1) ||
+      data_.marginalGuide.size() != std::size_t(envCdfGuideSize(height)) ||
+      data_.conditionalGuide.size() != std::size_t(height) * std::size_t(envCdfGuideSize(width)))
     throw Error("env-cdf: table sizes do not match a " + std::to_string(width) + " x " +
                 std::to_string(height) + " map; rebuild them with buildEnvCdf");
   rowSolidAngles_ = rowSolidAngles(width, height);
@@ -79,6 +121,10 @@ EnvCdfSampler::EnvCdfSampler(EnvCdfData data) : data_(std::move(data)) {
 
 const float* EnvCdfSampler::conditionalRow(int y) const {
   return data_.conditionalCdf.data() + std::size_t(y) * std::size_t(data_.width + 1);
+}
+
+const std::uint32_t* EnvCdfSampler::conditionalGuideRow(int y) const {
+  return data_.conditionalGuide.data() + std::size_t(y) * std::size_t(envCdfGuideSize(data_.width));
 }
 
 float EnvCdfSampler::texelProbability(int x, int y) const {
@@ -93,12 +139,12 @@ EnvSample EnvCdfSampler::sample(glm::dvec2 u) const {
   const float uy = toGpuU(u.y), ux = toGpuU(u.x);
   // Row y from the marginal, then t.y = offset of u.y inside the row's bin.
   const float* m = data_.marginalCdf.data();
-  const int y = findBin(m, height, uy);
+  const int y = findBinGuided(m, data_.marginalGuide.data(), height, uy);
   const float rowProb = m[y + 1] - m[y];
   const float ty = remapInBin(uy, m[y], rowProb);
   // Column x from row y's conditional, then t.x.
   const float* c = conditionalRow(y);
-  const int x = findBin(c, width, ux);
+  const int x = findBinGuided(c, conditionalGuideRow(y), width, ux);
   const float colProb = c[x + 1] - c[x];
   const float tx = remapInBin(ux, c[x], colProb);
   // P = probability of the texel actually chosen; constant density P / Omega(y) inside it.

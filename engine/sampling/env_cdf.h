@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -21,9 +22,21 @@ struct EnvCdfData {
   int width = 0, height = 0;
   std::vector<float> marginalCdf;     // H+1 entries, [0] = 0, [H] = 1 exactly, non-decreasing
   std::vector<float> conditionalCdf;  // H*(W+1) entries, row y at y*(W+1), each row [0] = 0, [W] = 1 exactly
+  // Guide tables (Chen & Asau's "index table", 1974) that shorten the searches: a CDF over n bins gets
+  // G = guideSize(n) cells, a power of two so that u * G and k / G are exact in float. Cell k packs
+  // lo | hi << 16, the bins of u = k/G and of the largest float below (k+1)/G, so the bin of any u in the cell
+  // lies in [lo, hi] and a search of ceil(log2(hi - lo + 1)) steps finds it (usually 0 or 1).
+  std::vector<std::uint32_t> marginalGuide;     // guideSize(H) cells
+  std::vector<std::uint32_t> conditionalGuide;  // H*guideSize(W) cells, row y at y*guideSize(W)
 };
 
-// Builds the tables. Throws iblx::Error on an empty image or a negative or non-finite texel.
+// Cells of the guide table of a CDF over n bins: the smallest power of two >= n.
+int envCdfGuideSize(int n);
+// Largest bin count per axis: guide cells store bin indices in 16 bits.
+inline constexpr int kEnvCdfMaxBins = 65536;
+
+// Builds the tables. Throws iblx::Error on an empty image, a negative or non-finite texel, or a side longer
+// than kEnvCdfMaxBins.
 EnvCdfData buildEnvCdf(const EnvImage& image);
 
 // CPU twin of the env-cdf GLSL part: every step that touches the tables runs in float exactly as the GPU
@@ -31,7 +44,7 @@ EnvCdfData buildEnvCdf(const EnvImage& image);
 // trigonometry).
 //
 // Sampling, with u as the float the GPU receives (toGpuU):
-//   y = (first k in 1..H with marginalCdf[k] > u.y) - 1; rowProb = marginalCdf[y+1] - marginalCdf[y];
+//   y = (first k in 1..H with marginalCdf[k] > u.y) - 1, searched in [lo, hi] of guide cell u.y * G; rowProb = marginalCdf[y+1] - marginalCdf[y];
 //   t.y = (u.y - marginalCdf[y]) / rowProb, clamped to [0, 1 - 2^-24]; the same for x and t.x in row y's
 //   conditional (colProb); P = rowProb * colProb; direction = texelToDirection(x, y, t);
 //   pdfSolidAngle = P / Omega_f(y), Omega_f = rowSolidAngles(W, H). Zero-width bins are never chosen.
@@ -46,7 +59,9 @@ EnvCdfData buildEnvCdf(const EnvImage& image);
 //   (8192 x 4096 map, measured in sampling_sota §6.1); smaller shares round to zero-width bins that are never
 //   sampled. The estimator stays unbiased wherever P > 0 because the pdf is the probability actually sampled
 //   (a float CDF difference), never f/integral recomputed; zero-width texels are covered only through MIS.
-// - Cost: two binary searches (log2 H + log2 W dependent loads) and one trigonometric direction.
+// - Cost: two guide-table lookups, each followed by a binary search over the few bins of the cell (none when
+//   the cell holds one bin), and one trigonometric direction. A cell spans many bins only where many bins
+//   share 1/G of the probability, so the samples that need long searches are rare.
 class EnvCdfSampler {
  public:
   // Keeps a copy of the tables. Throws iblx::Error when the array sizes do not match width and height.
@@ -65,6 +80,7 @@ class EnvCdfSampler {
 
  private:
   const float* conditionalRow(int y) const;
+  const std::uint32_t* conditionalGuideRow(int y) const;
 
   EnvCdfData data_;
   std::vector<float> rowSolidAngles_;

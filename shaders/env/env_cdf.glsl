@@ -7,13 +7,16 @@
 
 // cdf[0 .. H]: marginal over rows; then per row y, cdf[H+1 + y*(W+1) .. + W]: conditional over columns.
 layout(std430, set = 2, binding = 0) readonly buffer EnvCdfData { float envCdf[]; };
+// Guide cells (EnvCdfData in engine/sampling/env_cdf.h): the marginal's ENV_CDF_ROW_GUIDE_SIZE cells, then
+// ENV_CDF_COLUMN_GUIDE_SIZE cells per row; each packs lo | hi << 16, the range of bins its u values fall in.
+layout(std430, set = 2, binding = 1) readonly buffer EnvCdfGuide { uint envCdfGuide[]; };
 
-// The largest i in [0, n) with cdf[base + i] <= u, i.e. cdf[i] <= u < cdf[i+1] (cdf[base + n] = 1 > u), so a
-// zero-width bin is never chosen. Branch-free, with the trip count `steps` fixed by the builder for this n
-// (ENV_CDF_*_SEARCH_STEPS): the loop unrolls and every SIMD lane runs the same instructions.
-int envCdfFindBin(uint base, int n, float u, const int steps) {
-  int lo = 0, len = n;
-  for (int i = 0; i < steps; ++i) {
+// The largest i in [lo, hi] of guide cell `cell` with cdf[base + i] <= u, i.e. cdf[i] <= u < cdf[i+1], so a
+// zero-width bin is never chosen. The search runs only over the cell's bins: no step when the cell holds one.
+int envCdfFindBin(uint base, uint cell, float u) {
+  uint range = envCdfGuide[cell];
+  int lo = int(range & 0xffffu), len = int(range >> 16u) - lo + 1;
+  while (len > 1) {
     int halfLen = len >> 1;
     lo = envCdf[base + uint(lo + halfLen)] <= u ? lo + halfLen : lo;
     len -= halfLen;
@@ -24,10 +27,12 @@ int envCdfFindBin(uint base, int n, float u, const int steps) {
 uint envCdfRowBase(int y) { return frame.envHeight + 1u + uint(y) * (frame.envWidth + 1u); }
 
 vec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {
-  int y = envCdfFindBin(0u, int(frame.envHeight), u.y, ENV_CDF_ROW_SEARCH_STEPS);
+  // u * G is exact (G a power of two) and < G for u < 1.
+  const uint rowCells = ENV_CDF_ROW_GUIDE_SIZE, columnCells = ENV_CDF_COLUMN_GUIDE_SIZE;
+  int y = envCdfFindBin(0u, uint(u.y * float(rowCells)), u.y);
   float c0 = envCdf[y], rowProb = envCdf[y + 1] - c0;
   uint base = envCdfRowBase(y);
-  int x = envCdfFindBin(base, int(frame.envWidth), u.x, ENV_CDF_COLUMN_SEARCH_STEPS);
+  int x = envCdfFindBin(base, rowCells + uint(y) * columnCells + uint(u.x * float(columnCells)), u.x);
   float d0 = envCdf[base + uint(x)], colProb = envCdf[base + uint(x) + 1u] - d0;
   // rowProb, colProb > 0: the search never returns a zero-width bin; the guards keep the code total.
   float ty = rowProb > 0.0 ? clamp((u.y - c0) / rowProb, 0.0, kOneMinusEpsilon) : 0.5;

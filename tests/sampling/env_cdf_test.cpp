@@ -8,6 +8,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -62,6 +63,44 @@ TEST_CASE("env-cdf: tables are valid float CDFs on hard envs") {
       CHECK(c[0] == 0.0f);
       CHECK(c[w] == 1.0f);
       for (int x = 0; x < w; ++x) CHECK(c[x + 1] >= c[x]);
+    }
+  }
+}
+
+// The bin of u in a CDF by a plain search over all bins: the answer the guide tables must reproduce.
+static int plainBin(const float* cdf, int n, float u) {
+  return int(std::upper_bound(cdf + 1, cdf + n + 1, u) - cdf) - 1;
+}
+
+TEST_CASE("env-cdf: guided search finds the same bin as a full search") {
+  for (const auto& env : test::samplerTestEnvs()) {
+    CAPTURE(env.name);
+    const EnvCdfData d = buildEnvCdf(env.image);
+    const EnvCdfSampler sampler(d);
+    const int rowCells = envCdfGuideSize(d.height);
+    CHECK(d.marginalGuide.size() == std::size_t(rowCells));
+    // Every CDF entry, its float neighbours and every cell boundary with its neighbours: the places where an
+    // off-by-one in the guide would show. The sampled row must be the full search's row.
+    std::vector<float> probes;
+    for (float c : d.marginalCdf)
+      probes.insert(probes.end(), {c, std::nextafter(c, 0.0f), std::nextafter(c, 1.0f)});
+    for (int k = 0; k <= rowCells; ++k) {
+      const float b = float(k) / float(rowCells);
+      probes.insert(probes.end(), {b, std::nextafter(b, 0.0f), std::nextafter(b, 1.0f)});
+    }
+    for (float uy : probes) {
+      if (!(uy >= 0.0f && uy < 1.0f)) continue;
+      const int expectedRow = plainBin(d.marginalCdf.data(), d.height, uy);
+      const EnvSample s = sampler.sample({0.5, double(uy)});
+      REQUIRE(s.texel.y == expectedRow);
+      // Columns of that row, probed the same way.
+      const float* c = d.conditionalCdf.data() + std::size_t(expectedRow) * std::size_t(d.width + 1);
+      for (int x = 0; x <= d.width; x += std::max(1, d.width / 16)) {
+        for (float ux : {c[x], std::nextafter(c[x], 0.0f), std::nextafter(c[x], 1.0f)}) {
+          if (!(ux >= 0.0f && ux < 1.0f)) continue;
+          REQUIRE(sampler.sample({double(ux), double(uy)}).texel.x == plainBin(c, d.width, ux));
+        }
+      }
     }
   }
 }
