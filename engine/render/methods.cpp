@@ -26,8 +26,8 @@ TechniqueData makeEnvCdf(const EnvImage& image) {
   TechniqueData data;
   data.add("env-cdf tables", std::span<const float>(packed));
   data.add("env-cdf guide", std::span<const std::uint32_t>(guide));
-  data.defines = {{"ENV_CDF_ROW_GUIDE_SIZE", std::to_string(envCdfGuideSize(image.height)) + "u"},
-                  {"ENV_CDF_COLUMN_GUIDE_SIZE", std::to_string(envCdfGuideSize(image.width)) + "u"}};
+  data.defines = {{"ENV_CDF_ROW_GUIDE_SIZE", std::to_string(cdf.rowGuideCells) + "u"},
+                  {"ENV_CDF_COLUMN_GUIDE_SIZE", std::to_string(cdf.columnGuideCells) + "u"}};
   return data;
 }
 

@@ -37,8 +37,7 @@ int findBin(const float* cdf, int n, float u) {
 
 // Guide cell k of a CDF over n bins with G cells: lo = bin of u = k/G, hi = bin of the largest float below
 // (k+1)/G. Both bounds are floats exactly (G is a power of two), so [lo, hi] holds the bin of every u in the cell.
-void writeGuide(const float* cdf, int n, std::uint32_t* guide) {
-  const int cells = envCdfGuideSize(n);
+void writeGuide(const float* cdf, int n, int cells, std::uint32_t* guide) {
   for (int k = 0; k < cells; ++k) {
     const float start = float(k) / float(cells), end = float(k + 1) / float(cells);
     const int lo = findBin(cdf, n, start);
@@ -49,8 +48,7 @@ void writeGuide(const float* cdf, int n, std::uint32_t* guide) {
 }
 
 // findBin through guide cell u * G: the same bin, found by a search over [lo, hi] only (as on the GPU).
-int findBinGuided(const float* cdf, const std::uint32_t* guide, int n, float u) {
-  const int cells = envCdfGuideSize(n);
+int findBinGuided(const float* cdf, const std::uint32_t* guide, int cells, float u) {
   const std::uint32_t g = guide[std::min(int(u * float(cells)), cells - 1)];
   const int lo = int(g & 0xffffu), hi = int(g >> 16);
   const float* first = std::upper_bound(cdf + lo + 1, cdf + hi + 1, u);
@@ -64,9 +62,9 @@ float remapInBin(float u, float lo, float width) {
 
 }  // namespace
 
-int envCdfGuideSize(int n) {
+int envCdfGuideCells(int n, int cellsPerBin) {
   int cells = 1;
-  while (cells < n) cells *= 2;
+  while (cells < n * cellsPerBin) cells *= 2;
   return cells;
 }
 
@@ -98,13 +96,15 @@ EnvCdfData buildEnvCdf(const EnvImage& image) {
   }
   writeCdf(rowWeights, data.marginalCdf.data());
 
-  const std::size_t rowGuide = std::size_t(envCdfGuideSize(width));
-  data.marginalGuide.resize(std::size_t(envCdfGuideSize(height)));
+  data.rowGuideCells = envCdfGuideCells(height, kEnvCdfRowCellsPerBin);
+  data.columnGuideCells = envCdfGuideCells(width, kEnvCdfColumnCellsPerBin);
+  const std::size_t rowGuide = std::size_t(data.columnGuideCells);
+  data.marginalGuide.resize(std::size_t(data.rowGuideCells));
   data.conditionalGuide.resize(std::size_t(height) * rowGuide);
-  writeGuide(data.marginalCdf.data(), height, data.marginalGuide.data());
+  writeGuide(data.marginalCdf.data(), height, data.rowGuideCells, data.marginalGuide.data());
   for (int y = 0; y < height; ++y)
     writeGuide(data.conditionalCdf.data() + std::size_t(y) * std::size_t(width + 1), width,
-               data.conditionalGuide.data() + std::size_t(y) * rowGuide);
+               data.columnGuideCells, data.conditionalGuide.data() + std::size_t(y) * rowGuide);
   return data;
 }
 
@@ -112,8 +112,9 @@ EnvCdfSampler::EnvCdfSampler(EnvCdfData data) : data_(std::move(data)) {
   const int width = data_.width, height = data_.height;
   if (width <= 0 || height <= 0 || data_.marginalCdf.size() != std::size_t(height) + 1 ||
       data_.conditionalCdf.size() != std::size_t(height) * std::size_t(width + 1) ||
-      data_.marginalGuide.size() != std::size_t(envCdfGuideSize(height)) ||
-      data_.conditionalGuide.size() != std::size_t(height) * std::size_t(envCdfGuideSize(width)))
+      data_.rowGuideCells <= 0 || data_.columnGuideCells <= 0 ||
+      data_.marginalGuide.size() != std::size_t(data_.rowGuideCells) ||
+      data_.conditionalGuide.size() != std::size_t(height) * std::size_t(data_.columnGuideCells))
     throw Error("env-cdf: table sizes do not match a " + std::to_string(width) + " x " +
                 std::to_string(height) + " map; rebuild them with buildEnvCdf");
   rowSolidAngles_ = rowSolidAngles(width, height);
@@ -124,7 +125,7 @@ const float* EnvCdfSampler::conditionalRow(int y) const {
 }
 
 const std::uint32_t* EnvCdfSampler::conditionalGuideRow(int y) const {
-  return data_.conditionalGuide.data() + std::size_t(y) * std::size_t(envCdfGuideSize(data_.width));
+  return data_.conditionalGuide.data() + std::size_t(y) * std::size_t(data_.columnGuideCells);
 }
 
 float EnvCdfSampler::texelProbability(int x, int y) const {
@@ -139,12 +140,12 @@ EnvSample EnvCdfSampler::sample(glm::dvec2 u) const {
   const float uy = toGpuU(u.y), ux = toGpuU(u.x);
   // Row y from the marginal, then t.y = offset of u.y inside the row's bin.
   const float* m = data_.marginalCdf.data();
-  const int y = findBinGuided(m, data_.marginalGuide.data(), height, uy);
+  const int y = findBinGuided(m, data_.marginalGuide.data(), data_.rowGuideCells, uy);
   const float rowProb = m[y + 1] - m[y];
   const float ty = remapInBin(uy, m[y], rowProb);
   // Column x from row y's conditional, then t.x.
   const float* c = conditionalRow(y);
-  const int x = findBinGuided(c, conditionalGuideRow(y), width, ux);
+  const int x = findBinGuided(c, conditionalGuideRow(y), data_.columnGuideCells, ux);
   const float colProb = c[x + 1] - c[x];
   const float tx = remapInBin(ux, c[x], colProb);
   // P = probability of the texel actually chosen; constant density P / Omega(y) inside it.

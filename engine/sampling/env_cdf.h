@@ -23,15 +23,19 @@ struct EnvCdfData {
   std::vector<float> marginalCdf;     // H+1 entries, [0] = 0, [H] = 1 exactly, non-decreasing
   std::vector<float> conditionalCdf;  // H*(W+1) entries, row y at y*(W+1), each row [0] = 0, [W] = 1 exactly
   // Guide tables (Chen & Asau's "index table", 1974) that shorten the searches: a CDF over n bins gets
-  // G = guideSize(n) cells, a power of two so that u * G and k / G are exact in float. Cell k packs
+  // G cells, a power of two so that u * G and k / G are exact in float. Cell k packs
   // lo | hi << 16, the bins of u = k/G and of the largest float below (k+1)/G, so the bin of any u in the cell
   // lies in [lo, hi] and a search of ceil(log2(hi - lo + 1)) steps finds it (usually 0 or 1).
-  std::vector<std::uint32_t> marginalGuide;     // guideSize(H) cells
-  std::vector<std::uint32_t> conditionalGuide;  // H*guideSize(W) cells, row y at y*guideSize(W)
+  int rowGuideCells = 0;     // envCdfGuideCells(H, kEnvCdfRowCellsPerBin)
+  int columnGuideCells = 0;  // envCdfGuideCells(W, kEnvCdfColumnCellsPerBin)
+  std::vector<std::uint32_t> marginalGuide;     // rowGuideCells cells
+  std::vector<std::uint32_t> conditionalGuide;  // H * columnGuideCells cells, row y at y * columnGuideCells
 };
 
-// Cells of the guide table of a CDF over n bins: the smallest power of two >= n.
-int envCdfGuideSize(int n);
+// Cells of the guide table of a CDF over n bins: the smallest power of two >= n * cellsPerBin. More cells
+// mean fewer search steps: the marginal is small, so it gets many; the conditionals hold most of the memory.
+inline constexpr int kEnvCdfRowCellsPerBin = 16, kEnvCdfColumnCellsPerBin = 2;
+int envCdfGuideCells(int n, int cellsPerBin);
 // Largest bin count per axis: guide cells store bin indices in 16 bits.
 inline constexpr int kEnvCdfMaxBins = 65536;
 

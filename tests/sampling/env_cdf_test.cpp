@@ -77,7 +77,7 @@ TEST_CASE("env-cdf: guided search finds the same bin as a full search") {
     CAPTURE(env.name);
     const EnvCdfData d = buildEnvCdf(env.image);
     const EnvCdfSampler sampler(d);
-    const int rowCells = envCdfGuideSize(d.height);
+    const int rowCells = d.rowGuideCells;
     CHECK(d.marginalGuide.size() == std::size_t(rowCells));
     // Every CDF entry, its float neighbours and every cell boundary with its neighbours: the places where an
     // off-by-one in the guide would show. The sampled row must be the full search's row.
