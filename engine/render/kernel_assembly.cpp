@@ -17,8 +17,16 @@ std::string assemblePrelude(const KernelParts& parts) {
   return s.str();
 }
 
-KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method, const TechniqueData& envData) {
+std::vector<std::pair<std::string, std::string>> brdfBindingDefines(std::size_t brdfDataBuffers) {
+  return {{"BRDF_DATA_BINDING", "1"}, {"BRDF_SAMPLER_BINDING", std::to_string(1 + brdfDataBuffers)}};
+}
+
+KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method, const TechniqueData& envData,
+                            const TechniqueData& brdfTechniqueData, std::size_t brdfDataBuffers) {
   KernelParts k{"integrate.comp", {}, paramBlockGlsl(*scene.brdf), envData.defines};
+  k.defines.insert(k.defines.end(), brdfTechniqueData.defines.begin(), brdfTechniqueData.defines.end());
+  const auto bindings = brdfBindingDefines(brdfDataBuffers);
+  k.defines.insert(k.defines.end(), bindings.begin(), bindings.end());
   k.parts.push_back(method.sequence->part);
   if (method.envTechnique) k.parts.push_back(method.envTechnique->part);
   k.parts.push_back(scene.brdf->evalPart);
@@ -28,7 +36,7 @@ KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method, co
 }
 
 KernelParts referenceParts(const Scene& scene) {
-  return {"reference.comp", {scene.brdf->evalPart}, paramBlockGlsl(*scene.brdf), {}};
+  return {"reference.comp", {scene.brdf->evalPart}, paramBlockGlsl(*scene.brdf), brdfBindingDefines(0)};
 }
 
 KernelLayout sceneKernelLayout(uint32_t envBuffers, uint32_t brdfBuffers) {

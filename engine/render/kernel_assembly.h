@@ -19,9 +19,14 @@ struct KernelParts {
 
 std::string assemblePrelude(const KernelParts& parts);
 
-// The integrator for a scene and method, and the reference kernel for a scene.
-KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method, const TechniqueData& envData);
+// The integrator for a scene and method, and the reference kernel for a scene. Set 3 holds the parameter
+// block (binding 0), the BRDF's `brdfDataBuffers` buffers (from BRDF_DATA_BINDING = 1) and the BRDF
+// technique's (from BRDF_SAMPLER_BINDING); both bindings are defined for the parts.
+KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method, const TechniqueData& envData,
+                            const TechniqueData& brdfTechniqueData, std::size_t brdfDataBuffers);
 KernelParts referenceParts(const Scene& scene);
+// The two set-3 binding definitions alone (for kernels assembled elsewhere, e.g. the test probes).
+std::vector<std::pair<std::string, std::string>> brdfBindingDefines(std::size_t brdfDataBuffers);
 
 // Storage-buffer counts of sets 0..3 for these kernels.
 KernelLayout sceneKernelLayout(uint32_t envBuffers, uint32_t brdfBuffers);

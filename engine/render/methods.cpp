@@ -2,12 +2,15 @@
 #include "engine/render/methods.h"
 
 #include "engine/core/error.h"
+#include "engine/render/scene.h"
 #include "engine/sampling/env_cdf.h"
 #include "engine/sampling/env_hier.h"
+#include "engine/sampling/merl_sampling.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <sstream>
 
 namespace iblx {
@@ -40,8 +43,26 @@ TechniqueData makeEnvHier(const EnvImage& image) {
   return data;
 }
 
-double ggxLobeWidth(const ParamValues& p) {
-  return 2.0 * std::atan(p.at("roughness")[0]);
+double ggxLobeWidth(const Scene& scene) {
+  return 2.0 * std::atan(scene.params.at("roughness")[0]);
+}
+
+TechniqueData makeMerlData(const Scene& scene) {
+  TechniqueData data;
+  data.add("MERL table", std::span<const float>(scene.measured->brdf.rgb));
+  return data;
+}
+
+TechniqueData makeMerlThetaH(const Scene& scene) {
+  TechniqueData data;
+  data.add("merl-thetah cdf", std::span<const float>(scene.measured->thetaHTable().cdf));
+  return data;
+}
+
+TechniqueData makeMerlTable(const Scene& scene) {
+  TechniqueData data;
+  data.add("merl-table slices", std::span<const float>(scene.measured->sampleTable().tables));
+  return data;
 }
 
 const BrdfInfo kBrdfs[] = {
@@ -50,7 +71,7 @@ const BrdfInfo kBrdfs[] = {
      "brdf/lambert.glsl",
      {{"albedo", ParamType::Color, 0.0, 1.0, {0.8, 0.8, 0.8}, "diffuse reflectance"}},
      "cosine",
-     [](const ParamValues&) { return 0.0; }},
+     [](const Scene&) { return 0.0; }},
     {"ggx",
      "metallic-roughness GGX microfacet (Walter 2007) + Lambert diffuse",
      "brdf/ggx.glsl",
@@ -59,6 +80,14 @@ const BrdfInfo kBrdfs[] = {
       {"metallic", ParamType::Float, 0.0, 1.0, {1.0, 0, 0}, "0 dielectric (F0 = 0.04), 1 metal"}},
      "ggx-vndf",
      ggxLobeWidth},
+    {"merl",
+     "MERL measured isotropic BRDF, nearest bin as MERL's reference code (--brdf FILE.binary)",
+     "brdf/merl.glsl",
+     {},
+     "merl-table",
+     [](const Scene& scene) { return scene.measured->lobeWidth(); },
+     ".binary",
+     makeMerlData},
 };
 
 const EnvTechniqueInfo kEnvTechniques[] = {
@@ -69,11 +98,22 @@ const EnvTechniqueInfo kEnvTechniques[] = {
 };
 
 const BrdfTechniqueInfo kBrdfTechniques[] = {
-    {"cosine", "cosine-weighted hemisphere", "brdf_sampler/cosine.glsl", {}},
+    {"cosine", "cosine-weighted hemisphere", "brdf_sampler/cosine.glsl", {}, nullptr},
     {"ggx-vndf",
      "GGX visible normals (Heitz 2018) + cosine for the diffuse lobe",
      "brdf_sampler/ggx_vndf.glsl",
-     {"ggx"}},
+     {"ggx"},
+     nullptr},
+    {"merl-thetah",
+     "1D inverse CDF over MERL's theta_h bins, phi_h uniform (baseline)",
+     "brdf_sampler/merl_thetah.glsl",
+     {"merl"},
+     makeMerlThetaH},
+    {"merl-table",
+     "per-theta_o 2D tables of f cos over the half vector (sqrt-warped theta_h x phi_h)",
+     "brdf_sampler/merl_table.glsl",
+     {"merl"},
+     makeMerlTable},
 };
 
 const SequenceInfo kSequences[] = {
@@ -145,6 +185,26 @@ std::string strategyPart(Strategy strategy) {
 const BrdfInfo& findBrdf(const std::string& name) {
   return findIn(brdfRegistry(), name, "--brdf");
 }
+
+const BrdfInfo& findBrdfForArgument(const std::string& nameOrPath) {
+  const std::string extension = std::filesystem::path(nameOrPath).extension().string();
+  for (const auto& b : brdfRegistry())
+    if (!b.fileExtension.empty() && extension == b.fileExtension) return b;
+  std::string valid;
+  for (const auto& b : brdfRegistry())
+    if (b.fileExtension.empty()) {
+      if (b.name == nameOrPath) return b;
+      valid += (valid.empty() ? "" : ", ") + b.name;
+    }
+  for (const auto& b : brdfRegistry())
+    if (!b.fileExtension.empty()) {
+      if (b.name == nameOrPath)
+        throw Error("--brdf " + nameOrPath + ": this BRDF is read from a file; pass --brdf path/material" +
+                    b.fileExtension);
+      valid += ", a " + b.fileExtension + " file (" + b.name + ")";
+    }
+  throw Error("unknown --brdf '" + nameOrPath + "'; valid: " + valid);
+}
 const EnvTechniqueInfo& findEnvTechnique(const std::string& name, const std::string& what) {
   return findIn(envTechniqueRegistry(), name, what);
 }
@@ -182,7 +242,7 @@ std::string describeRegistry() {
   for (const auto& q : sequenceRegistry())
     s << "  " << q.name << std::string(12 - std::min<size_t>(11, q.name.size()), ' ') << q.description
       << "\n";
-  s << "BRDFs (--brdf) and parameters (--param NAME=VALUE):\n";
+  s << "BRDFs (--brdf NAME or --brdf FILE) and parameters (--param NAME=VALUE):\n";
   for (const auto& b : brdfRegistry()) {
     s << "  " << b.name << std::string(12 - std::min<size_t>(11, b.name.size()), ' ') << b.description
       << "; best sampler: " << b.bestSampler << "\n";

@@ -15,6 +15,24 @@
 
 namespace iblx {
 
+struct Scene;  // engine/render/scene.h
+
+// GPU data of a technique or of a BRDF read from a file: storage buffers in binding order, and preprocessor
+// definitions for its GLSL part (sizes known at build time, so loops over them have constant trip counts and
+// unroll; they are part of the SPIR-V cache key through the prelude).
+struct TechniqueData {
+  std::vector<std::vector<std::byte>> buffers;
+  std::vector<std::string> names;
+  std::vector<std::pair<std::string, std::string>> defines;
+
+  template <typename T>
+  void add(std::string name, std::span<const T> values) {
+    const auto* p = reinterpret_cast<const std::byte*>(values.data());
+    buffers.emplace_back(p, p + values.size_bytes());
+    names.push_back(std::move(name));
+  }
+};
+
 // ---- BRDFs
 // -------------------------------------------------------------------------------------------------
 enum class ParamType { Float, Color, Bool };
@@ -35,27 +53,13 @@ struct BrdfInfo {
   std::string evalPart;  // shaders/ path implementing interfaces/brdf.glsl
   std::vector<ParamDecl> params;
   std::string bestSampler;  // BRDF technique used when --brdf-sampler is not given
-  // Angular width (radians) of the narrowest lobe for these parameters; 0 when the BRDF is smooth.
+  // Angular width (radians) of the narrowest lobe of the scene's BRDF; 0 when the BRDF is smooth.
   // The reference uses it to refine its quadrature around the mirror direction.
-  std::function<double(const ParamValues&)> lobeWidth;
-};
-
-// ---- techniques
-// -------------------------------------------------------------------------------------------- GPU data of
-// one technique: storage buffers for its descriptor set, in binding order, and preprocessor definitions for
-// its GLSL part (sizes known at build time, so loops over them have constant trip counts and unroll; they are
-// part of the SPIR-V cache key through the prelude).
-struct TechniqueData {
-  std::vector<std::vector<std::byte>> buffers;
-  std::vector<std::string> names;
-  std::vector<std::pair<std::string, std::string>> defines;
-
-  template <typename T>
-  void add(std::string name, std::span<const T> values) {
-    const auto* p = reinterpret_cast<const std::byte*>(values.data());
-    buffers.emplace_back(p, p + values.size_bytes());
-    names.push_back(std::move(name));
-  }
+  std::function<double(const Scene&)> lobeWidth;
+  // A BRDF read from a file (`--brdf FILE`) names the file extension it reads; empty for built-ins.
+  std::string fileExtension;
+  // Buffers its eval part reads, made from the scene (set 3 from binding BRDF_DATA_BINDING on); may be null.
+  std::function<TechniqueData(const Scene&)> data;
 };
 
 struct EnvTechniqueInfo {
@@ -70,6 +74,8 @@ struct BrdfTechniqueInfo {
   std::string description;
   std::string part;                // implements interfaces/brdf_sampler.glsl
   std::vector<std::string> brdfs;  // the BRDFs it applies to; empty = every BRDF
+  // Its tables, made from the scene (set 3 from binding BRDF_SAMPLER_BINDING on); may be null.
+  std::function<TechniqueData(const Scene&)> build;
   bool appliesTo(const std::string& brdf) const;
 };
 
@@ -98,6 +104,8 @@ std::string strategyPart(Strategy strategy);
 
 // Lookups that throw iblx::Error listing the valid names (`what` names the flag, e.g. "--method").
 const BrdfInfo& findBrdf(const std::string& name);
+// --brdf's argument: a built-in name, or a file whose extension a file-based BRDF reads.
+const BrdfInfo& findBrdfForArgument(const std::string& nameOrPath);
 const EnvTechniqueInfo& findEnvTechnique(const std::string& name, const std::string& what = "--env-sampler");
 const BrdfTechniqueInfo& findBrdfTechnique(const std::string& name,
                                            const std::string& what = "--brdf-sampler");

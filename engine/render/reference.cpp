@@ -17,14 +17,15 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   SceneGpu gpu = uploadScene(context, scene);
   const auto spirv =
       compiler.compile(assemblePrelude(referenceParts(scene)), "reference " + scene.brdf->name);
-  ComputeKernel kernel(context, spirv, sceneKernelLayout(0, 0), "reference");
+  const auto brdfSet = gpu.brdfSet();
+  ComputeKernel kernel(context, spirv, sceneKernelLayout(0, uint32_t(brdfSet.size() - 1)), "reference");
   kernel.bindBuffers(0, gpu.frameSet());
   kernel.bindBuffers(2, std::span<const Buffer* const>());
-  kernel.bindBuffers(3, {&gpu.brdfParams});
+  kernel.bindBuffers(3, brdfSet);
 
   const int W = scene.env.width, H = scene.env.height;
   const double texelAngle = std::max(kPi / H, 2.0 * kPi / W);  // largest texel side (at the equator)
-  const double lobe = scene.brdf->lobeWidth ? scene.brdf->lobeWidth(scene.params) : 0.0;
+  const double lobe = scene.brdf->lobeWidth ? scene.brdf->lobeWidth(scene) : 0.0;
   // Texels much smaller than every feature of f cos (the lobe, the cosine) take the midpoint rule (error
   // ~ texel^2 / 24 relative); larger ones the 2x2 Gauss rule on coarseSubdivisions^2 sub-cells.
   const double smoothScale = lobe > 0.0 ? std::min(0.05, lobe / 8.0) : 0.05;

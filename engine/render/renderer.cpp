@@ -29,15 +29,22 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   TechniqueData envData = method.envTechnique ? method.envTechnique->build(scene.env) : TechniqueData{};
   for (size_t i = 0; i < envData.buffers.size(); ++i)
     envBuffers_.push_back(Buffer::fromData(context, envData.buffers[i], envData.names[i]));
-  const KernelParts parts = integratorParts(scene, method, envData);
+  TechniqueData brdfData = method.brdfTechnique && method.brdfTechnique->build
+                               ? method.brdfTechnique->build(scene)
+                               : TechniqueData{};
+  for (size_t i = 0; i < brdfData.buffers.size(); ++i)
+    brdfTechniqueBuffers_.push_back(Buffer::fromData(context, brdfData.buffers[i], brdfData.names[i]));
+  const KernelParts parts = integratorParts(scene, method, envData, brdfData, gpu_.brdfData.size());
   const auto spirv = compiler.compile(assemblePrelude(parts), "integrate " + method.label());
+  const auto brdfSet = gpu_.brdfSet(brdfTechniqueBuffers_);
   kernel_ = std::make_unique<ComputeKernel>(
-      context, spirv, sceneKernelLayout(uint32_t(envBuffers_.size()), 0), "integrate " + method.label());
+      context, spirv, sceneKernelLayout(uint32_t(envBuffers_.size()), uint32_t(brdfSet.size() - 1)),
+      "integrate " + method.label());
   kernel_->bindBuffers(0, gpu_.frameSet());
   std::vector<const Buffer*> env;
   for (const auto& b : envBuffers_) env.push_back(&b);
   kernel_->bindBuffers(2, env);
-  kernel_->bindBuffers(3, {&gpu_.brdfParams});
+  kernel_->bindBuffers(3, brdfSet);
   setupSeconds_ = since(created_);
 }
 

@@ -41,7 +41,7 @@ class Renderer {
   const Scene& scene_;
   ResolvedMethod method_;
   SceneGpu gpu_;
-  std::vector<Buffer> envBuffers_;
+  std::vector<Buffer> envBuffers_, brdfTechniqueBuffers_;
   std::unique_ptr<ComputeKernel> kernel_;
   TimestampPair timestamps_;
   uint64_t samplesPerPixel_ = 0;

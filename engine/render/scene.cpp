@@ -4,6 +4,10 @@
 #include "engine/core/error.h"
 #include "engine/core/log.h"
 #include "engine/sampling/latlong_texel.h"
+#include "engine/sampling/merl_sampling.h"
+
+#include <algorithm>
+#include <cmath>
 
 #include <cstdlib>
 #include <sstream>
@@ -15,6 +19,41 @@ std::filesystem::path defaultEnvPath() {
   return std::filesystem::path(IBLX_SOURCE_DIR) / "assets" / "default_sky.exr";
 }
 
+MeasuredBrdf::MeasuredBrdf(std::filesystem::path p, MerlBrdf b) : path(std::move(p)), brdf(std::move(b)) {}
+MeasuredBrdf::~MeasuredBrdf() = default;
+
+const MerlThetaHData& MeasuredBrdf::thetaHTable() const {
+  std::call_once(thetaHOnce_, [&] { thetaH_ = std::make_unique<MerlThetaHData>(buildMerlThetaH(brdf)); });
+  return *thetaH_;
+}
+
+const MerlTableData& MeasuredBrdf::sampleTable() const {
+  std::call_once(tableOnce_, [&] { table_ = std::make_unique<MerlTableData>(buildMerlTable(brdf)); });
+  return *table_;
+}
+
+double MeasuredBrdf::lobeWidth() const {
+  // Mean sampling weight per theta_h bin; the half-maximum angle of a GGX D is atan(0.6436 alpha)
+  // ((1 + t^2 / alpha^2)^2 = 2), so a profile falling to half at theta_half acts like GGX of
+  // alpha = tan(theta_half) / 0.6436, whose lobe width is 2 atan(alpha) as for the built-in ggx.
+  std::vector<double> profile(kMerlThetaHBins, 0.0);
+  for (int h = 0; h < kMerlThetaHBins; ++h)
+    for (int d = 0; d < kMerlThetaDBins; ++d)
+      for (int p = 0; p < kMerlPhiDBins; ++p) {
+        const std::size_t i = merlBinIndex(h, d, p);
+        profile[std::size_t(h)] += double(brdf.rgb[i]) + brdf.rgb[i + kMerlBins] + brdf.rgb[i + 2 * kMerlBins];
+      }
+  const auto peak = std::max_element(profile.begin(), profile.end());
+  if (*peak <= 0.0) return 0.0;
+  for (auto it = peak; it != profile.end(); ++it)
+    if (*it < 0.5 * *peak) {
+      const int bin = int(it - profile.begin());
+      const double u = double(bin) / kMerlThetaHBins, thetaHalf = u * u * kPi / 2.0;
+      return 2.0 * std::atan(std::tan(thetaHalf) / 0.6436);
+    }
+  return 0.0;
+}
+
 Scene makeScene(EnvImage env, const SceneSpec& spec) {
   if (spec.width < 1 || spec.height < 1 || spec.width > 16384 || spec.height > 16384)
     throw Error("--size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
@@ -23,8 +62,10 @@ Scene makeScene(EnvImage env, const SceneSpec& spec) {
   Scene scene;
   scene.env = std::move(env);
   scene.envRotationDeg = spec.envRotationDeg;
-  scene.brdf = &findBrdf(spec.brdf);
+  scene.brdf = &findBrdfForArgument(spec.brdf);
   scene.params = resolveParams(*scene.brdf, spec.params);
+  if (scene.brdf->fileExtension == ".binary")
+    scene.measured = std::make_shared<const MeasuredBrdf>(spec.brdf, loadMerl(spec.brdf));
   scene.gbuffer = makeGBuffer(spec.object, spec.width, spec.height);
   return scene;
 }
@@ -32,7 +73,9 @@ Scene makeScene(EnvImage env, const SceneSpec& spec) {
 Scene loadScene(const SceneSpec& spec) {
   const auto path = spec.envPath.empty() ? defaultEnvPath() : spec.envPath;
   // Validate the cheap things first so a typo in --brdf does not wait for a large map to load.
-  findBrdf(spec.brdf);
+  const BrdfInfo& brdf = findBrdfForArgument(spec.brdf);
+  if (!brdf.fileExtension.empty() && !std::filesystem::is_regular_file(spec.brdf))
+    throw Error("--brdf " + spec.brdf + ": no such file");
   return makeScene(loadEnvImage(path), spec);
 }
 
@@ -94,9 +137,21 @@ SceneGpu uploadScene(const VulkanContext& context, const Scene& scene) {
                Buffer::fromData(context, rows, "environment row table"),
                Buffer(context, sizeof(gpu::KernelStats), "kernel stats"),
                Buffer::fromData(context, params, "brdf parameters")};
+  if (scene.brdf->data) {
+    const TechniqueData data = scene.brdf->data(scene);
+    for (std::size_t i = 0; i < data.buffers.size(); ++i)
+      gpu.brdfData.push_back(Buffer::fromData(context, data.buffers[i], data.names[i]));
+  }
   gpu.accum.fill(0);
   gpu.stats.fill(0);
   return gpu;
+}
+
+std::vector<const Buffer*> SceneGpu::brdfSet(std::span<const Buffer> techniqueBuffers) const {
+  std::vector<const Buffer*> set{&brdfParams};
+  for (const auto& b : brdfData) set.push_back(&b);
+  for (const auto& b : techniqueBuffers) set.push_back(&b);
+  return set;
 }
 
 }  // namespace iblx

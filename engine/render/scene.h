@@ -3,12 +3,15 @@
 #pragma once
 
 #include "engine/io/env_image.h"
+#include "engine/io/merl.h"
 #include "engine/render/gbuffer.h"
 #include "engine/render/methods.h"
 #include "engine/vk/buffer.h"
 
 #include <array>
 #include <filesystem>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <utility>
@@ -35,11 +38,35 @@ struct MethodSpec {
   std::string misHeuristic;              // mis: balance (default) | power
 };
 
+struct MerlThetaHData;
+struct MerlTableData;
+
+// A measured material read by `--brdf FILE.binary`, with its sampling tables built on first use and kept, so
+// renderers of several methods on one scene (bench, converge, the viewer) build them once.
+class MeasuredBrdf {
+ public:
+  MeasuredBrdf(std::filesystem::path path, MerlBrdf brdf);
+  ~MeasuredBrdf();
+  const std::filesystem::path path;
+  const MerlBrdf brdf;
+
+  const MerlThetaHData& thetaHTable() const;
+  const MerlTableData& sampleTable() const;
+  // Angular width of the specular lobe, estimated from the theta_h profile (0 for a flat one).
+  double lobeWidth() const;
+
+ private:
+  mutable std::once_flag thetaHOnce_, tableOnce_;
+  mutable std::unique_ptr<MerlThetaHData> thetaH_;
+  mutable std::unique_ptr<MerlTableData> table_;
+};
+
 struct Scene {
   EnvImage env;
   double envRotationDeg = 0.0;
   const BrdfInfo* brdf = nullptr;
   ParamValues params;
+  std::shared_ptr<const MeasuredBrdf> measured;  // set for the MERL BRDF
   GBuffer gbuffer;
 };
 
@@ -62,8 +89,11 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf);
 // Set-0 and set-3 buffers shared by the integrator and the reference kernel.
 struct SceneGpu {
   Buffer gbuffer, accum, envRgb, envRows, stats, brdfParams;
+  std::vector<Buffer> brdfData;  // the BRDF's own buffers (BrdfInfo::data), bindings 1.. of set 3
   // Set 0 (shaders/lib/frame_resources.glsl) in binding order.
   std::array<const Buffer*, 5> frameSet() const { return {&gbuffer, &accum, &envRgb, &envRows, &stats}; }
+  // Set 3: the parameter block, the BRDF's data, then `techniqueBuffers` (a BRDF technique's tables).
+  std::vector<const Buffer*> brdfSet(std::span<const Buffer> techniqueBuffers = {}) const;
 };
 SceneGpu uploadScene(const VulkanContext& context, const Scene& scene);
 

@@ -89,5 +89,28 @@ else
   failed=$((failed + 1)); echo "FAIL: ignored-flag warning: $warning"
 fi
 
+# MERL materials: merl-synth writes a valid file that renders; each kind of bad file gives its own message.
+expect_ok "merl-synth" merl-synth --brdf lambert --param albedo=0.5 --out "$tmp/lambert.binary"
+[ "$(stat -c %s "$tmp/lambert.binary" 2>/dev/null)" = 34992012 ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: merl-synth file size"; }
+expect_ok "merl render" render --brdf "$tmp/lambert.binary" --method brdf --brdf-sampler merl-thetah --size 8x8 --spp 2 --passes 1 --out "$tmp/m.png"
+expect_ok "merl render mis" render --brdf "$tmp/lambert.binary" --size 8x8 --spp 2 --passes 1 --out "$tmp/m.png"
+head -c 1000000 "$tmp/lambert.binary" > "$tmp/truncated.binary"
+{ cat "$tmp/lambert.binary"; printf '12345678'; } > "$tmp/oversized.binary"
+{ printf '\132\0\0\0\132\0\0\0\132\0\0\0'; tail -c +13 "$tmp/lambert.binary"; } > "$tmp/header.binary"
+: > "$tmp/empty.binary"
+expect_error "missing merl file" "no such file" render --brdf "$tmp/none.binary" --out "$tmp/b.png"
+expect_error "truncated merl file" "truncated" render --brdf "$tmp/truncated.binary" --out "$tmp/b.png"
+expect_error "oversized merl file" "oversized" render --brdf "$tmp/oversized.binary" --out "$tmp/b.png"
+expect_error "merl header" "header" render --brdf "$tmp/header.binary" --out "$tmp/b.png"
+expect_error "empty merl file" "empty.binary" render --brdf "$tmp/empty.binary" --out "$tmp/b.png"
+expect_error "merl name without file" "read from a file" render --brdf merl --out "$tmp/b.png"
+expect_error "merl technique on ggx" "does not apply" render --brdf ggx --method brdf --brdf-sampler merl-table
+expect_error "ggx technique on merl" "does not apply" render --brdf "$tmp/lambert.binary" --method brdf --brdf-sampler ggx-vndf
+expect_error "merl params" "has no parameter" render --brdf "$tmp/lambert.binary" --param roughness=0.1
+expect_error "merl-synth of a file" "built-in BRDF" merl-synth --brdf "$tmp/lambert.binary" --out "$tmp/c.binary"
+expect_error "merl-synth extension" "must end in .binary" merl-synth --out "$tmp/c.bin"
+expect_error "merl-synth fraction" "--invalid-fraction" merl-synth --invalid-fraction 2 --out "$tmp/c.binary"
+[ ! -e "$tmp/b.png" ] && [ ! -e "$tmp/c.binary" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: output written despite a bad MERL input"; }
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

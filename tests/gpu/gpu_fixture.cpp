@@ -27,25 +27,32 @@ uint32_t gSeenValidationErrors = 0;
 struct ProbeRunner {
   Scene scene;
   SceneGpu gpu;
-  std::vector<Buffer> techniqueBuffers;
+  std::vector<Buffer> envBuffers, brdfBuffers;
   std::unique_ptr<ComputeKernel> kernel;
   glm::dvec3 vector;  // the normal (env probe) or wo (BRDF probe)
 
+  // envData goes to set 2 (an env technique), brdfData to set 3 after the BRDF's own buffers.
   ProbeRunner(Scene s, const std::string& kernelFile, std::vector<std::string> parts,
-              const TechniqueData& data, glm::dvec3 v)
+              const TechniqueData& envData, const TechniqueData& brdfData, glm::dvec3 v)
       : scene(std::move(s)), gpu(uploadScene(gpuContext(), scene)), vector(v) {
-    for (size_t i = 0; i < data.buffers.size(); ++i)
-      techniqueBuffers.push_back(Buffer::fromData(gpuContext(), data.buffers[i], data.names[i]));
-    KernelParts k{kernelFile, std::move(parts), paramBlockGlsl(*scene.brdf), data.defines};
+    for (size_t i = 0; i < envData.buffers.size(); ++i)
+      envBuffers.push_back(Buffer::fromData(gpuContext(), envData.buffers[i], envData.names[i]));
+    for (size_t i = 0; i < brdfData.buffers.size(); ++i)
+      brdfBuffers.push_back(Buffer::fromData(gpuContext(), brdfData.buffers[i], brdfData.names[i]));
+    KernelParts k{kernelFile, std::move(parts), paramBlockGlsl(*scene.brdf), envData.defines};
+    k.defines.insert(k.defines.end(), brdfData.defines.begin(), brdfData.defines.end());
+    const auto bindings = brdfBindingDefines(gpu.brdfData.size());
+    k.defines.insert(k.defines.end(), bindings.begin(), bindings.end());
     const auto spirv = gpuCompiler().compile(assemblePrelude(k), kernelFile);
-    KernelLayout layout = sceneKernelLayout(uint32_t(techniqueBuffers.size()), 0);
+    const auto set3 = gpu.brdfSet(brdfBuffers);
+    KernelLayout layout = sceneKernelLayout(uint32_t(envBuffers.size()), uint32_t(set3.size() - 1));
     layout.buffersPerSet[1] = 2;
     kernel = std::make_unique<ComputeKernel>(gpuContext(), spirv, layout, kernelFile);
     kernel->bindBuffers(0, gpu.frameSet());
     std::vector<const Buffer*> set2;
-    for (const auto& b : techniqueBuffers) set2.push_back(&b);
+    for (const auto& b : envBuffers) set2.push_back(&b);
     kernel->bindBuffers(2, set2);
-    kernel->bindBuffers(3, {&gpu.brdfParams});
+    kernel->bindBuffers(3, set3);
   }
 
   // Runs the probe over `input` in chunks that respect maxComputeWorkGroupCount and maxStorageBufferRange.
@@ -147,7 +154,8 @@ struct EnvTechniqueProbe::Impl : ProbeRunner {
 EnvTechniqueProbe::EnvTechniqueProbe(const std::string& technique, const EnvImage& env, glm::dvec3 normal) {
   const auto& info = findEnvTechnique(technique);
   impl_ = std::make_unique<Impl>(probeScene(env, "lambert", {}), "probe/env_sampler_probe.comp",
-                                 std::vector<std::string>{info.part}, info.build(env), normal);
+                                 std::vector<std::string>{info.part}, info.build(env), TechniqueData{},
+                                 normal);
 }
 EnvTechniqueProbe::~EnvTechniqueProbe() = default;
 std::vector<ProbeSample> EnvTechniqueProbe::sample(std::span<const glm::dvec2> u) {
@@ -167,8 +175,9 @@ BrdfTechniqueProbe::BrdfTechniqueProbe(const std::string& technique, const std::
   const auto& info = findBrdfTechnique(technique);
   Scene scene = probeScene(EnvImage{2, 1, std::vector<float>(6, 1.0f)}, brdf, params);
   const std::string evalPart = scene.brdf->evalPart;
+  const TechniqueData data = info.build ? info.build(scene) : TechniqueData{};
   impl_ = std::make_unique<Impl>(std::move(scene), "probe/brdf_sampler_probe.comp",
-                                 std::vector<std::string>{evalPart, info.part}, TechniqueData{}, wo);
+                                 std::vector<std::string>{evalPart, info.part}, TechniqueData{}, data, wo);
 }
 BrdfTechniqueProbe::~BrdfTechniqueProbe() = default;
 std::vector<ProbeSample> BrdfTechniqueProbe::sample(std::span<const glm::dvec2> u) {

@@ -94,7 +94,7 @@ void addSceneFlags(ArgParser& p, RenderSpec& s) {
   p.value("--env-rotation", "DEG", "rotation of the environment about +Y", [&](const std::string& v) {
     s.scene.envRotationDeg = parseDouble("--env-rotation", v, -1e6, 1e6);
   });
-  p.value("--brdf", "NAME", "built-in BRDF: lambert | ggx (default ggx)",
+  p.value("--brdf", "NAME|FILE", "built-in BRDF (lambert | ggx, default ggx) or a MERL .binary file",
           [&](const std::string& v) { s.scene.brdf = v; });
   p.value("--param", "NAME=VALUE", "BRDF parameter, repeatable; colors as r,g,b", [&](const std::string& v) {
     const auto eq = v.find('=');

@@ -23,7 +23,7 @@ int cmdReference(const Args& args) {
     std::fputs(parser.usage().c_str(), stdout);
     return 0;
   }
-  resolveParams(findBrdf(spec.scene.brdf), spec.scene.params);
+  resolveParams(findBrdfForArgument(spec.scene.brdf), spec.scene.params);
   checkImagePath("--out", spec.out, true);
   const Scene scene = loadScene(spec.scene);
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});

@@ -33,7 +33,7 @@ int cmdRender(const Args& args) {
     return 0;
   }
   // Everything a user can get wrong is checked before the map is loaded and anything is rendered.
-  const BrdfInfo& brdf = findBrdf(spec.scene.brdf);
+  const BrdfInfo& brdf = findBrdfForArgument(spec.scene.brdf);
   resolveParams(brdf, spec.scene.params);
   const ResolvedMethod method = resolveMethod(spec.method, brdf);
   checkImagePath("--out", spec.out);

@@ -17,7 +17,8 @@ constexpr const char* kUsage =
     "  reference   compute the ground truth of a scene (deterministic convolution) to .exr\n"
     "  bench       samples per second of every method on one scene\n"
     "  devices     list the Vulkan devices and whether iblx can use them\n"
-    "  make-sky    write the procedural sky used as the default environment map\n";
+    "  make-sky    write the procedural sky used as the default environment map\n"
+    "  merl-synth  tabulate a BRDF into a MERL .binary file (synthetic measured materials)\n";
 
 }  // namespace
 
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
     if (command == "bench") return cmdBench(args);
     if (command == "devices") return cmdDevices(args);
     if (command == "make-sky") return cmdMakeSky(args);
+    if (command == "merl-synth") return cmdMerlSynth(args);
     std::fprintf(stderr, "iblx: unknown command '%s'\n%s", command.c_str(), kUsage);
     return 2;
   } catch (const iblx::Error& e) {

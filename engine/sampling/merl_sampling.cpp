@@ -1,0 +1,343 @@
+// merl-thetah and merl-table: table builders (double accumulation, float storage) and the float-exact CPU
+// twins of shaders/brdf_sampler/merl_thetah.glsl and merl_table.glsl.
+#include "engine/sampling/merl_sampling.h"
+
+#include "engine/core/error.h"
+#include "engine/sampling/latlong_texel.h"
+#include "engine/sampling/sphere_mapping.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+
+namespace iblx {
+namespace {
+
+constexpr double kHalfPi = 0.5 * kPi;
+constexpr double kTwoPi = 2.0 * kPi;
+// Sub-points per cell axis of the merl-table weights.
+constexpr int kTableSubPoints = 4;
+
+// Throws when `brdf` is not a full material with finite, non-negative values (loadMerl guarantees both; an
+// in-memory material may not).
+void checkMaterial(const MerlBrdf& brdf, const std::string& builder) {
+  if (brdf.rgb.size() != 3 * kMerlBins)
+    throw Error(builder + ": the material has " + std::to_string(brdf.rgb.size()) + " values, expected 3 x " +
+                std::to_string(kMerlBins));
+  for (std::size_t i = 0; i < brdf.rgb.size(); ++i) {
+    if (!std::isfinite(brdf.rgb[i]) || brdf.rgb[i] < 0.0f)
+      throw Error(builder + ": bin " + std::to_string(i % kMerlBins) + " channel " +
+                  std::to_string(i / kMerlBins) +
+                  " is negative or not finite; load materials with loadMerl, which zeroes invalid bins");
+  }
+}
+
+// Writes the normalised running sum of `weights` into cdf[0..n] (n = weights.size()): cdf[0] = 0, cdf[n] = 1
+// exactly, non-decreasing after rounding to float. All-zero weights become the uniform CDF k/n.
+// (The same rule as env-cdf's tables.)
+void writeCdf(std::span<const double> weights, float* cdf) {
+  const std::size_t n = weights.size();
+  double total = 0.0;
+  for (double w : weights) total += w;
+  cdf[0] = 0.0f;
+  double running = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    running += weights[k];  // same additions as `total`, so running == total after the last bin
+    const double c = total > 0.0 ? running / total : double(k + 1) / double(n);
+    cdf[k + 1] = std::max(float(c), cdf[k]);
+  }
+  cdf[n] = 1.0f;
+}
+
+// Raises every weight to kMerlFloor * mean weight, so that no bin where the material may reflect gets zero
+// (or, after float rounding, zero-width) probability. All-zero weights stay zero (writeCdf makes them
+// uniform).
+void applyFloor(std::span<double> weights) {
+  double total = 0.0;
+  for (double w : weights) total += w;
+  const double floor = kMerlFloor * total / double(weights.size());
+  if (!(floor > 0.0)) return;
+  for (double& w : weights) w = std::max(w, floor);
+}
+
+// Bin k in [0, n) with cdf[k] <= u < cdf[k+1]: (first entry among cdf[1..n] greater than u) - 1, in float as
+// on the GPU. Searching from entry 1 means a zero-width bin is never returned.
+int findBin(const float* cdf, int n, float u) {
+  const float* first = std::upper_bound(cdf + 1, cdf + n + 1, u);
+  return std::clamp(int(first - cdf) - 1, 0, n - 1);
+}
+
+// Rescaled offset t = (u - lo) / width of u inside its bin, clamped to [0, 1 - 2^-24], in float as on the
+// GPU.
+float remapInBin(float u, float lo, float width) {
+  return width > 0.0f ? std::clamp((u - lo) / width, 0.0f, kOneMinusEpsilonF) : 0.0f;
+}
+
+// Index int(x) of a coordinate x = u * n in [0, n), clamped to [0, n - 1] (0 for NaN).
+int cellIndex(double x, int n) {
+  if (!(x > 0.0)) return 0;
+  return x >= double(n - 1) ? n - 1 : int(x);
+}
+
+// Half vector at (theta_h, phi_h) about the normal +z.
+glm::dvec3 halfVector(double thetaH, double phiH) {
+  const double s = std::sin(thetaH);
+  return {s * std::cos(phiH), s * std::sin(phiH), std::cos(thetaH)};
+}
+
+// Mirror of wo about h: wi = 2 (wo.h) h - wo.
+glm::dvec3 reflectAbout(glm::dvec3 wo, glm::dvec3 h) {
+  return 2.0 * glm::dot(wo, h) * h - wo;
+}
+
+// The sqrt-warped theta_h parameter of a half vector: u_theta = sqrt(theta_h / (pi/2)).
+struct HalfVectorParams {
+  glm::dvec3 h{0.0, 0.0, 1.0};
+  double thetaH = 0.0, uTheta = 0.0;
+};
+// h is flipped into the upper hemisphere, the only one the techniques sample (see merl_sampling.h).
+// Empty when wi = -wo.
+std::optional<HalfVectorParams> halfVectorParams(glm::dvec3 wi, glm::dvec3 wo) {
+  HalfVectorParams p;
+  const glm::dvec3 sum = wi + wo;
+  const double length = glm::length(sum);
+  if (!(length > 0.0)) return std::nullopt;
+  p.h = sum / length;
+  if (p.h.z < 0.0) p.h = -p.h;
+  p.thetaH = std::acos(std::clamp(p.h.z, -1.0, 1.0));
+  p.uTheta = std::sqrt(p.thetaH / kHalfPi);
+  return p;
+}
+
+// Azimuth of wo, 0 when wo is the normal.
+double azimuthOf(glm::dvec3 w) {
+  return w.x == 0.0 && w.y == 0.0 ? 0.0 : std::atan2(w.y, w.x);
+}
+
+// The sample of u_theta, phi_h and p(u) (float, as the GPU computes it), with its solid-angle pdf (also when
+// wi falls below the horizon).
+BrdfSample reflectedSample(glm::dvec3 wo, double uTheta, double phiH, float pdfU) {
+  BrdfSample s;
+  const double thetaH = uTheta * uTheta * kHalfPi;
+  const glm::dvec3 h = halfVector(thetaH, phiH);
+  s.wi = reflectAbout(wo, h);
+  s.pdf = halfVectorPdfToSolidAngle(double(pdfU), uTheta, thetaH, glm::dot(wo, h));
+  return s;
+}
+
+}  // namespace
+
+double halfVectorPdfToSolidAngle(double pdfU, double uTheta, double thetaH, double woDotH) {
+  // p(wi) = p(u) / (2 pi^2 u_theta sin(theta_h) * 4 |wo.h|); Mitsuba 3 measured.cpp, Walter et al. 2007.
+  const double jacobian = 2.0 * kPi * kPi * uTheta * std::sin(thetaH);
+  if (!(jacobian > 0.0)) return 0.0;
+  const double denominator = jacobian * 4.0 * std::abs(woDotH);
+  if (!(denominator > 0.0) || !std::isfinite(denominator)) return 0.0;
+  return pdfU / denominator;
+}
+
+// ---- merl-thetah
+// -----------------------------------------------------------------------------------------------
+
+MerlThetaHData buildMerlThetaH(const MerlBrdf& brdf) {
+  checkMaterial(brdf, "merl-thetah");
+  constexpr std::size_t kBinsPerThetaH = std::size_t(kMerlThetaDBins) * kMerlPhiDBins;
+  const float* r = brdf.rgb.data();
+  const float* g = r + kMerlBins;
+  const float* b = g + kMerlBins;
+  std::array<double, kMerlThetaHBins> weights{};
+  for (int i = 0; i < kMerlThetaHBins; ++i) {
+    // Mean sampling weight over the theta_d, phi_d bins of this theta_h ...
+    double sum = 0.0;
+    const std::size_t first = std::size_t(i) * kBinsPerThetaH;
+    for (std::size_t k = first; k < first + kBinsPerThetaH; ++k)
+      sum += (double(r[k]) + double(g[k]) + double(b[k])) / 3.0;
+    // ... times the solid angle of the band [theta_lo, theta_hi), cos(lo) - cos(hi) written without
+    // cancellation as 2 sin((hi + lo) / 2) sin((hi - lo) / 2).
+    const double lo = double(i) * i / (kMerlThetaHBins * kMerlThetaHBins) * kHalfPi;
+    const double hi = double(i + 1) * (i + 1) / (kMerlThetaHBins * kMerlThetaHBins) * kHalfPi;
+    const double band = 2.0 * std::sin(0.5 * (hi + lo)) * std::sin(0.5 * (hi - lo));
+    weights[std::size_t(i)] = sum / double(kBinsPerThetaH) * band;
+  }
+  applyFloor(weights);
+  MerlThetaHData data;
+  data.cdf.resize(kMerlThetaHBins + 1);
+  writeCdf(weights, data.cdf.data());
+  return data;
+}
+
+MerlThetaHSampler::MerlThetaHSampler(MerlThetaHData data) : data_(std::move(data)) {
+  if (data_.cdf.size() != std::size_t(kMerlThetaHBins) + 1)
+    throw Error("merl-thetah: the CDF has " + std::to_string(data_.cdf.size()) + " entries, expected " +
+                std::to_string(kMerlThetaHBins + 1) + "; rebuild it with buildMerlThetaH");
+}
+
+BrdfSample MerlThetaHSampler::sample(glm::dvec2 u, glm::dvec3 wo) const {
+  if (!(wo.z > 0.0)) return {};
+  const float ux = toGpuU(u.x), uy = toGpuU(u.y);
+  // theta_h bin i from the CDF, then t = offset of u.x inside it.
+  const float* cdf = data_.cdf.data();
+  const int i = findBin(cdf, kMerlThetaHBins, ux);
+  const float prob = cdf[i + 1] - cdf[i];
+  const float t = remapInBin(ux, cdf[i], prob);
+  const float pdfU = prob * float(kMerlThetaHBins);
+  // u_theta = (i + t) / 90, phi_h = 2 pi u.y uniform.
+  const double uTheta = (double(i) + double(t)) / kMerlThetaHBins;
+  return reflectedSample(wo, uTheta, kTwoPi * double(uy), pdfU);
+}
+
+double MerlThetaHSampler::pdf(glm::dvec3 wi, glm::dvec3 wo) const {
+  if (!(wo.z > 0.0)) return 0.0;
+  const auto half = halfVectorParams(wi, wo);
+  if (!half) return 0.0;
+  const HalfVectorParams& p = *half;
+  const int i = cellIndex(p.uTheta * kMerlThetaHBins, kMerlThetaHBins);
+  const float* cdf = data_.cdf.data();
+  const float pdfU = (cdf[i + 1] - cdf[i]) * float(kMerlThetaHBins);
+  return halfVectorPdfToSolidAngle(double(pdfU), p.uTheta, p.thetaH, glm::dot(wo, p.h));
+}
+
+// ---- merl-table
+// ------------------------------------------------------------------------------------------------
+
+MerlTableData buildMerlTable(const MerlBrdf& brdf) {
+  checkMaterial(brdf, "merl-table");
+  constexpr int kRows = kMerlTableThetaBins, kCols = kMerlTablePhiBins, kSub = kTableSubPoints;
+  // Sampling weight w = mean of R, G, B of every MERL bin, read once per sub-point below.
+  std::vector<double> binWeights(kMerlBins);
+  for (std::size_t i = 0; i < kMerlBins; ++i)
+    binWeights[i] =
+        (double(brdf.rgb[i]) + double(brdf.rgb[kMerlBins + i]) + double(brdf.rgb[2 * kMerlBins + i])) / 3.0;
+  // The sub-points of every cell, shared by all slices: theta_h of each row sub-point with its sine, cosine
+  // and Jacobian factor 2 pi^2 u_theta sin(theta_h), and (cos, sin) of phi_h = 2 pi u_phi of each column
+  // sub-point (phi_o = 0 for the slice's wo_s).
+  struct RowPoint {
+    double thetaH, sinThetaH, cosThetaH, jacobian;
+  };
+  std::vector<RowPoint> rowPoints(std::size_t(kRows) * kSub);
+  for (int r = 0; r < kRows; ++r)
+    for (int a = 0; a < kSub; ++a) {
+      const double uTheta = (r + (a + 0.5) / kSub) / kRows;
+      const double thetaH = uTheta * uTheta * kHalfPi;
+      rowPoints[std::size_t(r * kSub + a)] = {thetaH, std::sin(thetaH), std::cos(thetaH),
+                                              2.0 * kPi * kPi * uTheta * std::sin(thetaH)};
+    }
+  std::vector<glm::dvec2> columnPoints(std::size_t(kCols) * kSub);
+  for (int c = 0; c < kCols; ++c)
+    for (int b = 0; b < kSub; ++b) {
+      const double phiH = kTwoPi * (c + (b + 0.5) / kSub) / kCols;
+      columnPoints[std::size_t(c * kSub + b)] = {std::cos(phiH), std::sin(phiH)};
+    }
+
+  MerlTableData data;
+  data.tables.resize(std::size_t(kMerlTableSlices) * kMerlTableSliceFloats);
+  std::vector<double> cells(std::size_t(kRows) * kCols), rowWeights(kRows);
+  for (int s = 0; s < kMerlTableSlices; ++s) {
+    const double thetaO = (s + 0.5) / kMerlTableSlices * kHalfPi;
+    const glm::dvec3 wo(std::sin(thetaO), 0.0, std::cos(thetaO));
+    // Cell weight: mean over the sub-points of g(u) = w(f(wi, wo)) cos(theta_i) 2 pi^2 u_theta sin(theta_h)
+    // 4 |wo.h|, so that p(u) proportional to it makes p(wi) proportional to w(f) cos(theta_i).
+    std::fill(cells.begin(), cells.end(), 0.0);
+    for (int r = 0; r < kRows; ++r)
+      for (int a = 0; a < kSub; ++a) {
+        const RowPoint& rp = rowPoints[std::size_t(r * kSub + a)];
+        for (int c = 0; c < kCols; ++c) {
+          double sum = 0.0;
+          for (int b = 0; b < kSub; ++b) {
+            const glm::dvec2 cs = columnPoints[std::size_t(c * kSub + b)];
+            const glm::dvec3 h(rp.sinThetaH * cs.x, rp.sinThetaH * cs.y, rp.cosThetaH);
+            const double woDotH = glm::dot(wo, h);
+            const glm::dvec3 wi = 2.0 * woDotH * h - wo;
+            if (!(wi.z > 0.0)) continue;  // f = 0 and cos clamps to 0
+            // f = evalMerl(brdf, wi, wo), with the half vector and its angles known: wi in the frame of h
+            // (rotated by -phi_h about z, then by -theta_h about y, as merlAngles does) gives theta_d and
+            // phi_d; theta_h is the sub-point's, inside row r's MERL bin.
+            const double x1 = wi.x * cs.x + wi.y * cs.y, y1 = wi.y * cs.x - wi.x * cs.y;
+            MerlAngles angles;
+            angles.thetaH = rp.thetaH;
+            angles.thetaD = std::acos(std::clamp(x1 * rp.sinThetaH + wi.z * rp.cosThetaH, -1.0, 1.0));
+            angles.phiD = std::atan2(y1, x1 * rp.cosThetaH - wi.z * rp.sinThetaH);
+            if (angles.phiD < 0.0) angles.phiD += kPi;
+            if (angles.phiD >= kPi) angles.phiD = 0.0;
+            const glm::ivec3 bin = merlBin(angles);
+            const double w = binWeights[merlBinIndex(bin.x, bin.y, bin.z)];
+            sum += w * wi.z * rp.jacobian * 4.0 * std::abs(woDotH);
+          }
+          cells[std::size_t(r * kCols + c)] += sum;
+        }
+      }
+    for (double& w : cells) w /= double(kSub * kSub);
+    applyFloor(cells);
+    // And at kMerlFloor * each row's mean, so a row holding most of the slice keeps every cell's width above
+    // float spacing in its conditional CDF (the slice floor alone can fall below 2^-24 of such a row).
+    for (int r = 0; r < kRows; ++r) applyFloor(std::span(cells).subspan(std::size_t(r) * kCols, kCols));
+
+    // Marginal over rows from the row sums, then one conditional per row.
+    float* slice = data.tables.data() + std::size_t(s) * kMerlTableSliceFloats;
+    for (int r = 0; r < kRows; ++r) {
+      const std::span<const double> row(cells.data() + std::size_t(r) * kCols, std::size_t(kCols));
+      double sum = 0.0;
+      for (double w : row) sum += w;
+      rowWeights[std::size_t(r)] = sum;
+      writeCdf(row, slice + (kRows + 1) + std::size_t(r) * (kCols + 1));
+    }
+    writeCdf(rowWeights, slice);
+  }
+  return data;
+}
+
+MerlTableSampler::MerlTableSampler(MerlTableData data) : data_(std::move(data)) {
+  if (data_.tables.size() != std::size_t(kMerlTableSlices) * kMerlTableSliceFloats)
+    throw Error("merl-table: the tables have " + std::to_string(data_.tables.size()) + " floats, expected " +
+                std::to_string(std::size_t(kMerlTableSlices) * kMerlTableSliceFloats) +
+                "; rebuild them with buildMerlTable");
+}
+
+int MerlTableSampler::sliceOf(glm::dvec3 wo) {
+  const double thetaO = std::acos(std::clamp(wo.z, -1.0, 1.0));
+  return cellIndex(thetaO / kHalfPi * kMerlTableSlices, kMerlTableSlices);
+}
+
+BrdfSample MerlTableSampler::sample(glm::dvec2 u, glm::dvec3 wo) const {
+  if (!(wo.z > 0.0)) return {};
+  constexpr int kRows = kMerlTableThetaBins, kCols = kMerlTablePhiBins;
+  const float ux = toGpuU(u.x), uy = toGpuU(u.y);
+  const float* marginal = data_.tables.data() + std::size_t(sliceOf(wo)) * kMerlTableSliceFloats;
+  // Row i (u_theta) from the slice's marginal with u.y, then column j (u_phi) from row i's conditional with
+  // u.x.
+  const int i = findBin(marginal, kRows, uy);
+  const float rowProb = marginal[i + 1] - marginal[i];
+  const float ty = remapInBin(uy, marginal[i], rowProb);
+  const float* conditional = marginal + (kRows + 1) + std::size_t(i) * (kCols + 1);
+  const int j = findBin(conditional, kCols, ux);
+  const float colProb = conditional[j + 1] - conditional[j];
+  const float tx = remapInBin(ux, conditional[j], colProb);
+  const float pdfU = rowProb * colProb * float(kRows) * float(kCols);
+  // u_theta = (i + t.y) / rows; phi_h = phi_o + 2 pi (j + t.x) / columns.
+  const double uTheta = (double(i) + double(ty)) / kRows;
+  const double phiH = azimuthOf(wo) + kTwoPi * (double(j) + double(tx)) / kCols;
+  return reflectedSample(wo, uTheta, phiH, pdfU);
+}
+
+double MerlTableSampler::pdf(glm::dvec3 wi, glm::dvec3 wo) const {
+  if (!(wo.z > 0.0)) return 0.0;
+  constexpr int kRows = kMerlTableThetaBins, kCols = kMerlTablePhiBins;
+  const auto half = halfVectorParams(wi, wo);
+  if (!half) return 0.0;
+  const HalfVectorParams& p = *half;
+  // u_phi = fract((phi_h - phi_o) / (2 pi)); h = +z has no azimuth, and any column gives it pdf 0 anyway.
+  const double turns = (std::atan2(p.h.y, p.h.x) - azimuthOf(wo)) / kTwoPi;
+  const double uPhi = turns - std::floor(turns);
+  const int i = cellIndex(p.uTheta * kRows, kRows), j = cellIndex(uPhi * kCols, kCols);
+  const float* marginal = data_.tables.data() + std::size_t(sliceOf(wo)) * kMerlTableSliceFloats;
+  const float* conditional = marginal + (kRows + 1) + std::size_t(i) * (kCols + 1);
+  const float rowProb = marginal[i + 1] - marginal[i], colProb = conditional[j + 1] - conditional[j];
+  const float pdfU = rowProb * colProb * float(kRows) * float(kCols);
+  return halfVectorPdfToSolidAngle(double(pdfU), p.uTheta, p.thetaH, glm::dot(wo, p.h));
+}
+
+}  // namespace iblx

@@ -1,0 +1,96 @@
+// Importance sampling of MERL materials: builders (double) and float-exact CPU twins of the BRDF techniques
+// `merl-thetah` (shaders/brdf_sampler/merl_thetah.glsl) and `merl-table` (shaders/brdf_sampler/merl_table.glsl).
+// Both sample a half vector h around the normal in the square-root-warped parameterisation of MERL's theta_h,
+//   u_theta = sqrt(theta_h / (pi/2)),  u_phi = phi_h / (2 pi),
+// and reflect: wi = 2 (wo.h) h - wo. Densities (sampling_sota.md §3.3, Mitsuba 3 measured.cpp):
+//   p(h) = p(u) / (2 pi^2 u_theta sin(theta_h))      [d omega_h = sin theta_h d theta_h d phi_h]
+//   p(wi) = p(h) / (4 |wo.h|)                        [Walter et al. 2007, eq. 14]
+// Everything runs in the local shading frame: normal +z, wo.z > 0. As for every BRDF technique
+// (shaders/interfaces/brdf_sampler.glsl), wi may fall below the horizon and its pdf is still the true density:
+// pdf() of any wi uses h = normalize(wi + wo) flipped into the upper hemisphere (h.z >= 0; a sampled h with
+// wo.h < 0 reflects wo to a wi whose normalize(wi + wo) is -h), so pdf integrates to 1 over the sphere.
+#pragma once
+
+#include "engine/io/merl.h"
+
+#include <glm/glm.hpp>
+
+#include <vector>
+
+namespace iblx {
+
+// A sampled direction with its solid-angle density (0 only for a degenerate Jacobian: a sample to drop).
+struct BrdfSample {
+  glm::dvec3 wi{0.0, 0.0, 1.0};
+  double pdf = 0.0;
+};
+
+// Solid-angle density of wi given p(u) of the half-vector parameters, with |wo.h|; 0 when the Jacobian is
+// not positive or not finite (shared by both techniques and their twins).
+double halfVectorPdfToSolidAngle(double pdfU, double uTheta, double thetaH, double woDotH);
+
+// ---- merl-thetah: a 1D distribution over the 90 theta_h bins, phi_h uniform ------------------------------------
+// Bin i weight: (mean over all theta_d, phi_d bins of the bin's sampling weight (mean of R, G, B)) times the
+// solid angle of its theta_h band, cos(theta_lo) - cos(theta_hi); then floored at kMerlFloor * mean weight so
+// that no bin where the material reflects is ever unreachable (a float CDF can round tiny shares to zero
+// width). An all-zero material gives the uniform distribution. CDF in double, stored as float, cdf[90] = 1.
+inline constexpr double kMerlFloor = 1e-4;
+struct MerlThetaHData {
+  std::vector<float> cdf;  // kMerlThetaHBins + 1 entries
+};
+MerlThetaHData buildMerlThetaH(const MerlBrdf& brdf);
+
+// Twin of the GLSL part, in float where the GPU is in float (table reads, bin search, remap):
+//   bin i = largest with cdf[i] <= u.x (a zero-width bin is never chosen); t = (u.x - cdf[i]) / P_i clamped to
+//   [0, 1 - 2^-24]; u_theta = (i + t) / 90; theta_h = u_theta^2 pi/2; phi_h = 2 pi u.y;
+//   p(u) = P_i * 90; wi = reflect; pdf from halfVectorPdfToSolidAngle (also below the horizon).
+class MerlThetaHSampler {
+ public:
+  explicit MerlThetaHSampler(MerlThetaHData data);
+  BrdfSample sample(glm::dvec2 u, glm::dvec3 wo) const;
+  // Density of wi for wo: 0 when wo.z <= 0 or wi = -wo; else from h (see the top) and its bin.
+  double pdf(glm::dvec3 wi, glm::dvec3 wo) const;
+  const MerlThetaHData& data() const { return data_; }
+
+ private:
+  MerlThetaHData data_;
+};
+
+// ---- merl-table: per-theta_o slices of 2D tables over (u_theta, u_phi) ------------------------------------------
+// kMerlTableSlices slices uniform in theta_o over [0, pi/2]: wo's slice is min(int(theta_o / (pi/2) * S), S - 1),
+// for sample() and pdf() alike. Slice s is built for wo_s = (sin t, 0, cos t), t = (s + 0.5) / S * pi/2, as a
+// grid of kMerlTableThetaBins (u_theta, matching MERL's theta_h bins) x kMerlTablePhiBins (u_phi = phi_h
+// relative to wo's azimuth, over [0, 2 pi)) cells. Cell weight: the mean over 4 x 4 points of the cell of
+//   g(u) = w(f(wi, wo_s)) max(wi.z, 0) 2 pi^2 u_theta sin(theta_h) 4 |wo_s.h|   (w = mean of R, G, B)
+// with f the nearest-bin lookup (evalMerl), floored at kMerlFloor * the slice's mean cell weight and then at
+// kMerlFloor * its row's mean (every cell stays reachable, whatever wo within the slice, and keeps a width
+// above float spacing in its row's CDF). A slice whose weights are all zero is uniform.
+// Each slice is a marginal over u_theta rows and one conditional over u_phi per row, in double, stored as float.
+inline constexpr int kMerlTableSlices = 32, kMerlTableThetaBins = 90, kMerlTablePhiBins = 64;
+// Floats per slice: marginal (ThetaBins + 1), then ThetaBins conditionals of (PhiBins + 1).
+inline constexpr int kMerlTableSliceFloats =
+    (kMerlTableThetaBins + 1) + kMerlTableThetaBins * (kMerlTablePhiBins + 1);
+struct MerlTableData {
+  std::vector<float> tables;  // kMerlTableSlices * kMerlTableSliceFloats, slice after slice
+};
+MerlTableData buildMerlTable(const MerlBrdf& brdf);
+
+// Twin of the GLSL part: slice of wo; row i = largest with marginal[i] <= u.y, column j = largest with
+// conditional_i[j] <= u.x (searches in float, zero-width bins never chosen); t offsets as in merl-thetah;
+// u_theta = (i + t.y) / ThetaBins; u_phi = (j + t.x) / PhiBins; phi_h = phi_o + 2 pi u_phi with
+// phi_o = atan2(wo.y, wo.x) (0 when wo.xy = 0); p(u) = P_row P_col ThetaBins PhiBins.
+class MerlTableSampler {
+ public:
+  explicit MerlTableSampler(MerlTableData data);
+  BrdfSample sample(glm::dvec2 u, glm::dvec3 wo) const;
+  // 0 when wo.z <= 0 or wi = -wo; else the cell of h (see the top) in wo's slice, with
+  // u_phi = fract((phi_h - phi_o) / (2 pi)).
+  double pdf(glm::dvec3 wi, glm::dvec3 wo) const;
+  static int sliceOf(glm::dvec3 wo);
+  const MerlTableData& data() const { return data_; }
+
+ private:
+  MerlTableData data_;
+};
+
+}  // namespace iblx

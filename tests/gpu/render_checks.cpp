@@ -1,0 +1,65 @@
+// Helpers shared by the end-to-end GPU tests (tests/gpu/render_checks.h).
+#include "tests/gpu/render_checks.h"
+
+#include <cmath>
+
+namespace iblx::test {
+
+std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& sequence) {
+  std::vector<MethodSpec> specs;
+  for (const auto& m : methodRegistry()) {
+    MethodSpec spec;
+    spec.method = m.name;
+    spec.sequence = sequence;
+    if (m.strategy == Strategy::SingleEnv) {
+      specs.push_back(spec);
+    } else if (m.strategy == Strategy::SingleBrdf) {
+      for (const auto& t : brdfTechniqueRegistry())
+        if (t.appliesTo(brdf.name)) specs.push_back((spec.brdfSampler = t.name, spec));
+    } else {
+      for (const auto& e : envTechniqueRegistry())
+        for (const char* heuristic : {"balance", "power"}) {
+          spec.envSampler = e.name;
+          spec.misHeuristic = heuristic;
+          specs.push_back(spec);
+        }
+    }
+  }
+  return specs;
+}
+
+Scene sceneWith(EnvImage env, const std::string& brdf,
+                std::vector<std::pair<std::string, std::string>> params, int size) {
+  SceneSpec spec;
+  spec.brdf = brdf;
+  spec.params = std::move(params);
+  spec.width = spec.height = size;
+  return makeScene(std::move(env), spec);
+}
+
+ZTest zTest(const Scene& scene, const Renderer& renderer, const std::vector<float>& reference) {
+  const auto mean = renderer.meanRgb();
+  const auto var = renderer.varianceRgb();
+  const double n = double(renderer.samplesPerPixel());
+  ZTest t;
+  double count = 0;
+  double sum[3] = {0, 0, 0}, varSum[3] = {0, 0, 0};
+  for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i) {
+    if (scene.gbuffer.pixels[i].normal.w == 0.0f) continue;
+    ++count;
+    for (int c = 0; c < 3; ++c) {
+      sum[c] += double(mean[3 * i + c]) - reference[3 * i + c];
+      varSum[c] += var[3 * i + c] / n;
+    }
+  }
+  for (int c = 0; c < 3; ++c) {
+    t.meanError[c] = sum[c] / count;
+    t.standardError[c] = std::sqrt(varSum[c]) / count;
+    // A zero-variance estimator must match to float rounding of the reference.
+    t.z[c] = t.standardError[c] > 0 ? t.meanError[c] / t.standardError[c]
+                                    : (std::abs(t.meanError[c]) < 1e-5 ? 0.0 : 1e9);
+  }
+  return t;
+}
+
+}  // namespace iblx::test

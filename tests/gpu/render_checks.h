@@ -1,0 +1,34 @@
+// Helpers shared by the end-to-end GPU tests: every method the registry offers for a BRDF, small scenes, and
+// the z-test of a render's mean signed error against a reference.
+#pragma once
+
+#include "engine/render/renderer.h"
+#include "engine/render/scene.h"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace iblx::test {
+
+// Every (method, technique) combination the registry offers for a BRDF: single env techniques, every
+// applicable BRDF technique alone, and MIS of every env technique with the BRDF's best sampler (balance and
+// power).
+std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& sequence);
+
+// A square scene of the sphere; `brdf` is a built-in name or a file (e.g. a MERL .binary).
+Scene sceneWith(EnvImage env, const std::string& brdf, std::vector<std::pair<std::string, std::string>> params,
+                int size);
+
+struct ZTest {
+  double z[3] = {0, 0, 0};
+  double meanError[3] = {0, 0, 0};
+  double standardError[3] = {0, 0, 0};
+};
+
+// z of the image-mean signed error per channel: sum over pixels of (x_p - r_p), divided by its standard
+// deviation sqrt(sum var_p / N) (pixels are independent; the variance is the measured per-pixel sample
+// variance).
+ZTest zTest(const Scene& scene, const Renderer& renderer, const std::vector<float>& reference);
+
+}  // namespace iblx::test
