@@ -237,8 +237,12 @@ MerlTableData buildMerlTable(const MerlBrdf& brdf) {
   data.tables.resize(std::size_t(kMerlTableSlices) * kMerlTableSliceFloats);
   std::vector<double> cells(std::size_t(kRows) * kCols), rowWeights(kRows);
   for (int s = 0; s < kMerlTableSlices; ++s) {
-    const double thetaO = (s + 0.5) / kMerlTableSlices * kHalfPi;
-    const glm::dvec3 wo(std::sin(thetaO), 0.0, std::cos(thetaO));
+    // The slice serves every wo with theta_o in [lo, hi): its weights are the larger of the two edges' (see
+    // merl_sampling.h), so no wo in it finds its lobe in cells the table starves, at the horizon above all.
+    const double edges[2] = {(s + kMerlTableEdgeInset) / kMerlTableSlices * kHalfPi,
+                             (s + 1 - kMerlTableEdgeInset) / kMerlTableSlices * kHalfPi};
+    const glm::dvec3 wos[2] = {{std::sin(edges[0]), 0.0, std::cos(edges[0])},
+                               {std::sin(edges[1]), 0.0, std::cos(edges[1])}};
     // Cell weight: mean over the sub-points of g(u) = w(f(wi, wo)) cos(theta_i) 2 pi^2 u_theta sin(theta_h)
     // 4 |wo.h|, so that p(u) proportional to it makes p(wi) proportional to w(f) cos(theta_i).
     std::fill(cells.begin(), cells.end(), 0.0);
@@ -250,22 +254,26 @@ MerlTableData buildMerlTable(const MerlBrdf& brdf) {
           for (int b = 0; b < kSub; ++b) {
             const glm::dvec2 cs = columnPoints[std::size_t(c * kSub + b)];
             const glm::dvec3 h(rp.sinThetaH * cs.x, rp.sinThetaH * cs.y, rp.cosThetaH);
-            const double woDotH = glm::dot(wo, h);
-            const glm::dvec3 wi = 2.0 * woDotH * h - wo;
-            if (!(wi.z > 0.0)) continue;  // f = 0 and cos clamps to 0
-            // f = evalMerl(brdf, wi, wo), with the half vector and its angles known: wi in the frame of h
-            // (rotated by -phi_h about z, then by -theta_h about y, as merlAngles does) gives theta_d and
-            // phi_d; theta_h is the sub-point's, inside row r's MERL bin.
-            const double x1 = wi.x * cs.x + wi.y * cs.y, y1 = wi.y * cs.x - wi.x * cs.y;
-            MerlAngles angles;
-            angles.thetaH = rp.thetaH;
-            angles.thetaD = std::acos(std::clamp(x1 * rp.sinThetaH + wi.z * rp.cosThetaH, -1.0, 1.0));
-            angles.phiD = std::atan2(y1, x1 * rp.cosThetaH - wi.z * rp.sinThetaH);
-            if (angles.phiD < 0.0) angles.phiD += kPi;
-            if (angles.phiD >= kPi) angles.phiD = 0.0;
-            const glm::ivec3 bin = merlBin(angles);
-            const double w = binWeights[merlBinIndex(bin.x, bin.y, bin.z)];
-            sum += w * wi.z * rp.jacobian * 4.0 * std::abs(woDotH);
+            double g = 0.0;
+            for (const glm::dvec3& wo : wos) {
+              const double woDotH = glm::dot(wo, h);
+              const glm::dvec3 wi = 2.0 * woDotH * h - wo;
+              if (!(wi.z > 0.0)) continue;  // f = 0 and cos clamps to 0
+              // f = evalMerl(brdf, wi, wo), with the half vector and its angles known: wi in the frame of h
+              // (rotated by -phi_h about z, then by -theta_h about y, as merlAngles does) gives theta_d and
+              // phi_d; theta_h is the sub-point's, inside row r's MERL bin.
+              const double x1 = wi.x * cs.x + wi.y * cs.y, y1 = wi.y * cs.x - wi.x * cs.y;
+              MerlAngles angles;
+              angles.thetaH = rp.thetaH;
+              angles.thetaD = std::acos(std::clamp(x1 * rp.sinThetaH + wi.z * rp.cosThetaH, -1.0, 1.0));
+              angles.phiD = std::atan2(y1, x1 * rp.cosThetaH - wi.z * rp.sinThetaH);
+              if (angles.phiD < 0.0) angles.phiD += kPi;
+              if (angles.phiD >= kPi) angles.phiD = 0.0;
+              const glm::ivec3 bin = merlBin(angles);
+              const double w = binWeights[merlBinIndex(bin.x, bin.y, bin.z)];
+              g = std::max(g, w * wi.z * rp.jacobian * 4.0 * std::abs(woDotH));
+            }
+            sum += g;
           }
           cells[std::size_t(r * kCols + c)] += sum;
         }

@@ -58,15 +58,21 @@ class MerlThetaHSampler {
 
 // ---- merl-table: per-theta_o slices of 2D tables over (u_theta, u_phi) ------------------------------------------
 // kMerlTableSlices slices uniform in theta_o over [0, pi/2]: wo's slice is min(int(theta_o / (pi/2) * S), S - 1),
-// for sample() and pdf() alike. Slice s is built for wo_s = (sin t, 0, cos t), t = (s + 0.5) / S * pi/2, as a
-// grid of kMerlTableThetaBins (u_theta, matching MERL's theta_h bins) x kMerlTablePhiBins (u_phi = phi_h
-// relative to wo's azimuth, over [0, 2 pi)) cells. Cell weight: the mean over 4 x 4 points of the cell of
-//   g(u) = w(f(wi, wo_s)) max(wi.z, 0) 2 pi^2 u_theta sin(theta_h) 4 |wo_s.h|   (w = mean of R, G, B)
+// for sample() and pdf() alike. Slice s serves theta_o in [lo, hi) = [s, s + 1) / S * pi/2, as a grid of
+// kMerlTableThetaBins (u_theta, matching MERL's theta_h bins) x kMerlTablePhiBins (u_phi = phi_h relative to wo's
+// azimuth, over [0, 2 pi)) cells. Cell weight: the mean over 4 x 4 points of the cell of
+//   g(u) = max over wo_e in {wo(lo + e), wo(hi - e)} of w(f(wi, wo_e)) max(wi.z, 0) 2 pi^2 u_theta sin(theta_h) 4 |wo_e.h|
+// (w = mean of R, G, B; wo(t) = (sin t, 0, cos t); wi the reflection of wo_e; e = kMerlTableEdgeInset slices,
+// which keeps wo_e off the normal, where phi_d is undefined, and off the horizon). The envelope of the two edges
+// matters at grazing views: part of the lobe that reflects below the horizon for one wo of the slice reflects
+// above it for another, and a table built for the slice's centre alone would starve it (f cos / pdf, and the
+// variance, would explode there).
 // with f the nearest-bin lookup (evalMerl), floored at kMerlFloor * the slice's mean cell weight and then at
 // kMerlFloor * its row's mean (every cell stays reachable, whatever wo within the slice, and keeps a width
 // above float spacing in its row's CDF). A slice whose weights are all zero is uniform.
 // Each slice is a marginal over u_theta rows and one conditional over u_phi per row, in double, stored as float.
 inline constexpr int kMerlTableSlices = 32, kMerlTableThetaBins = 90, kMerlTablePhiBins = 64;
+inline constexpr double kMerlTableEdgeInset = 1e-3;
 // Floats per slice: marginal (ThetaBins + 1), then ThetaBins conditionals of (PhiBins + 1).
 inline constexpr int kMerlTableSliceFloats =
     (kMerlTableThetaBins + 1) + kMerlTableThetaBins * (kMerlTablePhiBins + 1);

@@ -4,6 +4,7 @@
 #include "engine/render/scene.h"
 
 #include <functional>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,6 +21,7 @@ struct RenderSpec {
   std::string out;
   double exposure = 0.0;
   bool reference = false;
+  std::filesystem::path referenceFile;  // --reference-file: a ground truth written by `iblx reference`
   bool json = false;
   bool listMethods = false;
   std::string device;

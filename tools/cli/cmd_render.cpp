@@ -42,6 +42,14 @@ int cmdRender(const Args& args) {
 
   const auto start = std::chrono::steady_clock::now();
   const Scene scene = loadScene(spec.scene);
+  std::optional<EnvImage> referenceImage;
+  if (!spec.referenceFile.empty()) {
+    referenceImage = loadEnvImage(spec.referenceFile);  // any linear RGB EXR, read before the render starts
+    if (referenceImage->width != scene.gbuffer.width || referenceImage->height != scene.gbuffer.height)
+      throw Error("--reference-file " + spec.referenceFile.string() + ": " + std::to_string(referenceImage->width) +
+                  "x" + std::to_string(referenceImage->height) + " does not match --size " +
+                  std::to_string(scene.gbuffer.width) + "x" + std::to_string(scene.gbuffer.height));
+  }
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
   ShaderCompiler compiler;
   Renderer renderer(context, compiler, scene, method, spec.seed);
@@ -73,7 +81,9 @@ int cmdRender(const Args& args) {
 
   std::optional<ErrorMetrics> error;
   double referenceSeconds = 0.0;
-  if (spec.reference) {
+  if (referenceImage) {
+    error = compareToReference(scene.gbuffer, rgb, referenceImage->rgb);
+  } else if (spec.reference) {
     ReferenceOptions options;
     options.progress = [](double f) { progressLine("reference " + std::to_string(int(100 * f)) + "%"); };
     const ReferenceImage ref = computeReference(context, compiler, scene, options);
