@@ -19,7 +19,7 @@ namespace {
 
 constexpr double kHalfPi = 0.5 * kPi;
 constexpr double kTwoPi = 2.0 * kPi;
-// Sub-points per cell axis of the merl-table weights.
+// Grid intervals per cell axis of the merl-table weights (kTableSubPoints + 1 points, edges included).
 constexpr int kTableSubPoints = 4;
 
 // Throws when `brdf` is not a full material with finite, non-negative values (loadMerl guarantees both; an
@@ -212,30 +212,31 @@ MerlTableData buildMerlTable(const MerlBrdf& brdf) {
   for (std::size_t i = 0; i < kMerlBins; ++i)
     binWeights[i] =
         (double(brdf.rgb[i]) + double(brdf.rgb[kMerlBins + i]) + double(brdf.rgb[2 * kMerlBins + i])) / 3.0;
-  // The sub-points of every cell, shared by all slices: theta_h of each row sub-point with its sine, cosine
-  // and Jacobian factor 2 pi^2 u_theta sin(theta_h), and (cos, sin) of phi_h = 2 pi u_phi of each column
-  // sub-point (phi_o = 0 for the slice's wo_s).
+  // The grid points, shared by all slices: kSub + 1 per cell and axis, edges included (neighbouring cells share
+  // their edge points), all shifted by kMerlTableGridOffset of a grid step so that none lies on a MERL bin edge
+  // or in wo's plane of incidence, where the bin would depend on rounding. Per row point theta_h with its sine, cosine and Jacobian factor 2 pi^2 u_theta
+  // sin(theta_h); per column point (cos, sin) of phi_h = 2 pi u_phi (phi_o = 0 for the slice's edges).
+  constexpr int kRowPoints = kRows * kSub + 1, kColumnPoints = kCols * kSub + 1;
   struct RowPoint {
     double thetaH, sinThetaH, cosThetaH, jacobian;
   };
-  std::vector<RowPoint> rowPoints(std::size_t(kRows) * kSub);
-  for (int r = 0; r < kRows; ++r)
-    for (int a = 0; a < kSub; ++a) {
-      const double uTheta = (r + (a + 0.5) / kSub) / kRows;
-      const double thetaH = uTheta * uTheta * kHalfPi;
-      rowPoints[std::size_t(r * kSub + a)] = {thetaH, std::sin(thetaH), std::cos(thetaH),
-                                              2.0 * kPi * kPi * uTheta * std::sin(thetaH)};
-    }
-  std::vector<glm::dvec2> columnPoints(std::size_t(kCols) * kSub);
-  for (int c = 0; c < kCols; ++c)
-    for (int b = 0; b < kSub; ++b) {
-      const double phiH = kTwoPi * (c + (b + 0.5) / kSub) / kCols;
-      columnPoints[std::size_t(c * kSub + b)] = {std::cos(phiH), std::sin(phiH)};
-    }
+  std::vector<RowPoint> rowPoints(kRowPoints);
+  for (int a = 0; a < kRowPoints; ++a) {
+    const double uTheta = (a + kMerlTableGridOffset) / (kRows * kSub);
+    const double thetaH = uTheta * uTheta * kHalfPi;
+    rowPoints[std::size_t(a)] = {thetaH, std::sin(thetaH), std::cos(thetaH),
+                                 2.0 * kPi * kPi * uTheta * std::sin(thetaH)};
+  }
+  std::vector<glm::dvec2> columnPoints(kColumnPoints);
+  for (int b = 0; b < kColumnPoints; ++b) {
+    const double phiH = kTwoPi * (b + kMerlTableGridOffset) / (kCols * kSub);
+    columnPoints[std::size_t(b)] = {std::cos(phiH), std::sin(phiH)};
+  }
 
   MerlTableData data;
   data.tables.resize(std::size_t(kMerlTableSlices) * kMerlTableSliceFloats);
   std::vector<double> cells(std::size_t(kRows) * kCols), rowWeights(kRows);
+  std::vector<double> points(std::size_t(kRowPoints) * kColumnPoints);
   for (int s = 0; s < kMerlTableSlices; ++s) {
     // The slice serves every wo with theta_o in [lo, hi): its weights are the larger of the two edges' (see
     // merl_sampling.h), so no wo in it finds its lobe in cells the table starves, at the horizon above all.
@@ -243,42 +244,43 @@ MerlTableData buildMerlTable(const MerlBrdf& brdf) {
                              (s + 1 - kMerlTableEdgeInset) / kMerlTableSlices * kHalfPi};
     const glm::dvec3 wos[2] = {{std::sin(edges[0]), 0.0, std::cos(edges[0])},
                                {std::sin(edges[1]), 0.0, std::cos(edges[1])}};
-    // Cell weight: mean over the sub-points of g(u) = w(f(wi, wo)) cos(theta_i) 2 pi^2 u_theta sin(theta_h)
-    // 4 |wo.h|, so that p(u) proportional to it makes p(wi) proportional to w(f) cos(theta_i).
-    std::fill(cells.begin(), cells.end(), 0.0);
-    for (int r = 0; r < kRows; ++r)
-      for (int a = 0; a < kSub; ++a) {
-        const RowPoint& rp = rowPoints[std::size_t(r * kSub + a)];
-        for (int c = 0; c < kCols; ++c) {
-          double sum = 0.0;
-          for (int b = 0; b < kSub; ++b) {
-            const glm::dvec2 cs = columnPoints[std::size_t(c * kSub + b)];
-            const glm::dvec3 h(rp.sinThetaH * cs.x, rp.sinThetaH * cs.y, rp.cosThetaH);
-            double g = 0.0;
-            for (const glm::dvec3& wo : wos) {
-              const double woDotH = glm::dot(wo, h);
-              const glm::dvec3 wi = 2.0 * woDotH * h - wo;
-              if (!(wi.z > 0.0)) continue;  // f = 0 and cos clamps to 0
-              // f = evalMerl(brdf, wi, wo), with the half vector and its angles known: wi in the frame of h
-              // (rotated by -phi_h about z, then by -theta_h about y, as merlAngles does) gives theta_d and
-              // phi_d; theta_h is the sub-point's, inside row r's MERL bin.
-              const double x1 = wi.x * cs.x + wi.y * cs.y, y1 = wi.y * cs.x - wi.x * cs.y;
-              MerlAngles angles;
-              angles.thetaH = rp.thetaH;
-              angles.thetaD = std::acos(std::clamp(x1 * rp.sinThetaH + wi.z * rp.cosThetaH, -1.0, 1.0));
-              angles.phiD = std::atan2(y1, x1 * rp.cosThetaH - wi.z * rp.sinThetaH);
-              if (angles.phiD < 0.0) angles.phiD += kPi;
-              if (angles.phiD >= kPi) angles.phiD = 0.0;
-              const glm::ivec3 bin = merlBin(angles);
-              const double w = binWeights[merlBinIndex(bin.x, bin.y, bin.z)];
-              g = std::max(g, w * wi.z * rp.jacobian * 4.0 * std::abs(woDotH));
-            }
-            sum += g;
-          }
-          cells[std::size_t(r * kCols + c)] += sum;
+    // g(u) = w(f(wi, wo)) cos(theta_i) 2 pi^2 u_theta sin(theta_h) 4 |wo.h| at every grid point, the larger
+    // of the two edges': p(u) proportional to g makes p(wi) proportional to w(f) cos(theta_i).
+    for (int a = 0; a < kRowPoints; ++a) {
+      const RowPoint& rp = rowPoints[std::size_t(a)];
+      for (int b = 0; b < kColumnPoints; ++b) {
+        const glm::dvec2 cs = columnPoints[std::size_t(b)];
+        const glm::dvec3 h(rp.sinThetaH * cs.x, rp.sinThetaH * cs.y, rp.cosThetaH);
+        double g = 0.0;
+        for (const glm::dvec3& wo : wos) {
+          const double woDotH = glm::dot(wo, h);
+          const glm::dvec3 wi = 2.0 * woDotH * h - wo;
+          if (!(wi.z > 0.0) || !(rp.jacobian > 0.0)) continue;  // f = 0 and cos clamps to 0, or no area
+          // f = evalMerl(brdf, wi, wo), with the half vector and its angles known: wi in the frame of h
+          // (rotated by -phi_h about z, then by -theta_h about y, as merlAngles does) gives theta_d and phi_d.
+          const double x1 = wi.x * cs.x + wi.y * cs.y, y1 = wi.y * cs.x - wi.x * cs.y;
+          MerlAngles angles;
+          angles.thetaH = rp.thetaH;
+          angles.thetaD = std::acos(std::clamp(x1 * rp.sinThetaH + wi.z * rp.cosThetaH, -1.0, 1.0));
+          angles.phiD = std::atan2(y1, x1 * rp.cosThetaH - wi.z * rp.sinThetaH);
+          if (angles.phiD < 0.0) angles.phiD += kPi;
+          if (angles.phiD >= kPi) angles.phiD = 0.0;
+          const glm::ivec3 bin = merlBin(angles);
+          const double w = binWeights[merlBinIndex(bin.x, bin.y, bin.z)];
+          g = std::max(g, w * wi.z * rp.jacobian * 4.0 * std::abs(woDotH));
         }
+        points[std::size_t(a) * kColumnPoints + std::size_t(b)] = g;
       }
-    for (double& w : cells) w /= double(kSub * kSub);
+    }
+    // Cell weight: the largest g on the cell's (kSub + 1)^2 points, a conservative envelope.
+    for (int r = 0; r < kRows; ++r)
+      for (int c = 0; c < kCols; ++c) {
+        double cellMax = 0.0;
+        for (int a = r * kSub; a <= (r + 1) * kSub; ++a)
+          for (int b = c * kSub; b <= (c + 1) * kSub; ++b)
+            cellMax = std::max(cellMax, points[std::size_t(a) * kColumnPoints + std::size_t(b)]);
+        cells[std::size_t(r * kCols + c)] = cellMax;
+      }
     applyFloor(cells);
     // And at kMerlFloor * each row's mean, so a row holding most of the slice keeps every cell's width above
     // float spacing in its conditional CDF (the slice floor alone can fall below 2^-24 of such a row).

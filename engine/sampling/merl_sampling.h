@@ -60,19 +60,24 @@ class MerlThetaHSampler {
 // kMerlTableSlices slices uniform in theta_o over [0, pi/2]: wo's slice is min(int(theta_o / (pi/2) * S), S - 1),
 // for sample() and pdf() alike. Slice s serves theta_o in [lo, hi) = [s, s + 1) / S * pi/2, as a grid of
 // kMerlTableThetaBins (u_theta, matching MERL's theta_h bins) x kMerlTablePhiBins (u_phi = phi_h relative to wo's
-// azimuth, over [0, 2 pi)) cells. Cell weight: the mean over 4 x 4 points of the cell of
+// azimuth, over [0, 2 pi)) cells. Cell weight: the largest value on a 5 x 5 grid of points spanning the cell,
+// its edges included, of
 //   g(u) = max over wo_e in {wo(lo + e), wo(hi - e)} of w(f(wi, wo_e)) max(wi.z, 0) 2 pi^2 u_theta sin(theta_h) 4 |wo_e.h|
 // (w = mean of R, G, B; wo(t) = (sin t, 0, cos t); wi the reflection of wo_e; e = kMerlTableEdgeInset slices,
 // which keeps wo_e off the normal, where phi_d is undefined, and off the horizon). The envelope of the two edges
 // matters at grazing views: part of the lobe that reflects below the horizon for one wo of the slice reflects
 // above it for another, and a table built for the slice's centre alone would starve it (f cos / pdf, and the
-// variance, would explode there).
+// variance, would explode there). The maximum over the cell, rather than its mean, does the same inside a cell:
+// a lobe or the horizon crossing a cell cannot hide between interior points, so w(f) cos / pdf stays bounded.
 // with f the nearest-bin lookup (evalMerl), floored at kMerlFloor * the slice's mean cell weight and then at
 // kMerlFloor * its row's mean (every cell stays reachable, whatever wo within the slice, and keeps a width
 // above float spacing in its row's CDF). A slice whose weights are all zero is uniform.
 // Each slice is a marginal over u_theta rows and one conditional over u_phi per row, in double, stored as float.
 inline constexpr int kMerlTableSlices = 32, kMerlTableThetaBins = 90, kMerlTablePhiBins = 64;
 inline constexpr double kMerlTableEdgeInset = 1e-3;
+// The 5 x 5 points of a cell sit at (row + (a + kMerlTableGridOffset) / 4) / ThetaBins and the same in u_phi,
+// a = 0..4: off MERL's bin edges, which the rows share, and off the plane of incidence.
+inline constexpr double kMerlTableGridOffset = 1e-3;
 // Floats per slice: marginal (ThetaBins + 1), then ThetaBins conditionals of (PhiBins + 1).
 inline constexpr int kMerlTableSliceFloats =
     (kMerlTableThetaBins + 1) + kMerlTableThetaBins * (kMerlTablePhiBins + 1);
