@@ -3,11 +3,14 @@
 # materials written by `iblx merl-synth` (GGX alpha = 0.05 metal, Lambert 0.7) under the default environment;
 # for each method, the MSE and relMSE over object pixels after the same wall time, median over seeds.
 # Usage: tools/bench_merl.sh [SECONDS_PER_RUN (default 10)] [SEEDS (default 3)] [SIZE (default 128)]
+# IBLX_BENCH_ENV=FILE uses another environment map (default: assets/default_sky.exr).
 set -euo pipefail
 iblx="$(cd "$(dirname "$0")/.." && pwd)/build/iblx"
 seconds="${1:-10}"
 seeds="${2:-3}"
 size="${3:-128}"
+env=()
+[ -n "${IBLX_BENCH_ENV:-}" ] && env=(--env "$IBLX_BENCH_ENV")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
@@ -27,15 +30,15 @@ field() { sed -E "s/.*\"$1\": ([^,}]+).*/\1/"; }
 for material in glossy diffuse; do
   brdf="$work/$material.binary"
   start=$(date +%s.%N)
-  "$iblx" reference --brdf "$brdf" --size "${size}x${size}" --out "$work/$material-ref.exr" > /dev/null 2>&1
-  echo "== $material ($(basename "$brdf")), ${size}x${size}, ${seconds} s per run, median of $seeds seeds" \
+  "$iblx" reference "${env[@]}" --brdf "$brdf" --size "${size}x${size}" --out "$work/$material-ref.exr" > /dev/null 2>&1
+  echo "== $material ($(basename "$brdf")) under ${IBLX_BENCH_ENV:-the default sky}, ${size}x${size}, ${seconds} s per run, median of $seeds seeds" \
        "(reference $(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN {printf "%.1f", e - s}') s)"
   printf '%-55s %10s %12s %12s\n' "method" "spp" "MSE" "relMSE"
   for m in "${methods[@]}"; do
     : > "$work/runs"
     for seed in $(seq 1 "$seeds"); do
       # shellcheck disable=SC2086
-      "$iblx" render --brdf "$brdf" --method $m --size "${size}x${size}" --spp 8 --time "$seconds" --seed "$seed" \
+      "$iblx" render "${env[@]}" --brdf "$brdf" --method $m --size "${size}x${size}" --spp 8 --time "$seconds" --seed "$seed" \
         --reference-file "$work/$material-ref.exr" --json --out "$work/out.exr" 2>/dev/null >> "$work/runs"
     done
     printf '%-55s %10s %12s %12s\n' "$(head -1 "$work/runs" | sed -E 's/.*"method": "([^"]*)".*/\1/')" \

@@ -369,22 +369,24 @@ SanitizeReport sanitize(EnvImage& image) {
   return report;
 }
 
-EnvImage loadEnvImage(const fs::path& path) {
+EnvImage loadRgbImage(const fs::path& path) {
   const std::string file = path.string();
   const std::string ext = lowerExtension(path);
   if (ext != ".exr" && ext != ".hdr")
-    throw Error("cannot load " + file + ": unsupported extension '" + ext +
-                "' (supported environment map formats: .exr, .hdr)");
+    throw Error("cannot load " + file + ": unsupported extension '" + ext + "' (supported formats: .exr, .hdr)");
   checkReadable(path);
-
-  EnvImage image;
   try {
-    image = ext == ".exr" ? readExr(path) : readHdr(path);
+    return ext == ".exr" ? readExr(path) : readHdr(path);
   } catch (const std::bad_alloc&) {
     throw Error("not enough memory to load " + file);
   } catch (const fs::filesystem_error& e) {
     throwCannotOpen(path, e.code().message());
   }
+}
+
+EnvImage loadEnvImage(const fs::path& path) {
+  const std::string file = path.string();
+  EnvImage image = loadRgbImage(path);
   if (image.width < 2 || image.height < 1)
     throw Error(file + ": the image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                 "; an environment map needs at least 2x1 texels");

@@ -34,4 +34,8 @@ SanitizeReport sanitize(EnvImage& image);
 // it, emitting one warning that counts the fixed texels. Throws iblx::Error naming the file on any failure.
 EnvImage loadEnvImage(const std::filesystem::path& path);
 
+// Reads any .exr or .hdr as linear RGB, as it is: no sanitation, no environment-map checks (e.g. a reference
+// image written by `iblx reference`). Throws iblx::Error naming the file on any failure.
+EnvImage loadRgbImage(const std::filesystem::path& path);
+
 }  // namespace iblx

@@ -81,6 +81,17 @@ else
   failed=$((failed + 1)); echo "FAIL: --json --reference output: $json"
 fi
 
+# --reference-file: the error against a stored ground truth, with no warning; a size mismatch is an error.
+"$iblx" reference --size 16x16 --out "$tmp/ref16.exr" > /dev/null 2>&1
+json=$("$iblx" render --size 16x16 --spp 4 --passes 2 --json --reference-file "$tmp/ref16.exr" --out "$tmp/r.exr" 2>"$tmp/r.err")
+if printf '%s' "$json" | grep -q '"relmse"' && [ ! -s "$tmp/r.err" ]; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: --reference-file: $json $(cat "$tmp/r.err")"
+fi
+expect_error "reference-file size" "does not match --size" render --size 8x8 --reference-file "$tmp/ref16.exr" --out "$tmp/r2.exr"
+expect_error "reference-file missing" "$tmp/none.exr" render --size 8x8 --reference-file "$tmp/none.exr" --out "$tmp/r2.exr"
+
 # A flag the chosen method does not use is reported (and the render still happens).
 warning=$("$iblx" render --method env-cdf --env-sampler env-hier --size 8x8 --passes 1 --spp 1 --out "$tmp/w.png" 2>&1 >/dev/null)
 if printf '%s' "$warning" | grep -q -- "--env-sampler is ignored by --method env-cdf" && [ -s "$tmp/w.png" ]; then

@@ -44,7 +44,7 @@ int cmdRender(const Args& args) {
   const Scene scene = loadScene(spec.scene);
   std::optional<EnvImage> referenceImage;
   if (!spec.referenceFile.empty()) {
-    referenceImage = loadEnvImage(spec.referenceFile);  // any linear RGB EXR, read before the render starts
+    referenceImage = loadRgbImage(spec.referenceFile);  // read before the render starts
     if (referenceImage->width != scene.gbuffer.width || referenceImage->height != scene.gbuffer.height)
       throw Error("--reference-file " + spec.referenceFile.string() + ": " + std::to_string(referenceImage->width) +
                   "x" + std::to_string(referenceImage->height) + " does not match --size " +
