@@ -373,7 +373,8 @@ EnvImage loadRgbImage(const fs::path& path) {
   const std::string file = path.string();
   const std::string ext = lowerExtension(path);
   if (ext != ".exr" && ext != ".hdr")
-    throw Error("cannot load " + file + ": unsupported extension '" + ext + "' (supported formats: .exr, .hdr)");
+    throw Error("cannot load " + file + ": unsupported extension '" + ext +
+                "' (supported formats: .exr, .hdr)");
   checkReadable(path);
   try {
     return ext == ".exr" ? readExr(path) : readHdr(path);

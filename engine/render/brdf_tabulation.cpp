@@ -11,11 +11,14 @@
 
 namespace iblx {
 
-std::vector<glm::dvec3> evaluateBrdf(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
-                                     std::span<const glm::dvec3> wi, std::span<const glm::dvec3> wo) {
+std::vector<glm::dvec3> evaluateBrdf(const VulkanContext& context, ShaderCompiler& compiler,
+                                     const Scene& scene, std::span<const glm::dvec3> wi,
+                                     std::span<const glm::dvec3> wo) {
   if (wi.size() != wo.size()) throw Error("evaluateBrdf: as many wi as wo are needed");
   const SceneGpu gpu = uploadScene(context, scene);
-  KernelParts parts{"brdf_eval.comp", {scene.brdf->evalPart}, paramBlockGlsl(*scene.brdf),
+  KernelParts parts{"brdf_eval.comp",
+                    {scene.brdf->evalPart},
+                    paramBlockGlsl(*scene.brdf),
                     brdfBindingDefines(gpu.brdfData.size())};
   const auto spirv = compiler.compile(assemblePrelude(parts), "brdf eval " + scene.brdf->name);
   const auto set3 = gpu.brdfSet();
@@ -24,9 +27,9 @@ std::vector<glm::dvec3> evaluateBrdf(const VulkanContext& context, ShaderCompile
   kernel.bindBuffers(3, set3);
 
   const auto& limits = context.limits();
-  const std::size_t maxPairs = std::min<std::size_t>(
-      {std::size_t(limits.maxComputeWorkGroupCount[0]) * 64, limits.maxStorageBufferRange / (2 * sizeof(glm::vec4)),
-       std::size_t(1) << 20});
+  const std::size_t maxPairs =
+      std::min<std::size_t>({std::size_t(limits.maxComputeWorkGroupCount[0]) * 64,
+                             limits.maxStorageBufferRange / (2 * sizeof(glm::vec4)), std::size_t(1) << 20});
   std::vector<glm::dvec3> values;
   values.reserve(wi.size());
   for (std::size_t begin = 0; begin < wi.size(); begin += maxPairs) {

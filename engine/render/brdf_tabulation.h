@@ -16,8 +16,9 @@ namespace iblx {
 
 // f(wi, wo) in 1/sr for each pair (local frame: normal +z), evaluated as the integrator would. Runs in chunks
 // within the device's dispatch and buffer limits.
-std::vector<glm::dvec3> evaluateBrdf(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
-                                     std::span<const glm::dvec3> wi, std::span<const glm::dvec3> wo);
+std::vector<glm::dvec3> evaluateBrdf(const VulkanContext& context, ShaderCompiler& compiler,
+                                     const Scene& scene, std::span<const glm::dvec3> wi,
+                                     std::span<const glm::dvec3> wo);
 
 // A built-in BRDF tabulated in MERL's layout: the values of writeMerl (3 * kMerlBins, planar, 1/sr), each the
 // BRDF at its bin's centre (merlBinCenter). A centre direction at or below the horizon is evaluated at the

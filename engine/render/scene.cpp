@@ -41,7 +41,8 @@ double MeasuredBrdf::lobeWidth() const {
     for (int d = 0; d < kMerlThetaDBins; ++d)
       for (int p = 0; p < kMerlPhiDBins; ++p) {
         const std::size_t i = merlBinIndex(h, d, p);
-        profile[std::size_t(h)] += double(brdf.rgb[i]) + brdf.rgb[i + kMerlBins] + brdf.rgb[i + 2 * kMerlBins];
+        profile[std::size_t(h)] +=
+            double(brdf.rgb[i]) + brdf.rgb[i + kMerlBins] + brdf.rgb[i + 2 * kMerlBins];
       }
   const auto peak = std::max_element(profile.begin(), profile.end());
   if (*peak <= 0.0) return 0.0;

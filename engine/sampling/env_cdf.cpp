@@ -36,7 +36,8 @@ int findBin(const float* cdf, int n, float u) {
 }
 
 // Guide cell k of a CDF over n bins with G cells: lo = bin of u = k/G, hi = bin of the largest float below
-// (k+1)/G. Both bounds are floats exactly (G is a power of two), so [lo, hi] holds the bin of every u in the cell.
+// (k+1)/G. Both bounds are floats exactly (G is a power of two), so [lo, hi] holds the bin of every u in the
+// cell.
 void writeGuide(const float* cdf, int n, int cells, std::uint32_t* guide) {
   for (int k = 0; k < cells; ++k) {
     const float start = float(k) / float(cells), end = float(k + 1) / float(cells);

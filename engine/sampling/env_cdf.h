@@ -24,10 +24,10 @@ struct EnvCdfData {
   std::vector<float> conditionalCdf;  // H*(W+1) entries, row y at y*(W+1), each row [0] = 0, [W] = 1 exactly
   // Guide tables (Chen & Asau's "index table", 1974) that shorten the searches: a CDF over n bins gets
   // G cells, a power of two so that u * G and k / G are exact in float. Cell k packs
-  // lo | hi << 16, the bins of u = k/G and of the largest float below (k+1)/G, so the bin of any u in the cell
-  // lies in [lo, hi] and a search of ceil(log2(hi - lo + 1)) steps finds it (usually 0 or 1).
-  int rowGuideCells = 0;     // envCdfGuideCells(H, kEnvCdfRowCellsPerBin)
-  int columnGuideCells = 0;  // envCdfGuideCells(W, kEnvCdfColumnCellsPerBin)
+  // lo | hi << 16, the bins of u = k/G and of the largest float below (k+1)/G, so the bin of any u in the
+  // cell lies in [lo, hi] and a search of ceil(log2(hi - lo + 1)) steps finds it (usually 0 or 1).
+  int rowGuideCells = 0;                        // envCdfGuideCells(H, kEnvCdfRowCellsPerBin)
+  int columnGuideCells = 0;                     // envCdfGuideCells(W, kEnvCdfColumnCellsPerBin)
   std::vector<std::uint32_t> marginalGuide;     // rowGuideCells cells
   std::vector<std::uint32_t> conditionalGuide;  // H * columnGuideCells cells, row y at y * columnGuideCells
 };
@@ -48,10 +48,11 @@ EnvCdfData buildEnvCdf(const EnvImage& image);
 // trigonometry).
 //
 // Sampling, with u as the float the GPU receives (toGpuU):
-//   y = (first k in 1..H with marginalCdf[k] > u.y) - 1, searched in [lo, hi] of guide cell u.y * G; rowProb = marginalCdf[y+1] - marginalCdf[y];
-//   t.y = (u.y - marginalCdf[y]) / rowProb, clamped to [0, 1 - 2^-24]; the same for x and t.x in row y's
-//   conditional (colProb); P = rowProb * colProb; direction = texelToDirection(x, y, t);
-//   pdfSolidAngle = P / Omega_f(y), Omega_f = rowSolidAngles(W, H). Zero-width bins are never chosen.
+//   y = (first k in 1..H with marginalCdf[k] > u.y) - 1, searched in [lo, hi] of guide cell u.y * G; rowProb
+//   = marginalCdf[y+1] - marginalCdf[y]; t.y = (u.y - marginalCdf[y]) / rowProb, clamped to [0, 1 - 2^-24];
+//   the same for x and t.x in row y's conditional (colProb); P = rowProb * colProb; direction =
+//   texelToDirection(x, y, t); pdfSolidAngle = P / Omega_f(y), Omega_f = rowSolidAngles(W, H). Zero-width
+//   bins are never chosen.
 //
 // Trade-offs (DESIGN §4; Mitsuba 3 distr_2d.h; sampling_sota §1 and §6.1):
 // - Continuous in u.x within a row and affine inside each texel, but discontinuous in u.x at every row

@@ -212,10 +212,11 @@ MerlTableData buildMerlTable(const MerlBrdf& brdf) {
   for (std::size_t i = 0; i < kMerlBins; ++i)
     binWeights[i] =
         (double(brdf.rgb[i]) + double(brdf.rgb[kMerlBins + i]) + double(brdf.rgb[2 * kMerlBins + i])) / 3.0;
-  // The grid points, shared by all slices: kSub + 1 per cell and axis, edges included (neighbouring cells share
-  // their edge points), all shifted by kMerlTableGridOffset of a grid step so that none lies on a MERL bin edge
-  // or in wo's plane of incidence, where the bin would depend on rounding. Per row point theta_h with its sine, cosine and Jacobian factor 2 pi^2 u_theta
-  // sin(theta_h); per column point (cos, sin) of phi_h = 2 pi u_phi (phi_o = 0 for the slice's edges).
+  // The grid points, shared by all slices: kSub + 1 per cell and axis, edges included (neighbouring cells
+  // share their edge points), all shifted by kMerlTableGridOffset of a grid step so that none lies on a MERL
+  // bin edge or in wo's plane of incidence, where the bin would depend on rounding. Per row point theta_h
+  // with its sine, cosine and Jacobian factor 2 pi^2 u_theta sin(theta_h); per column point (cos, sin) of
+  // phi_h = 2 pi u_phi (phi_o = 0 for the slice's edges).
   constexpr int kRowPoints = kRows * kSub + 1, kColumnPoints = kCols * kSub + 1;
   struct RowPoint {
     double thetaH, sinThetaH, cosThetaH, jacobian;
@@ -257,7 +258,8 @@ MerlTableData buildMerlTable(const MerlBrdf& brdf) {
           const glm::dvec3 wi = 2.0 * woDotH * h - wo;
           if (!(wi.z > 0.0) || !(rp.jacobian > 0.0)) continue;  // f = 0 and cos clamps to 0, or no area
           // f = evalMerl(brdf, wi, wo), with the half vector and its angles known: wi in the frame of h
-          // (rotated by -phi_h about z, then by -theta_h about y, as merlAngles does) gives theta_d and phi_d.
+          // (rotated by -phi_h about z, then by -theta_h about y, as merlAngles does) gives theta_d and
+          // phi_d.
           const double x1 = wi.x * cs.x + wi.y * cs.y, y1 = wi.y * cs.x - wi.x * cs.y;
           MerlAngles angles;
           angles.thetaH = rp.thetaH;

@@ -153,9 +153,9 @@ struct EnvTechniqueProbe::Impl : ProbeRunner {
 
 EnvTechniqueProbe::EnvTechniqueProbe(const std::string& technique, const EnvImage& env, glm::dvec3 normal) {
   const auto& info = findEnvTechnique(technique);
-  impl_ = std::make_unique<Impl>(probeScene(env, "lambert", {}), "probe/env_sampler_probe.comp",
-                                 std::vector<std::string>{info.part}, info.build(env), TechniqueData{},
-                                 normal);
+  impl_ =
+      std::make_unique<Impl>(probeScene(env, "lambert", {}), "probe/env_sampler_probe.comp",
+                             std::vector<std::string>{info.part}, info.build(env), TechniqueData{}, normal);
 }
 EnvTechniqueProbe::~EnvTechniqueProbe() = default;
 std::vector<ProbeSample> EnvTechniqueProbe::sample(std::span<const glm::dvec2> u) {

@@ -26,7 +26,8 @@ namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
 
-// Synthetic materials, tabulated once per test run into a scratch directory that lives as long as the process.
+// Synthetic materials, tabulated once per test run into a scratch directory that lives as long as the
+// process.
 std::filesystem::path synthesize(const std::string& name, const std::string& brdf,
                                  std::vector<std::pair<std::string, std::string>> params,
                                  MerlSynthOptions options = {}) {
@@ -52,8 +53,8 @@ glm::dvec3 hemisphere(glm::dvec2 u) {
 
 }  // namespace
 
-// Pairs on the hemisphere: uniform ones, and ones whose half vector lies within [thetaMin, thetaMax] of the normal,
-// where the square-root theta_h bins are finest.
+// Pairs on the hemisphere: uniform ones, and ones whose half vector lies within [thetaMin, thetaMax] of the
+// normal, where the square-root theta_h bins are finest.
 struct Pairs {
   std::vector<glm::dvec3> wi, wo;
 };
@@ -65,7 +66,8 @@ Pairs randomPairs(std::size_t count, double thetaMin, double thetaMax, std::uint
     glm::dvec3 in = hemisphere(u[i + 1]);
     if (i % 2 == 1) {
       const double thetaH = thetaMin + (thetaMax - thetaMin) * u[i + 1].x, phiH = 2.0 * kPiD * u[i + 1].y;
-      const glm::dvec3 h(std::sin(thetaH) * std::cos(phiH), std::sin(thetaH) * std::sin(phiH), std::cos(thetaH));
+      const glm::dvec3 h(std::sin(thetaH) * std::cos(phiH), std::sin(thetaH) * std::sin(phiH),
+                         std::cos(thetaH));
       in = 2.0 * glm::dot(o, h) * h - o;
     }
     // The GPU receives floats: compare on the same inputs.
@@ -75,9 +77,10 @@ Pairs randomPairs(std::size_t count, double thetaMin, double thetaMax, std::uint
   return p;
 }
 
-// Bins of the GPU lookup that differ from the CPU reference lookup, for a table whose values come from `value`.
-std::size_t lookupMismatches(const std::function<double(int h, int d, int p, int c)>& value, const Pairs& pairs,
-                             std::size_t& nonZero) {
+// Bins of the GPU lookup that differ from the CPU reference lookup, for a table whose values come from
+// `value`.
+std::size_t lookupMismatches(const std::function<double(int h, int d, int p, int c)>& value,
+                             const Pairs& pairs, std::size_t& nonZero) {
   ScratchDir dir;
   std::vector<double> values(3 * kMerlBins);
   for (int h = 0; h < kMerlThetaHBins; ++h)
@@ -106,9 +109,10 @@ TEST_CASE("merl: the GPU lookup agrees with the CPU reference lookup at random d
   // so these pairs keep theta_h >= 0.01.
   std::size_t nonZero = 0;
   const Pairs pairs = randomPairs(20000, 0.01, 0.05, 21);
-  const std::size_t distinct = lookupMismatches(
-      [](int h, int d, int p, int c) { return double(merlBinIndex(h, d, p) + 1) * (c + 1) / double(kMerlBins); },
-      pairs, nonZero);
+  const std::size_t distinct =
+      lookupMismatches([](int h, int d, int p,
+                          int c) { return double(merlBinIndex(h, d, p) + 1) * (c + 1) / double(kMerlBins); },
+                       pairs, nonZero);
   INFO(distinct << " of " << pairs.wi.size() << " pairs differ");
   // Float against double angles may pick the neighbouring bin within rounding of a bin edge: rare.
   CHECK(distinct <= pairs.wi.size() / 500);
@@ -175,7 +179,8 @@ TEST_CASE("merl: tabulated GGX renders like the analytic GGX within the tabulati
   checkNoNewValidationErrors();
 }
 
-TEST_CASE("merl techniques: GPU agrees with the CPU twin; pdf integrates to 1 and chi2 passes, grazing included") {
+TEST_CASE(
+    "merl techniques: GPU agrees with the CPU twin; pdf integrates to 1 and chi2 passes, grazing included") {
   const auto glossy = synthesize("ggx01", "ggx", {{"roughness", "0.1"}, {"metallic", "1"}});
   const auto diffuse = synthesize("lambert07", "lambert", {{"albedo", "0.7"}});
   const Scene glossyScene = sceneWith(constantEnv(2, 1, 0.0f), glossy.string(), {}, 1);
@@ -201,21 +206,23 @@ TEST_CASE("merl techniques: GPU agrees with the CPU twin; pdf integrates to 1 an
           directions.push_back(s.direction);
           if (std::abs(s.pdf - s.pdfLookup) > 1e-3 * s.pdf) ++pdfMismatches;
           if (material == glossy && i < 20000) {
-            const BrdfSample cpu = std::string(technique) == "merl-table" ? table.sample(u[i], wo) : thetaH.sample(u[i], wo);
+            const BrdfSample cpu =
+                std::string(technique) == "merl-table" ? table.sample(u[i], wo) : thetaH.sample(u[i], wo);
             if (glm::length(cpu.wi - s.direction) > 1e-3 || std::abs(cpu.pdf - s.pdf) > 1e-3 * cpu.pdf)
               ++twinMismatches;
           }
         }
-        // sample() and pdf() locate a sample in the same cell except within float rounding of a cell edge, and
-        // the azimuth of a half vector within ~1e-4 rad of the normal is that rounding: up to 1 % in practice.
+        // sample() and pdf() locate a sample in the same cell except within float rounding of a cell edge,
+        // and the azimuth of a half vector within ~1e-4 rad of the normal is that rounding: up to 1 % in
+        // practice.
         CHECK(pdfMismatches <= samples.size() / 100);
         CHECK(twinMismatches <= 200);
         Chi2Options options;
         options.testCount = testCount;
         options.label = "merl-technique";
         options.ires = 12;
-        const Chi2Result r =
-            chi2Test(directions, [&](std::span<const glm::dvec3> d) { return probe.pdf(d); }, options);
+        const Chi2Result r = chi2Test(
+            directions, [&](std::span<const glm::dvec3> d) { return probe.pdf(d); }, options);
         INFO(r.message);
         CHECK(r.passed);
         CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(5e-3));
@@ -230,7 +237,8 @@ TEST_CASE("merl: every method converges to the convolution reference (z-test)") 
     std::filesystem::path material;
   };
   const Case cases[] = {
-      {"glossy ggx a=0.1/smooth", smoothSky(32, 16), synthesize("ggx01", "ggx", {{"roughness", "0.1"}, {"metallic", "1"}})},
+      {"glossy ggx a=0.1/smooth", smoothSky(32, 16),
+       synthesize("ggx01", "ggx", {{"roughness", "0.1"}, {"metallic", "1"}})},
       {"lambert with invalid bins/sun+zero", sunAndZeroHalf(32, 16),
        synthesize("lambert-invalid", "lambert", {{"albedo", "0.6"}}, {true, 0.05, 7})},
   };
@@ -246,7 +254,8 @@ TEST_CASE("merl: every method converges to the convolution reference (z-test)") 
         for (int pass = 0; pass < 8; ++pass) renderer.runPass(64);
         const ZTest t = zTest(scene, renderer, ref.rgb);
         for (int ch = 0; ch < 3; ++ch) {
-          INFO("channel " << ch << ": mean error " << t.meanError[ch] << ", standard error " << t.standardError[ch]);
+          INFO("channel " << ch << ": mean error " << t.meanError[ch] << ", standard error "
+                          << t.standardError[ch]);
           CHECK(std::abs(t.z[ch]) < zBound);
         }
         CHECK(renderer.nonFiniteSamples() == 0);
@@ -255,10 +264,13 @@ TEST_CASE("merl: every method converges to the convolution reference (z-test)") 
   checkNoNewValidationErrors();
 }
 
-TEST_CASE("merl hard cases: no NaN or Inf with invalid bins, a near-mirror lobe, a 1e6 sun and grazing pixels") {
-  // alpha = 0.01 tabulated (its lobe is a few theta_h bins wide), MERL's -1 below the horizon and in 2 % of the
-  // bins, under a sun 1e6 times the sky next to an exactly-zero half; the sphere's rim gives grazing views.
-  const auto path = synthesize("ggx001-invalid", "ggx", {{"roughness", "0.01"}, {"metallic", "1"}}, {true, 0.02, 11});
+TEST_CASE(
+    "merl hard cases: no NaN or Inf with invalid bins, a near-mirror lobe, a 1e6 sun and grazing pixels") {
+  // alpha = 0.01 tabulated (its lobe is a few theta_h bins wide), MERL's -1 below the horizon and in 2 % of
+  // the bins, under a sun 1e6 times the sky next to an exactly-zero half; the sphere's rim gives grazing
+  // views.
+  const auto path =
+      synthesize("ggx001-invalid", "ggx", {{"roughness", "0.01"}, {"metallic", "1"}}, {true, 0.02, 11});
   const Scene scene = sceneWith(sunAndZeroHalf(32, 16), path.string(), {}, 32);
   REQUIRE(scene.measured->brdf.invalidBins > 0);
   for (const auto& spec : allMethodSpecs(*scene.brdf, "random")) {

@@ -17,8 +17,8 @@ namespace iblx::test {
 std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& sequence);
 
 // A square scene of the sphere; `brdf` is a built-in name or a file (e.g. a MERL .binary).
-Scene sceneWith(EnvImage env, const std::string& brdf, std::vector<std::pair<std::string, std::string>> params,
-                int size);
+Scene sceneWith(EnvImage env, const std::string& brdf,
+                std::vector<std::pair<std::string, std::string>> params, int size);
 
 struct ZTest {
   double z[3] = {0, 0, 0};

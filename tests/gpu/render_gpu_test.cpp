@@ -19,7 +19,6 @@
 using namespace iblx;
 using namespace iblx::test;
 
-
 TEST_CASE("white furnace: constant environment 1 and Lambert albedo give the albedo, for every method") {
   const double albedo = 0.7;
   const Scene scene = sceneWith(constantEnv(16, 8, 1.0f), "lambert", {{"albedo", "0.7"}}, 32);

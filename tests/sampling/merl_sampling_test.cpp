@@ -347,11 +347,11 @@ TEST_CASE("merl-table: tables on the test materials") {
 }
 
 TEST_CASE("merl-table: cell probabilities follow the documented weights") {
-  // The header's recipe, written out with evalMerl: cell weight = maximum over a 5 x 5 grid (edges included) of
-  // g(u) = max over the slice's two edges wo_e of w(f(wi, wo_e)) max(wi.z, 0) 2 pi^2 u_theta sin(theta_h)
+  // The header's recipe, written out with evalMerl: cell weight = maximum over a 5 x 5 grid (edges included)
+  // of g(u) = max over the slice's two edges wo_e of w(f(wi, wo_e)) max(wi.z, 0) 2 pi^2 u_theta sin(theta_h)
   // 4 |wo_e.h|, floored at 1e-4 of the slice's
-  // mean, then at 1e-4 of the row's mean; row probability = row sum / total, column probability = cell / row sum. The float tables may differ
-  // from these by the rounding of two CDF entries.
+  // mean, then at 1e-4 of the row's mean; row probability = row sum / total, column probability = cell / row
+  // sum. The float tables may differ from these by the rounding of two CDF entries.
   constexpr int kRows = kMerlTableThetaBins, kCols = kMerlTablePhiBins;
   for (const Material& m : materials()) {
     CAPTURE(m.name);
@@ -387,7 +387,8 @@ TEST_CASE("merl-table: cell probabilities follow the documented weights") {
         double rowSum = 0.0;
         for (int c = 0; c < kCols; ++c) rowSum += cells[std::size_t(r * kCols + c)];
         for (int c = 0; c < kCols; ++c)
-          cells[std::size_t(r * kCols + c)] = std::max(cells[std::size_t(r * kCols + c)], kMerlFloor * rowSum / kCols);
+          cells[std::size_t(r * kCols + c)] =
+              std::max(cells[std::size_t(r * kCols + c)], kMerlFloor * rowSum / kCols);
       }
       std::vector<double> rows(kRows, 0.0);
       total = 0.0;
@@ -552,8 +553,9 @@ TEST_CASE("merl-table: no wo of a grazing slice finds its lobe starved") {
   // grazing lobe that reflects below the horizon at the centre but above it for a less grazing wo of the same
   // slice; f cos / pdf reached thousands of times the albedo there, and renders under a sun were dominated by
   // those samples. The weight w(f) cos / pdf of any direction must stay within a small factor of the albedo:
-  // measured, at most 2 times with the maximum over the cell and the edges' envelope; 25 times with the mean over
-  // the cell (thin slivers of the horizon crossing a cell); 700 to 2000 times with the slice's centre alone.
+  // measured, at most 2 times with the maximum over the cell and the edges' envelope; 25 times with the mean
+  // over the cell (thin slivers of the horizon crossing a cell); 700 to 2000 times with the slice's centre
+  // alone.
   const Material& m = materials()[2];  // GGX alpha = 0.05
   REQUIRE(m.name == "ggx-0.05");
   const double sliceDegrees = 90.0 / kMerlTableSlices;

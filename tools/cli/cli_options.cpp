@@ -139,7 +139,8 @@ void addRunFlags(ArgParser& p, RenderSpec& s) {
           [&](const std::string& v) { s.exposure = parseDouble("--exposure", v, -64, 64); });
   p.toggle("--reference", "also compute the ground truth and report the error against it",
            [&] { s.reference = true; });
-  p.value("--reference-file", "FILE", "like --reference, with the ground truth read from an EXR of `iblx reference`",
+  p.value("--reference-file", "FILE",
+          "like --reference, with the ground truth read from an EXR of `iblx reference`",
           [&](const std::string& v) { s.referenceFile = v; });
   p.toggle("--json", "print one JSON object with the run's figures", [&] { s.json = true; });
 }

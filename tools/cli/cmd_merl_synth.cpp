@@ -1,5 +1,5 @@
-// `iblx merl-synth`: tabulates a BRDF into MERL's .binary layout (engine/io/merl.h), evaluating its GLSL part on
-// the GPU at the centre of every bin, so tests and benchmarks have measured-layout materials with known
+// `iblx merl-synth`: tabulates a BRDF into MERL's .binary layout (engine/io/merl.h), evaluating its GLSL part
+// on the GPU at the centre of every bin, so tests and benchmarks have measured-layout materials with known
 // answers (real MERL files are 35 MB each and cannot ship with the project).
 #include "engine/core/error.h"
 #include "engine/io/merl.h"
@@ -20,17 +20,23 @@ int cmdMerlSynth(const Args& args) {
   ArgParser parser("merl-synth");
   parser.value("--brdf", "NAME", "BRDF to tabulate: any built-in (default ggx)",
                [&](const std::string& v) { spec.scene.brdf = v; });
-  parser.value("--param", "NAME=VALUE", "BRDF parameter, repeatable; colors as r,g,b", [&](const std::string& v) {
-    const auto eq = v.find('=');
-    if (eq == std::string::npos || eq == 0) throw Error("--param " + v + ": expected NAME=VALUE");
-    spec.scene.params.emplace_back(v.substr(0, eq), v.substr(eq + 1));
-  });
-  parser.value("--out", "FILE", "output .binary (default material.binary)", [&](const std::string& v) { out = v; });
-  parser.toggle("--invalid-below-horizon",
-                "write -1 (MERL's 'no data') into bins whose centre lies below the horizon, as measured files do",
-                [&] { options.invalidBelowHorizon = true; });
+  parser.value("--param", "NAME=VALUE", "BRDF parameter, repeatable; colors as r,g,b",
+               [&](const std::string& v) {
+                 const auto eq = v.find('=');
+                 if (eq == std::string::npos || eq == 0)
+                   throw Error("--param " + v + ": expected NAME=VALUE");
+                 spec.scene.params.emplace_back(v.substr(0, eq), v.substr(eq + 1));
+               });
+  parser.value("--out", "FILE", "output .binary (default material.binary)",
+               [&](const std::string& v) { out = v; });
+  parser.toggle(
+      "--invalid-below-horizon",
+      "write -1 (MERL's 'no data') into bins whose centre lies below the horizon, as measured files do",
+      [&] { options.invalidBelowHorizon = true; });
   parser.value("--invalid-fraction", "F", "also write -1 into this fraction of random bins (default 0)",
-               [&](const std::string& v) { options.invalidFraction = parseDouble("--invalid-fraction", v, 0.0, 1.0); });
+               [&](const std::string& v) {
+                 options.invalidFraction = parseDouble("--invalid-fraction", v, 0.0, 1.0);
+               });
   parser.value("--seed", "N", "seed of --invalid-fraction (default 1)",
                [&](const std::string& v) { options.seed = parseUint("--seed", v, 0, 0xffffffffu); });
   addDeviceFlags(parser, spec);
@@ -57,8 +63,8 @@ int cmdMerlSynth(const Args& args) {
   const MerlSynthResult table = tabulateMerl(context, compiler, scene, options);
   writeMerl(out, table.values);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("wrote %s: %s tabulated at %zu bin centres, %zu bins marked invalid (-1), %.2f s\n", out.c_str(),
-              brdf.name.c_str(), kMerlBins, table.invalidBins, seconds);
+  std::printf("wrote %s: %s tabulated at %zu bin centres, %zu bins marked invalid (-1), %.2f s\n",
+              out.c_str(), brdf.name.c_str(), kMerlBins, table.invalidBins, seconds);
   return 0;
 }
 

@@ -46,9 +46,10 @@ int cmdRender(const Args& args) {
   if (!spec.referenceFile.empty()) {
     referenceImage = loadRgbImage(spec.referenceFile);  // read before the render starts
     if (referenceImage->width != scene.gbuffer.width || referenceImage->height != scene.gbuffer.height)
-      throw Error("--reference-file " + spec.referenceFile.string() + ": " + std::to_string(referenceImage->width) +
-                  "x" + std::to_string(referenceImage->height) + " does not match --size " +
-                  std::to_string(scene.gbuffer.width) + "x" + std::to_string(scene.gbuffer.height));
+      throw Error("--reference-file " + spec.referenceFile.string() + ": " +
+                  std::to_string(referenceImage->width) + "x" + std::to_string(referenceImage->height) +
+                  " does not match --size " + std::to_string(scene.gbuffer.width) + "x" +
+                  std::to_string(scene.gbuffer.height));
   }
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
   ShaderCompiler compiler;
