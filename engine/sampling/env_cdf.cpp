@@ -3,6 +3,7 @@
 #include "engine/sampling/env_cdf.h"
 
 #include "engine/core/error.h"
+#include "engine/sampling/float_cdf.h"
 
 #include <algorithm>
 #include <span>
@@ -12,53 +13,25 @@
 namespace iblx {
 namespace {
 
-// Writes the normalised running sum of `weights` into cdf[0..n] (n = weights.size()): cdf[0] = 0, cdf[n] = 1
-// exactly, non-decreasing after rounding to float. An all-zero row becomes the uniform CDF k/n.
-void writeCdf(std::span<const double> weights, float* cdf) {
-  const std::size_t n = weights.size();
-  double total = 0.0;
-  for (double w : weights) total += w;
-  cdf[0] = 0.0f;
-  double running = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
-    running += weights[k];  // same additions as `total`, so running == total after the last bin
-    const double c = total > 0.0 ? running / total : double(k + 1) / double(n);
-    cdf[k + 1] = std::max(float(c), cdf[k]);
-  }
-  cdf[n] = 1.0f;
-}
-
-// Bin k in [0, n) with cdf[k] <= u < cdf[k+1]: (first entry among cdf[1..n] greater than u) - 1. Searching
-// from entry 1 means a zero-width bin is never returned.
-int findBin(const float* cdf, int n, float u) {
-  const float* first = std::upper_bound(cdf + 1, cdf + n + 1, u);
-  return std::clamp(int(first - cdf) - 1, 0, n - 1);
-}
-
 // Guide cell k of a CDF over n bins with G cells: lo = bin of u = k/G, hi = bin of the largest float below
 // (k+1)/G. Both bounds are floats exactly (G is a power of two), so [lo, hi] holds the bin of every u in the
 // cell.
 void writeGuide(const float* cdf, int n, int cells, std::uint32_t* guide) {
   for (int k = 0; k < cells; ++k) {
     const float start = float(k) / float(cells), end = float(k + 1) / float(cells);
-    const int lo = findBin(cdf, n, start);
+    const int lo = findFloatBin(cdf, n, start);
     // Largest i with cdf[i] < end: (first entry among cdf[1..n] >= end) - 1.
     const int hi = std::clamp(int(std::lower_bound(cdf + 1, cdf + n + 1, end) - cdf) - 1, lo, n - 1);
     guide[k] = std::uint32_t(lo) | std::uint32_t(hi) << 16;
   }
 }
 
-// findBin through guide cell u * G: the same bin, found by a search over [lo, hi] only (as on the GPU).
+// findFloatBin through guide cell u * G: the same bin, found by a search over [lo, hi] only (as on the GPU).
 int findBinGuided(const float* cdf, const std::uint32_t* guide, int cells, float u) {
   const std::uint32_t g = guide[std::min(int(u * float(cells)), cells - 1)];
   const int lo = int(g & 0xffffu), hi = int(g >> 16);
   const float* first = std::upper_bound(cdf + lo + 1, cdf + hi + 1, u);
   return int(first - cdf) - 1;
-}
-
-// Rescaled offset of u inside [lo, lo + width), in float as on the GPU.
-float remapInBin(float u, float lo, float width) {
-  return width > 0.0f ? std::clamp((u - lo) / width, 0.0f, kOneMinusEpsilonF) : 0.0f;
 }
 
 }  // namespace
@@ -87,7 +60,7 @@ EnvCdfData buildEnvCdf(const EnvImage& image) {
   for (int y = 0; y < height; ++y) {
     const std::span<const double> row(weights.data() + image.index(0, y), std::size_t(width));
     for (double w : row) rowWeights[std::size_t(y)] += w;
-    writeCdf(row, data.conditionalCdf.data() + std::size_t(y) * std::size_t(width + 1));
+    writeFloatCdf(row, data.conditionalCdf.data() + std::size_t(y) * std::size_t(width + 1));
   }
   // texelSamplingWeights already replaced an all-zero image by Omega(y); this only guards total underflow.
   double total = 0.0;
@@ -95,7 +68,7 @@ EnvCdfData buildEnvCdf(const EnvImage& image) {
   if (!(total > 0.0)) {
     for (int y = 0; y < height; ++y) rowWeights[std::size_t(y)] = latLongTexelSolidAngle(y, width, height);
   }
-  writeCdf(rowWeights, data.marginalCdf.data());
+  writeFloatCdf(rowWeights, data.marginalCdf.data());
 
   data.rowGuideCells = envCdfGuideCells(height, kEnvCdfRowCellsPerBin);
   data.columnGuideCells = envCdfGuideCells(width, kEnvCdfColumnCellsPerBin);
@@ -143,12 +116,12 @@ EnvSample EnvCdfSampler::sample(glm::dvec2 u) const {
   const float* m = data_.marginalCdf.data();
   const int y = findBinGuided(m, data_.marginalGuide.data(), data_.rowGuideCells, uy);
   const float rowProb = m[y + 1] - m[y];
-  const float ty = remapInBin(uy, m[y], rowProb);
+  const float ty = remapInFloatBin(uy, m[y], rowProb);
   // Column x from row y's conditional, then t.x.
   const float* c = conditionalRow(y);
   const int x = findBinGuided(c, conditionalGuideRow(y), data_.columnGuideCells, ux);
   const float colProb = c[x + 1] - c[x];
-  const float tx = remapInBin(ux, c[x], colProb);
+  const float tx = remapInFloatBin(ux, c[x], colProb);
   // P = probability of the texel actually chosen; constant density P / Omega(y) inside it.
   const float prob = rowProb * colProb;
   const float omega = rowSolidAngles_[std::size_t(y)];

@@ -3,6 +3,7 @@
 #include "engine/sampling/merl_sampling.h"
 
 #include "engine/core/error.h"
+#include "engine/sampling/float_cdf.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/sphere_mapping.h"
 
@@ -36,25 +37,8 @@ void checkMaterial(const MerlBrdf& brdf, const std::string& builder) {
   }
 }
 
-// Writes the normalised running sum of `weights` into cdf[0..n] (n = weights.size()): cdf[0] = 0, cdf[n] = 1
-// exactly, non-decreasing after rounding to float. All-zero weights become the uniform CDF k/n.
-// (The same rule as env-cdf's tables.)
-void writeCdf(std::span<const double> weights, float* cdf) {
-  const std::size_t n = weights.size();
-  double total = 0.0;
-  for (double w : weights) total += w;
-  cdf[0] = 0.0f;
-  double running = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
-    running += weights[k];  // same additions as `total`, so running == total after the last bin
-    const double c = total > 0.0 ? running / total : double(k + 1) / double(n);
-    cdf[k + 1] = std::max(float(c), cdf[k]);
-  }
-  cdf[n] = 1.0f;
-}
-
 // Raises every weight to kMerlFloor * mean weight, so that no bin where the material may reflect gets zero
-// (or, after float rounding, zero-width) probability. All-zero weights stay zero (writeCdf makes them
+// (or, after float rounding, zero-width) probability. All-zero weights stay zero (writeFloatCdf makes them
 // uniform).
 void applyFloor(std::span<double> weights) {
   double total = 0.0;
@@ -62,19 +46,6 @@ void applyFloor(std::span<double> weights) {
   const double floor = kMerlFloor * total / double(weights.size());
   if (!(floor > 0.0)) return;
   for (double& w : weights) w = std::max(w, floor);
-}
-
-// Bin k in [0, n) with cdf[k] <= u < cdf[k+1]: (first entry among cdf[1..n] greater than u) - 1, in float as
-// on the GPU. Searching from entry 1 means a zero-width bin is never returned.
-int findBin(const float* cdf, int n, float u) {
-  const float* first = std::upper_bound(cdf + 1, cdf + n + 1, u);
-  return std::clamp(int(first - cdf) - 1, 0, n - 1);
-}
-
-// Rescaled offset t = (u - lo) / width of u inside its bin, clamped to [0, 1 - 2^-24], in float as on the
-// GPU.
-float remapInBin(float u, float lo, float width) {
-  return width > 0.0f ? std::clamp((u - lo) / width, 0.0f, kOneMinusEpsilonF) : 0.0f;
 }
 
 // Index int(x) of a coordinate x = u * n in [0, n), clamped to [0, n - 1] (0 for NaN).
@@ -166,7 +137,7 @@ MerlThetaHData buildMerlThetaH(const MerlBrdf& brdf) {
   applyFloor(weights);
   MerlThetaHData data;
   data.cdf.resize(kMerlThetaHBins + 1);
-  writeCdf(weights, data.cdf.data());
+  writeFloatCdf(weights, data.cdf.data());
   return data;
 }
 
@@ -181,9 +152,9 @@ BrdfSample MerlThetaHSampler::sample(glm::dvec2 u, glm::dvec3 wo) const {
   const float ux = toGpuU(u.x), uy = toGpuU(u.y);
   // theta_h bin i from the CDF, then t = offset of u.x inside it.
   const float* cdf = data_.cdf.data();
-  const int i = findBin(cdf, kMerlThetaHBins, ux);
+  const int i = findFloatBin(cdf, kMerlThetaHBins, ux);
   const float prob = cdf[i + 1] - cdf[i];
-  const float t = remapInBin(ux, cdf[i], prob);
+  const float t = remapInFloatBin(ux, cdf[i], prob);
   const float pdfU = prob * float(kMerlThetaHBins);
   // u_theta = (i + t) / 90, phi_h = 2 pi u.y uniform.
   const double uTheta = (double(i) + double(t)) / kMerlThetaHBins;
@@ -295,9 +266,9 @@ MerlTableData buildMerlTable(const MerlBrdf& brdf) {
       double sum = 0.0;
       for (double w : row) sum += w;
       rowWeights[std::size_t(r)] = sum;
-      writeCdf(row, slice + (kRows + 1) + std::size_t(r) * (kCols + 1));
+      writeFloatCdf(row, slice + (kRows + 1) + std::size_t(r) * (kCols + 1));
     }
-    writeCdf(rowWeights, slice);
+    writeFloatCdf(rowWeights, slice);
   }
   return data;
 }
@@ -321,13 +292,13 @@ BrdfSample MerlTableSampler::sample(glm::dvec2 u, glm::dvec3 wo) const {
   const float* marginal = data_.tables.data() + std::size_t(sliceOf(wo)) * kMerlTableSliceFloats;
   // Row i (u_theta) from the slice's marginal with u.y, then column j (u_phi) from row i's conditional with
   // u.x.
-  const int i = findBin(marginal, kRows, uy);
+  const int i = findFloatBin(marginal, kRows, uy);
   const float rowProb = marginal[i + 1] - marginal[i];
-  const float ty = remapInBin(uy, marginal[i], rowProb);
+  const float ty = remapInFloatBin(uy, marginal[i], rowProb);
   const float* conditional = marginal + (kRows + 1) + std::size_t(i) * (kCols + 1);
-  const int j = findBin(conditional, kCols, ux);
+  const int j = findFloatBin(conditional, kCols, ux);
   const float colProb = conditional[j + 1] - conditional[j];
-  const float tx = remapInBin(ux, conditional[j], colProb);
+  const float tx = remapInFloatBin(ux, conditional[j], colProb);
   const float pdfU = rowProb * colProb * float(kRows) * float(kCols);
   // u_theta = (i + t.y) / rows; phi_h = phi_o + 2 pi (j + t.x) / columns.
   const double uTheta = (double(i) + double(ty)) / kRows;

@@ -128,33 +128,10 @@ TEST_CASE("merl: the GPU lookup agrees with the CPU reference lookup at random d
 }
 
 TEST_CASE("merl: a tabulated Lambert under the white furnace gives its albedo, for every method") {
+  // 5.5 sigma per pixel: about 13,000 pixel tests (methods x sequences x pixels), 5e-4 false alarms for the
+  // family under normality; the MERL estimators are bounded but skewed, hence 512 samples.
   const auto path = synthesize("lambert07", "lambert", {{"albedo", "0.7"}});
-  const Scene scene = sceneWith(constantEnv(16, 8, 1.0f), path.string(), {}, 24);
-  for (const char* sequence : {"random", "sobol"})
-    for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {
-      const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
-      INFO(method.label());
-      Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 3);
-      for (int pass = 0; pass < 8; ++pass) renderer.runPass(64);
-      const auto mean = renderer.meanRgb();
-      const auto var = renderer.varianceRgb();
-      const double n = double(renderer.samplesPerPixel());
-      int failures = 0;
-      for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i) {
-        if (scene.gbuffer.pixels[i].normal.w == 0.0f) continue;
-        // 5.5 sigma per pixel: about 13,000 pixel tests (methods x sequences x pixels), 5e-4 false alarms for
-        // the family under normality; the estimators are bounded but skewed, hence 512 samples.
-        const double bound = 5.5 * std::sqrt(var[3 * i] / n) + 1e-4;
-        if (std::abs(mean[3 * i] - 0.7) > bound) {
-          ++failures;
-          const auto& g = scene.gbuffer.pixels[i];
-          MESSAGE("pixel " << i << " mean " << mean[3 * i] << " bound " << bound << " n.z " << g.normal.z);
-        }
-      }
-      CHECK(failures == 0);
-      CHECK(renderer.nonFiniteSamples() == 0);
-    }
-  checkNoNewValidationErrors();
+  checkWhiteFurnace(sceneWith(constantEnv(16, 8, 1.0f), path.string(), {}, 24), 0.7, 8, 5.5);
 }
 
 TEST_CASE("merl: tabulated GGX renders like the analytic GGX within the tabulation error") {

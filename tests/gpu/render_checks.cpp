@@ -1,6 +1,10 @@
 // Helpers shared by the end-to-end GPU tests (tests/gpu/render_checks.h).
 #include "tests/gpu/render_checks.h"
 
+#include "tests/gpu/gpu_fixture.h"
+
+#include <doctest/doctest.h>
+
 #include <cmath>
 
 namespace iblx::test {
@@ -60,6 +64,31 @@ ZTest zTest(const Scene& scene, const Renderer& renderer, const std::vector<floa
                                     : (std::abs(t.meanError[c]) < 1e-5 ? 0.0 : 1e9);
   }
   return t;
+}
+
+void checkWhiteFurnace(const Scene& scene, double albedo, int passes, double sigmas) {
+  for (const char* sequence : {"random", "sobol"})
+    for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {
+      const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+      INFO(method.label());
+      Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 3);
+      for (int pass = 0; pass < passes; ++pass) renderer.runPass(64);
+      const auto mean = renderer.meanRgb();
+      const auto var = renderer.varianceRgb();
+      const double n = double(renderer.samplesPerPixel());
+      int failures = 0;
+      for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i) {
+        if (scene.gbuffer.pixels[i].normal.w == 0.0f) continue;
+        const double bound = sigmas * std::sqrt(var[3 * i] / n) + 1e-4;
+        if (std::abs(mean[3 * i] - albedo) > bound) {
+          ++failures;
+          MESSAGE(method.label() << ": pixel " << i << " mean " << mean[3 * i] << ", bound " << bound);
+        }
+      }
+      CHECK(failures == 0);
+      CHECK(renderer.nonFiniteSamples() == 0);
+    }
+  checkNoNewValidationErrors();
 }
 
 }  // namespace iblx::test

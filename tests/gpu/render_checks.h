@@ -31,4 +31,10 @@ struct ZTest {
 // variance).
 ZTest zTest(const Scene& scene, const Renderer& renderer, const std::vector<float>& reference);
 
+// White furnace (constant environment 1): renders every method the registry offers for the scene's BRDF with
+// both sequences, `passes` x 64 spp each, and checks that every object pixel's mean is within `sigmas`
+// standard errors (plus 1e-4 of float rounding) of `albedo` and that no estimate was NaN or Inf. Failing
+// pixels are reported with their method.
+void checkWhiteFurnace(const Scene& scene, double albedo, int passes, double sigmas);
+
 }  // namespace iblx::test

@@ -20,28 +20,8 @@ using namespace iblx;
 using namespace iblx::test;
 
 TEST_CASE("white furnace: constant environment 1 and Lambert albedo give the albedo, for every method") {
-  const double albedo = 0.7;
-  const Scene scene = sceneWith(constantEnv(16, 8, 1.0f), "lambert", {{"albedo", "0.7"}}, 32);
-  for (const char* sequence : {"random", "sobol"})
-    for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {
-      const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
-      INFO(method.label());
-      Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 3);
-      for (int pass = 0; pass < 4; ++pass) renderer.runPass(64);
-      const auto mean = renderer.meanRgb();
-      const auto var = renderer.varianceRgb();
-      const double n = double(renderer.samplesPerPixel());
-      int failures = 0;
-      for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i) {
-        if (scene.gbuffer.pixels[i].normal.w == 0.0f) continue;
-        // 5 sigma per pixel (about 3e-7 false alarms each) plus float rounding of the running mean.
-        const double bound = 5.0 * std::sqrt(var[3 * i] / n) + 1e-4;
-        failures += std::abs(mean[3 * i] - albedo) > bound;
-      }
-      CHECK(failures == 0);
-      CHECK(renderer.nonFiniteSamples() == 0);
-    }
-  checkNoNewValidationErrors();
+  // 5 sigma per pixel (about 3e-7 false alarms each).
+  checkWhiteFurnace(sceneWith(constantEnv(16, 8, 1.0f), "lambert", {{"albedo", "0.7"}}, 32), 0.7, 4, 5.0);
 }
 
 TEST_CASE("reference: white furnace convolution gives the albedo") {
