@@ -37,6 +37,12 @@ inline std::size_t merlBinIndex(int thetaH, int thetaD, int phiD) {
                                  (std::size_t(thetaD) + std::size_t(kMerlThetaDBins) * std::size_t(thetaH));
 }
 
+// Sampling weight of a bin: the mean of its R, G and B (the project's weight, as for environment texels).
+inline double merlSamplingWeight(const MerlBrdf& brdf, std::size_t bin) {
+  return (double(brdf.rgb[bin]) + double(brdf.rgb[kMerlBins + bin]) + double(brdf.rgb[2 * kMerlBins + bin])) /
+         3.0;
+}
+
 // Reads a .binary file. Throws iblx::Error naming the file on: unreadable file, size other than
 // kMerlFileBytes (truncated or oversized, with both sizes in the message), header other than (90, 90, 180).
 // Invalid bins are zeroed and reported in one warning (engine/core/log.h) with their count.

@@ -36,7 +36,9 @@ KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method, co
 }
 
 KernelParts referenceParts(const Scene& scene) {
-  return {"reference.comp", {scene.brdf->evalPart}, paramBlockGlsl(*scene.brdf), brdfBindingDefines(0)};
+  // No BRDF technique in the reference: only the BRDF's own data binding.
+  return {
+      "reference.comp", {scene.brdf->evalPart}, paramBlockGlsl(*scene.brdf), {{"BRDF_DATA_BINDING", "1"}}};
 }
 
 KernelLayout sceneKernelLayout(uint32_t envBuffers, uint32_t brdfBuffers) {

@@ -18,8 +18,8 @@ namespace iblx {
 struct Scene;  // engine/render/scene.h
 
 // GPU data of a technique or of a BRDF read from a file: storage buffers in binding order, and preprocessor
-// definitions for its GLSL part (sizes known at build time, so loops over them have constant trip counts and
-// unroll; they are part of the SPIR-V cache key through the prelude).
+// definitions for its GLSL part (sizes known at build time, so most loops over them have constant trip counts
+// and unroll; they are part of the SPIR-V cache key through the prelude).
 struct TechniqueData {
   std::vector<std::vector<std::byte>> buffers;
   std::vector<std::string> names;

@@ -19,7 +19,7 @@ std::filesystem::path defaultEnvPath() {
   return std::filesystem::path(IBLX_SOURCE_DIR) / "assets" / "default_sky.exr";
 }
 
-MeasuredBrdf::MeasuredBrdf(std::filesystem::path p, MerlBrdf b) : path(std::move(p)), brdf(std::move(b)) {}
+MeasuredBrdf::MeasuredBrdf(MerlBrdf b) : brdf(std::move(b)) {}
 MeasuredBrdf::~MeasuredBrdf() = default;
 
 const MerlThetaHData& MeasuredBrdf::thetaHTable() const {
@@ -40,9 +40,7 @@ double MeasuredBrdf::lobeWidth() const {
   for (int h = 0; h < kMerlThetaHBins; ++h)
     for (int d = 0; d < kMerlThetaDBins; ++d)
       for (int p = 0; p < kMerlPhiDBins; ++p) {
-        const std::size_t i = merlBinIndex(h, d, p);
-        profile[std::size_t(h)] +=
-            double(brdf.rgb[i]) + brdf.rgb[i + kMerlBins] + brdf.rgb[i + 2 * kMerlBins];
+        profile[std::size_t(h)] += merlSamplingWeight(brdf, merlBinIndex(h, d, p));
       }
   const auto peak = std::max_element(profile.begin(), profile.end());
   if (*peak <= 0.0) return 0.0;
@@ -55,7 +53,21 @@ double MeasuredBrdf::lobeWidth() const {
   return 0.0;
 }
 
+namespace {
+// The material of a BRDF read from a file (--brdf FILE), or null for a built-in. The only such BRDF today is
+// MERL's; a new file format adds its loader here.
+std::shared_ptr<const MeasuredBrdf> loadBrdfFile(const BrdfInfo& brdf, const std::string& path) {
+  if (brdf.fileExtension.empty()) return nullptr;
+  if (!std::filesystem::exists(path)) throw Error("--brdf " + path + ": no such file");
+  return std::make_shared<const MeasuredBrdf>(loadMerl(path));
+}
+}  // namespace
+
 Scene makeScene(EnvImage env, const SceneSpec& spec) {
+  return makeScene(std::move(env), spec, nullptr);
+}
+
+Scene makeScene(EnvImage env, const SceneSpec& spec, std::shared_ptr<const MeasuredBrdf> measured) {
   if (spec.width < 1 || spec.height < 1 || spec.width > 16384 || spec.height > 16384)
     throw Error("--size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                 ": width and height must be in [1, 16384]");
@@ -65,19 +77,16 @@ Scene makeScene(EnvImage env, const SceneSpec& spec) {
   scene.envRotationDeg = spec.envRotationDeg;
   scene.brdf = &findBrdfForArgument(spec.brdf);
   scene.params = resolveParams(*scene.brdf, spec.params);
-  if (scene.brdf->fileExtension == ".binary")
-    scene.measured = std::make_shared<const MeasuredBrdf>(spec.brdf, loadMerl(spec.brdf));
+  scene.measured = measured ? std::move(measured) : loadBrdfFile(*scene.brdf, spec.brdf);
   scene.gbuffer = makeGBuffer(spec.object, spec.width, spec.height);
   return scene;
 }
 
 Scene loadScene(const SceneSpec& spec) {
   const auto path = spec.envPath.empty() ? defaultEnvPath() : spec.envPath;
-  // Validate the cheap things first so a typo in --brdf does not wait for a large map to load.
-  const BrdfInfo& brdf = findBrdfForArgument(spec.brdf);
-  if (!brdf.fileExtension.empty() && !std::filesystem::is_regular_file(spec.brdf))
-    throw Error("--brdf " + spec.brdf + ": no such file");
-  return makeScene(loadEnvImage(path), spec);
+  // The BRDF (and its file) first, so a bad --brdf does not wait for a large map to load.
+  auto measured = loadBrdfFile(findBrdfForArgument(spec.brdf), spec.brdf);
+  return makeScene(loadEnvImage(path), spec, std::move(measured));
 }
 
 std::string ResolvedMethod::label() const {

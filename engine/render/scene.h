@@ -45,9 +45,8 @@ struct MerlTableData;
 // renderers of several methods on one scene (bench, converge, the viewer) build them once.
 class MeasuredBrdf {
  public:
-  MeasuredBrdf(std::filesystem::path path, MerlBrdf brdf);
+  explicit MeasuredBrdf(MerlBrdf brdf);
   ~MeasuredBrdf();
-  const std::filesystem::path path;
   const MerlBrdf brdf;
 
   const MerlThetaHData& thetaHTable() const;
@@ -82,7 +81,9 @@ struct ResolvedMethod {
 };
 
 std::filesystem::path defaultEnvPath();
-Scene makeScene(EnvImage env, const SceneSpec& spec);
+Scene makeScene(EnvImage env, const SceneSpec& spec);  // reads the --brdf file, if any
+// The same with the BRDF file's material already loaded (null: read it).
+Scene makeScene(EnvImage env, const SceneSpec& spec, std::shared_ptr<const MeasuredBrdf> measured);
 Scene loadScene(const SceneSpec& spec);  // reads spec.envPath (or the default map)
 ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf);
 

@@ -38,7 +38,7 @@ int findBinGuided(const float* cdf, const std::uint32_t* guide, int cells, float
 
 int envCdfGuideCells(int n, int cellsPerBin) {
   int cells = 1;
-  while (cells < n * cellsPerBin) cells *= 2;
+  while (cells * 2 <= n * cellsPerBin) cells *= 2;
   return cells;
 }
 

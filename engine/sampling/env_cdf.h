@@ -32,8 +32,9 @@ struct EnvCdfData {
   std::vector<std::uint32_t> conditionalGuide;  // H * columnGuideCells cells, row y at y * columnGuideCells
 };
 
-// Cells of the guide table of a CDF over n bins: the smallest power of two >= n * cellsPerBin. More cells
-// mean fewer search steps: the marginal is small, so it gets many; the conditionals hold most of the memory.
+// Cells of the guide table of a CDF over n bins: the largest power of two <= n * cellsPerBin, so between
+// cellsPerBin / 2 and cellsPerBin cells per bin (the conditionals' guides take at most 8 bytes per texel,
+// less than the map itself). More cells mean fewer search steps: the marginal is small, so it gets many.
 inline constexpr int kEnvCdfRowCellsPerBin = 16, kEnvCdfColumnCellsPerBin = 2;
 int envCdfGuideCells(int n, int cellsPerBin);
 // Largest bin count per axis: guide cells store bin indices in 16 bits.

@@ -117,16 +117,12 @@ double halfVectorPdfToSolidAngle(double pdfU, double uTheta, double thetaH, doub
 MerlThetaHData buildMerlThetaH(const MerlBrdf& brdf) {
   checkMaterial(brdf, "merl-thetah");
   constexpr std::size_t kBinsPerThetaH = std::size_t(kMerlThetaDBins) * kMerlPhiDBins;
-  const float* r = brdf.rgb.data();
-  const float* g = r + kMerlBins;
-  const float* b = g + kMerlBins;
   std::array<double, kMerlThetaHBins> weights{};
   for (int i = 0; i < kMerlThetaHBins; ++i) {
     // Mean sampling weight over the theta_d, phi_d bins of this theta_h ...
     double sum = 0.0;
     const std::size_t first = std::size_t(i) * kBinsPerThetaH;
-    for (std::size_t k = first; k < first + kBinsPerThetaH; ++k)
-      sum += (double(r[k]) + double(g[k]) + double(b[k])) / 3.0;
+    for (std::size_t k = first; k < first + kBinsPerThetaH; ++k) sum += merlSamplingWeight(brdf, k);
     // ... times the solid angle of the band [theta_lo, theta_hi), cos(lo) - cos(hi) written without
     // cancellation as 2 sin((hi + lo) / 2) sin((hi - lo) / 2).
     const double lo = double(i) * i / (kMerlThetaHBins * kMerlThetaHBins) * kHalfPi;
@@ -180,9 +176,7 @@ MerlTableData buildMerlTable(const MerlBrdf& brdf) {
   constexpr int kRows = kMerlTableThetaBins, kCols = kMerlTablePhiBins, kSub = kTableSubPoints;
   // Sampling weight w = mean of R, G, B of every MERL bin, read once per sub-point below.
   std::vector<double> binWeights(kMerlBins);
-  for (std::size_t i = 0; i < kMerlBins; ++i)
-    binWeights[i] =
-        (double(brdf.rgb[i]) + double(brdf.rgb[kMerlBins + i]) + double(brdf.rgb[2 * kMerlBins + i])) / 3.0;
+  for (std::size_t i = 0; i < kMerlBins; ++i) binWeights[i] = merlSamplingWeight(brdf, i);
   // The grid points, shared by all slices: kSub + 1 per cell and axis, edges included (neighbouring cells
   // share their edge points), all shifted by kMerlTableGridOffset of a grid step so that none lies on a MERL
   // bin edge or in wo's plane of incidence, where the bin would depend on rounding. Per row point theta_h

@@ -10,7 +10,7 @@ const int kMerlSliceFloats = (kMerlRows + 1) + kMerlRows * (kMerlColumns + 1);
 
 uint merlSliceBase(vec3 wo) {
   float thetaO = atan(length(wo.xy), wo.z);
-  return uint(min(int(thetaO / (0.5 * kPi) * float(kMerlSlices)), kMerlSlices - 1) * kMerlSliceFloats);
+  return uint(clamp(int(thetaO / (0.5 * kPi) * float(kMerlSlices)), 0, kMerlSlices - 1) * kMerlSliceFloats);
 }
 
 float merlAzimuth(vec3 w) { return (w.x == 0.0 && w.y == 0.0) ? 0.0 : atan(w.y, w.x); }
@@ -57,8 +57,8 @@ float brdfPdf(vec3 wi, vec3 wo) {
   float sinThetaH;
   float uTheta = merlUTheta(h, sinThetaH);
   float uPhi = fract((merlAzimuth(h) - merlAzimuth(wo)) / kTwoPi);
-  int row = min(int(uTheta * float(kMerlRows)), kMerlRows - 1);
-  int column = min(int(uPhi * float(kMerlColumns)), kMerlColumns - 1);
+  int row = clamp(int(uTheta * float(kMerlRows)), 0, kMerlRows - 1);
+  int column = clamp(int(uPhi * float(kMerlColumns)), 0, kMerlColumns - 1);
   uint rowBase = merlRowBase(slice, row);
   float rowProb = merlTable[slice + uint(row) + 1u] - merlTable[slice + uint(row)];
   float columnProb = merlTable[rowBase + uint(column) + 1u] - merlTable[rowBase + uint(column)];

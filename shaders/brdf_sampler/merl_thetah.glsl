@@ -37,7 +37,7 @@ float brdfPdf(vec3 wi, vec3 wo) {
   if (wo.z <= 0.0 || !merlHalfVectorOf(wi, wo, h)) return 0.0;
   float sinThetaH;
   float uTheta = merlUTheta(h, sinThetaH);
-  int i = min(int(uTheta * float(kMerlThetaHCells)), kMerlThetaHCells - 1);
+  int i = clamp(int(uTheta * float(kMerlThetaHCells)), 0, kMerlThetaHCells - 1);
   float binProb = merlThetaHCdf[i + 1] - merlThetaHCdf[i];
   return merlHalfVectorPdf(binProb * float(kMerlThetaHCells), uTheta, sinThetaH, dot(wo, h));
 }

@@ -27,12 +27,13 @@ int envCdfFindBin(uint base, uint cell, float u) {
 uint envCdfRowBase(int y) { return frame.envHeight + 1u + uint(y) * (frame.envWidth + 1u); }
 
 vec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {
-  // u * G is exact (G a power of two) and < G for u < 1.
+  // u * G is exact (G a power of two) and < G for u < 1; the min() only guards against bad input.
   const uint rowCells = ENV_CDF_ROW_GUIDE_SIZE, columnCells = ENV_CDF_COLUMN_GUIDE_SIZE;
-  int y = envCdfFindBin(0u, uint(u.y * float(rowCells)), u.y);
+  int y = envCdfFindBin(0u, min(uint(u.y * float(rowCells)), rowCells - 1u), u.y);
   float c0 = envCdf[y], rowProb = envCdf[y + 1] - c0;
   uint base = envCdfRowBase(y);
-  int x = envCdfFindBin(base, rowCells + uint(y) * columnCells + uint(u.x * float(columnCells)), u.x);
+  uint column = min(uint(u.x * float(columnCells)), columnCells - 1u);
+  int x = envCdfFindBin(base, rowCells + uint(y) * columnCells + column, u.x);
   float d0 = envCdf[base + uint(x)], colProb = envCdf[base + uint(x) + 1u] - d0;
   // rowProb, colProb > 0: the search never returns a zero-width bin; the guards keep the code total.
   float ty = rowProb > 0.0 ? clamp((u.y - c0) / rowProb, 0.0, kOneMinusEpsilon) : 0.5;

@@ -89,8 +89,14 @@ if printf '%s' "$json" | grep -q '"relmse"' && [ ! -s "$tmp/r.err" ]; then
 else
   failed=$((failed + 1)); echo "FAIL: --reference-file: $json $(cat "$tmp/r.err")"
 fi
+warning=$("$iblx" render --size 16x16 --spp 1 --passes 1 --reference --reference-file "$tmp/ref16.exr" --out "$tmp/r3.exr" 2>&1 >/dev/null)
+if printf '%s' "$warning" | grep -q -- "--reference is ignored"; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: --reference with --reference-file: $warning"
+fi
 expect_error "reference-file size" "does not match --size" render --size 8x8 --reference-file "$tmp/ref16.exr" --out "$tmp/r2.exr"
-expect_error "reference-file missing" "$tmp/none.exr" render --size 8x8 --reference-file "$tmp/none.exr" --out "$tmp/r2.exr"
+expect_error "reference-file missing" "--reference-file: cannot" render --size 8x8 --reference-file "$tmp/none.exr" --out "$tmp/r2.exr"
 
 # A flag the chosen method does not use is reported (and the render still happens).
 warning=$("$iblx" render --method env-cdf --env-sampler env-hier --size 8x8 --passes 1 --spp 1 --out "$tmp/w.png" 2>&1 >/dev/null)
@@ -106,6 +112,7 @@ expect_ok "merl-synth" merl-synth --brdf lambert --param albedo=0.5 --out "$tmp/
 expect_ok "merl render" render --brdf "$tmp/lambert.binary" --method brdf --brdf-sampler merl-thetah --size 8x8 --spp 2 --passes 1 --out "$tmp/m.png"
 expect_ok "merl render mis" render --brdf "$tmp/lambert.binary" --size 8x8 --spp 2 --passes 1 --out "$tmp/m.png"
 head -c 1000000 "$tmp/lambert.binary" > "$tmp/truncated.binary"
+mkdir -p "$tmp/dir.binary"
 { cat "$tmp/lambert.binary"; printf '12345678'; } > "$tmp/oversized.binary"
 { printf '\132\0\0\0\132\0\0\0\132\0\0\0'; tail -c +13 "$tmp/lambert.binary"; } > "$tmp/header.binary"
 : > "$tmp/empty.binary"
@@ -121,6 +128,13 @@ expect_error "merl params" "has no parameter" render --brdf "$tmp/lambert.binary
 expect_error "merl-synth of a file" "built-in BRDF" merl-synth --brdf "$tmp/lambert.binary" --out "$tmp/c.binary"
 expect_error "merl-synth extension" "must end in .binary" merl-synth --out "$tmp/c.bin"
 expect_error "merl-synth fraction" "--invalid-fraction" merl-synth --invalid-fraction 2 --out "$tmp/c.binary"
+warning=$("$iblx" merl-synth --brdf lambert --seed 3 --out "$tmp/seed.binary" 2>&1 >/dev/null)
+if printf '%s' "$warning" | grep -q -- "--seed is ignored without --invalid-fraction"; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: merl-synth --seed warning: $warning"
+fi
+expect_error "merl file is a directory" "directory" render --brdf "$tmp/dir.binary" --out "$tmp/b.png"
 [ ! -e "$tmp/b.png" ] && [ ! -e "$tmp/c.binary" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: output written despite a bad MERL input"; }
 
 echo "cli: $passed passed, $failed failed"

@@ -21,11 +21,16 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
       for (const auto& t : brdfTechniqueRegistry())
         if (t.appliesTo(brdf.name)) specs.push_back((spec.brdfSampler = t.name, spec));
     } else {
+      // Every env technique with every BRDF technique that applies (balance), and with the BRDF's best
+      // sampler also under the power heuristic.
       for (const auto& e : envTechniqueRegistry())
-        for (const char* heuristic : {"balance", "power"}) {
+        for (const auto& t : brdfTechniqueRegistry()) {
+          if (!t.appliesTo(brdf.name)) continue;
           spec.envSampler = e.name;
-          spec.misHeuristic = heuristic;
+          spec.brdfSampler = t.name;
+          spec.misHeuristic = "balance";
           specs.push_back(spec);
+          if (t.name == brdf.bestSampler) specs.push_back((spec.misHeuristic = "power", spec));
         }
     }
   }

@@ -105,6 +105,39 @@ TEST_CASE("env-cdf: guided search finds the same bin as a full search") {
   }
 }
 
+TEST_CASE("env-cdf: every guide cell holds exactly the bins of its u range, at any map size") {
+  // lo = the bin of u = k/G, hi = the bin of the largest float below (k+1)/G, for every cell of the
+  // marginal's guide and of every row's; sizes just above a power of two (the guide then has fewer cells per
+  // bin).
+  auto envs = test::samplerTestEnvs();
+  envs.push_back({"sun-zero-17x9", test::sunAndZeroHalf(17, 9)});
+  envs.push_back({"smooth-33x17", test::smoothSky(33, 17)});
+  for (const auto& env : envs) {
+    CAPTURE(env.name);
+    const EnvCdfData d = buildEnvCdf(env.image);
+    CHECK(d.rowGuideCells <= kEnvCdfRowCellsPerBin * d.height);
+    CHECK(2 * d.rowGuideCells > kEnvCdfRowCellsPerBin * d.height);
+    CHECK(d.columnGuideCells <= kEnvCdfColumnCellsPerBin * d.width);
+    CHECK(d.columnGuideCells >= d.width);
+    const auto checkGuide = [](const float* cdf, int n, const std::uint32_t* guide, int cells) {
+      int wrong = 0;
+      for (int k = 0; k < cells; ++k) {
+        const float start = float(k) / float(cells), end = std::nextafter(float(k + 1) / float(cells), 0.0f);
+        const int lo = int(guide[k] & 0xffffu), hi = int(guide[k] >> 16);
+        wrong += lo != plainBin(cdf, n, start) || hi != plainBin(cdf, n, end);
+      }
+      return wrong;
+    };
+    CHECK(checkGuide(d.marginalCdf.data(), d.height, d.marginalGuide.data(), d.rowGuideCells) == 0);
+    int wrongRows = 0;
+    for (int y = 0; y < d.height; ++y)
+      wrongRows += checkGuide(d.conditionalCdf.data() + std::size_t(y) * std::size_t(d.width + 1), d.width,
+                              d.conditionalGuide.data() + std::size_t(y) * std::size_t(d.columnGuideCells),
+                              d.columnGuideCells) != 0;
+    CHECK(wrongRows == 0);
+  }
+}
+
 TEST_CASE("env-cdf: sample -> invert round trip and pdf consistency on hard envs") {
   test::checkRoundTripOnHardEnvs<EnvCdfSampler>(buildEnvCdf);
 }

@@ -2,6 +2,7 @@
 // on the GPU at the centre of every bin, so tests and benchmarks have measured-layout materials with known
 // answers (real MERL files are 35 MB each and cannot ship with the project).
 #include "engine/core/error.h"
+#include "engine/core/log.h"
 #include "engine/io/merl.h"
 #include "engine/render/brdf_tabulation.h"
 #include "tools/cli/cli_options.h"
@@ -16,6 +17,7 @@ int cmdMerlSynth(const Args& args) {
   RenderSpec spec;
   std::string out = "material.binary";
   MerlSynthOptions options;
+  bool seedGiven = false;
   bool help = false;
   ArgParser parser("merl-synth");
   parser.value("--brdf", "NAME", "BRDF to tabulate: any built-in (default ggx)",
@@ -37,8 +39,10 @@ int cmdMerlSynth(const Args& args) {
                [&](const std::string& v) {
                  options.invalidFraction = parseDouble("--invalid-fraction", v, 0.0, 1.0);
                });
-  parser.value("--seed", "N", "seed of --invalid-fraction (default 1)",
-               [&](const std::string& v) { options.seed = parseUint("--seed", v, 0, 0xffffffffu); });
+  parser.value("--seed", "N", "seed of --invalid-fraction (default 1)", [&](const std::string& v) {
+    options.seed = parseUint("--seed", v, 0, 0xffffffffu);
+    seedGiven = true;
+  });
   addDeviceFlags(parser, spec);
   parser.toggle("--help", "show this help", [&] { help = true; });
   parser.parse(args);
@@ -46,6 +50,7 @@ int cmdMerlSynth(const Args& args) {
     std::fputs(parser.usage().c_str(), stdout);
     return 0;
   }
+  if (seedGiven && options.invalidFraction == 0.0) warn("--seed is ignored without --invalid-fraction");
   if (std::filesystem::path(out).extension() != ".binary")
     throw Error("--out " + out + ": a MERL file must end in .binary");
   const auto outDir = std::filesystem::path(out).parent_path();
