@@ -8,7 +8,8 @@
 layout(std430, set = 2, binding = 0) readonly buffer EnvHierChildren { vec4 hierChildren[]; };
 // Per level, root first: x = offset into hierChildren, y = width, z = height,
 // w = splitX | splitY << 1 | shiftX << 8 | shiftY << 16 (doublings from the children down to the finest level).
-layout(std430, set = 2, binding = 1) readonly buffer EnvHierLevels { uvec4 hierLevels[]; };
+// A constant from the builder (it depends on the map's size only), so every level's fields are immediates.
+const uvec4 hierLevels[ENV_HIER_LEVELS] = ENV_HIER_LEVEL_TABLE;
 
 // Splits between a first child of weight a and a second of weight b: returns 1 for the second, remaps u, and
 // multiplies prob by the share taken. A missing second child (b = 0) gives share 1 and leaves u unchanged.
