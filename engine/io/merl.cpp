@@ -62,12 +62,6 @@ glm::dvec3 rotateY(glm::dvec3 v, double a) {
   return {v.x * c + v.z * s, v.y, -v.x * s + v.z * c};
 }
 
-// int(x) clamped to [0, n - 1]; 0 for x <= 0 and NaN (int() of either would be wrong or undefined).
-int clampedIndex(double x, int n) {
-  if (!(x > 0.0)) return 0;
-  return x >= double(n - 1) ? n - 1 : int(x);
-}
-
 }  // namespace
 
 MerlBrdf loadMerl(const fs::path& path) {
@@ -187,11 +181,11 @@ MerlAngles merlAngles(glm::dvec3 wi, glm::dvec3 wo) {
 
 glm::ivec3 merlBin(const MerlAngles& angles) {
   // theta_h: square-root warp, 0 for theta_h <= 0; theta_d and phi_d: linear.
-  const int thetaH = angles.thetaH > 0.0
-                         ? clampedIndex(std::sqrt(angles.thetaH / kHalfPi) * kMerlThetaHBins, kMerlThetaHBins)
-                         : 0;
-  const int thetaD = clampedIndex(angles.thetaD / kHalfPi * kMerlThetaDBins, kMerlThetaDBins);
-  const int phiD = clampedIndex(angles.phiD / kPi * kMerlPhiDBins, kMerlPhiDBins);
+  const int thetaH = angles.thetaH > 0.0 ? merlCellIndex(std::sqrt(angles.thetaH / kHalfPi) * kMerlThetaHBins,
+                                                         kMerlThetaHBins)
+                                         : 0;
+  const int thetaD = merlCellIndex(angles.thetaD / kHalfPi * kMerlThetaDBins, kMerlThetaDBins);
+  const int phiD = merlCellIndex(angles.phiD / kPi * kMerlPhiDBins, kMerlPhiDBins);
   return {thetaH, thetaD, phiD};
 }
 

@@ -37,6 +37,13 @@ inline std::size_t merlBinIndex(int thetaH, int thetaD, int phiD) {
                                  (std::size_t(thetaD) + std::size_t(kMerlThetaDBins) * std::size_t(thetaH));
 }
 
+// int(x) clamped to [0, n - 1]; 0 for x <= 0 and NaN (int() of either would be wrong or undefined). The bin
+// or cell of a coordinate x = u * n, for the lookup and the sampling tables alike.
+inline int merlCellIndex(double x, int n) {
+  if (!(x > 0.0)) return 0;
+  return x >= double(n - 1) ? n - 1 : int(x);
+}
+
 // Sampling weight of a bin: the mean of its R, G and B (the project's weight, as for environment texels).
 inline double merlSamplingWeight(const MerlBrdf& brdf, std::size_t bin) {
   return (double(brdf.rgb[bin]) + double(brdf.rgb[kMerlBins + bin]) + double(brdf.rgb[2 * kMerlBins + bin])) /

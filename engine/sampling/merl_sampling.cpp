@@ -48,12 +48,6 @@ void applyFloor(std::span<double> weights) {
   for (double& w : weights) w = std::max(w, floor);
 }
 
-// Index int(x) of a coordinate x = u * n in [0, n), clamped to [0, n - 1] (0 for NaN).
-int cellIndex(double x, int n) {
-  if (!(x > 0.0)) return 0;
-  return x >= double(n - 1) ? n - 1 : int(x);
-}
-
 // Half vector at (theta_h, phi_h) about the normal +z.
 glm::dvec3 halfVector(double thetaH, double phiH) {
   const double s = std::sin(thetaH);
@@ -162,7 +156,7 @@ double MerlThetaHSampler::pdf(glm::dvec3 wi, glm::dvec3 wo) const {
   const auto half = halfVectorParams(wi, wo);
   if (!half) return 0.0;
   const HalfVectorParams& p = *half;
-  const int i = cellIndex(p.uTheta * kMerlThetaHBins, kMerlThetaHBins);
+  const int i = merlCellIndex(p.uTheta * kMerlThetaHBins, kMerlThetaHBins);
   const float* cdf = data_.cdf.data();
   const float pdfU = (cdf[i + 1] - cdf[i]) * float(kMerlThetaHBins);
   return halfVectorPdfToSolidAngle(double(pdfU), p.uTheta, p.thetaH, glm::dot(wo, p.h));
@@ -276,7 +270,7 @@ MerlTableSampler::MerlTableSampler(MerlTableData data) : data_(std::move(data)) 
 
 int MerlTableSampler::sliceOf(glm::dvec3 wo) {
   const double thetaO = std::acos(std::clamp(wo.z, -1.0, 1.0));
-  return cellIndex(thetaO / kHalfPi * kMerlTableSlices, kMerlTableSlices);
+  return merlCellIndex(thetaO / kHalfPi * kMerlTableSlices, kMerlTableSlices);
 }
 
 BrdfSample MerlTableSampler::sample(glm::dvec2 u, glm::dvec3 wo) const {
@@ -309,7 +303,7 @@ double MerlTableSampler::pdf(glm::dvec3 wi, glm::dvec3 wo) const {
   // u_phi = fract((phi_h - phi_o) / (2 pi)); h = +z has no azimuth, and any column gives it pdf 0 anyway.
   const double turns = (std::atan2(p.h.y, p.h.x) - azimuthOf(wo)) / kTwoPi;
   const double uPhi = turns - std::floor(turns);
-  const int i = cellIndex(p.uTheta * kRows, kRows), j = cellIndex(uPhi * kCols, kCols);
+  const int i = merlCellIndex(p.uTheta * kRows, kRows), j = merlCellIndex(uPhi * kCols, kCols);
   const float* marginal = data_.tables.data() + std::size_t(sliceOf(wo)) * kMerlTableSliceFloats;
   const float* conditional = marginal + (kRows + 1) + std::size_t(i) * (kCols + 1);
   const float rowProb = marginal[i + 1] - marginal[i], colProb = conditional[j + 1] - conditional[j];

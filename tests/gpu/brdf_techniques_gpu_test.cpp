@@ -2,6 +2,7 @@
 // angles (grazing included) and roughnesses; the BRDFs themselves are reciprocal and conserve energy.
 #include "engine/render/methods.h"
 #include "tests/gpu/gpu_fixture.h"
+#include "tests/gpu/render_checks.h"
 #include "tests/support/chi2.h"
 
 #include <doctest/doctest.h>
@@ -56,18 +57,7 @@ TEST_CASE("brdf techniques: pdf integrates to 1 and chi2 passes, grazing views i
         if (std::abs(s.pdf - s.pdfLookup) > 1e-3 * s.pdf) ++mismatches;
       }
       CHECK(mismatches <= samples.size() / 1000);
-      Chi2Options options;
-      options.testCount = int(all.size() * std::size(views));
-      options.label = "brdf-technique";
-      // Below-horizon samples of the specular lobe live in thin slivers next to the horizon: finer base
-      // cells.
-      options.ires = 12;
-      // Narrow lobes need finer cells around the peak: the harness refines sub-cells adaptively.
-      const Chi2Result r = chi2Test(
-          directions, [&](std::span<const glm::dvec3> d) { return probe.pdf(d); }, options);
-      INFO(r.message);
-      CHECK(r.passed);
-      CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(5e-3));
+      checkChi2AgainstPdf(probe, directions, int(all.size() * std::size(views)), "brdf-technique");
     }
   checkNoNewValidationErrors();
 }

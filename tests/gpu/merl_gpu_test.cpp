@@ -194,15 +194,7 @@ TEST_CASE(
         // practice.
         CHECK(pdfMismatches <= samples.size() / 100);
         CHECK(twinMismatches <= 200);
-        Chi2Options options;
-        options.testCount = testCount;
-        options.label = "merl-technique";
-        options.ires = 12;
-        const Chi2Result r = chi2Test(
-            directions, [&](std::span<const glm::dvec3> d) { return probe.pdf(d); }, options);
-        INFO(r.message);
-        CHECK(r.passed);
-        CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(5e-3));
+        checkChi2AgainstPdf(probe, directions, testCount, "merl-technique");
       }
   checkNoNewValidationErrors();
 }
@@ -220,25 +212,8 @@ TEST_CASE("merl: every method converges to the convolution reference (z-test)") 
        synthesize("lambert-invalid", "lambert", {{"albedo", "0.6"}}, {true, 0.05, 7})},
   };
   const double zBound = 5.5;  // as in render_gpu_test.cpp
-  for (const auto& c : cases) {
-    const Scene scene = sceneWith(c.env, c.material.string(), {}, 24);
-    const ReferenceImage ref = computeReference(gpuContext(), gpuCompiler(), scene);
-    for (const char* sequence : {"random", "sobol"})
-      for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {
-        const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
-        INFO(c.name << ": " << method.label());
-        Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 17);
-        for (int pass = 0; pass < 8; ++pass) renderer.runPass(64);
-        const ZTest t = zTest(scene, renderer, ref.rgb);
-        for (int ch = 0; ch < 3; ++ch) {
-          INFO("channel " << ch << ": mean error " << t.meanError[ch] << ", standard error "
-                          << t.standardError[ch]);
-          CHECK(std::abs(t.z[ch]) < zBound);
-        }
-        CHECK(renderer.nonFiniteSamples() == 0);
-      }
-  }
-  checkNoNewValidationErrors();
+  for (const auto& c : cases)
+    checkConvergesToReference(sceneWith(c.env, c.material.string(), {}, 24), c.name, zBound);
 }
 
 TEST_CASE(

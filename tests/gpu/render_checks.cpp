@@ -1,6 +1,7 @@
 // Helpers shared by the end-to-end GPU tests (tests/gpu/render_checks.h).
 #include "tests/gpu/render_checks.h"
 
+#include "engine/render/reference.h"
 #include "tests/gpu/gpu_fixture.h"
 
 #include <doctest/doctest.h>
@@ -91,6 +92,38 @@ void checkWhiteFurnace(const Scene& scene, double albedo, int passes, double sig
         }
       }
       CHECK(failures == 0);
+      CHECK(renderer.nonFiniteSamples() == 0);
+    }
+  checkNoNewValidationErrors();
+}
+
+void checkChi2AgainstPdf(BrdfTechniqueProbe& probe, std::span<const glm::dvec3> directions, int testCount,
+                         const std::string& label) {
+  Chi2Options options;
+  options.testCount = testCount;
+  options.label = label;
+  options.ires = 12;
+  const Chi2Result r = chi2Test(
+      directions, [&](std::span<const glm::dvec3> d) { return probe.pdf(d); }, options);
+  INFO(r.message);
+  CHECK(r.passed);
+  CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(5e-3));
+}
+
+void checkConvergesToReference(const Scene& scene, const std::string& name, double zBound) {
+  const ReferenceImage ref = computeReference(gpuContext(), gpuCompiler(), scene);
+  for (const char* sequence : {"random", "sobol"})
+    for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {
+      const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+      INFO(name << ": " << method.label());
+      Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 17);
+      for (int pass = 0; pass < 8; ++pass) renderer.runPass(64);
+      const ZTest t = zTest(scene, renderer, ref.rgb);
+      for (int ch = 0; ch < 3; ++ch) {
+        INFO("channel " << ch << ": mean error " << t.meanError[ch] << ", standard error "
+                        << t.standardError[ch]);
+        CHECK(std::abs(t.z[ch]) < zBound);
+      }
       CHECK(renderer.nonFiniteSamples() == 0);
     }
   checkNoNewValidationErrors();

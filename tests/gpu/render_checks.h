@@ -4,6 +4,7 @@
 
 #include "engine/render/renderer.h"
 #include "engine/render/scene.h"
+#include "tests/gpu/gpu_fixture.h"
 
 #include <string>
 #include <utility>
@@ -36,5 +37,16 @@ ZTest zTest(const Scene& scene, const Renderer& renderer, const std::vector<floa
 // standard errors (plus 1e-4 of float rounding) of `albedo` and that no estimate was NaN or Inf. Failing
 // pixels are reported with their method.
 void checkWhiteFurnace(const Scene& scene, double albedo, int passes, double sigmas);
+
+// Chi-square of a BRDF technique's sampled directions (those with pdf > 0) against its own pdf, on cells fine
+// enough for the slivers next to the horizon (the harness refines narrow lobes itself), and the pdf
+// integrating to 1 over the sphere. `testCount` is the family size for the Sidak correction.
+void checkChi2AgainstPdf(BrdfTechniqueProbe& probe, std::span<const glm::dvec3> directions, int testCount,
+                         const std::string& label);
+
+// Computes the scene's reference and checks every method the registry offers for its BRDF (both sequences,
+// 8 x 64 spp) against it: |z| < zBound per channel (see zTest) and no NaN/Inf estimate. `name` labels
+// failures.
+void checkConvergesToReference(const Scene& scene, const std::string& name, double zBound);
 
 }  // namespace iblx::test

@@ -97,25 +97,8 @@ TEST_CASE("every method converges to the convolution reference (z-test)") {
   // About 250 z-values (cases x methods x sequences x channels); |z| < 5.5 has a two-sided false-alarm rate
   // of 3.8e-8 each, 1e-5 for the family, while a bias of 5.5 standard errors (here ~1e-3 relative) fails.
   const double zBound = 5.5;
-  for (const auto& c : cases) {
-    const Scene scene = sceneWith(c.env, c.brdf, c.params, 24);
-    const ReferenceImage ref = computeReference(gpuContext(), gpuCompiler(), scene);
-    for (const char* sequence : {"random", "sobol"})
-      for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {
-        const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
-        INFO(c.name << ": " << method.label());
-        Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 17);
-        for (int pass = 0; pass < 8; ++pass) renderer.runPass(64);
-        const ZTest t = zTest(scene, renderer, ref.rgb);
-        for (int ch = 0; ch < 3; ++ch) {
-          INFO("channel " << ch << ": mean error " << t.meanError[ch] << ", standard error "
-                          << t.standardError[ch]);
-          CHECK(std::abs(t.z[ch]) < zBound);
-        }
-        CHECK(renderer.nonFiniteSamples() == 0);
-      }
-  }
-  checkNoNewValidationErrors();
+  for (const auto& c : cases)
+    checkConvergesToReference(sceneWith(c.env, c.brdf, c.params, 24), c.name, zBound);
 }
 
 TEST_CASE("MSE falls like 1/N with random sampling") {

@@ -4,6 +4,7 @@
 #include "engine/core/error.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
@@ -44,6 +45,14 @@ void ArgParser::parse(const std::vector<std::string>& args) const {
     }
     option->apply(text);
   }
+}
+
+bool ArgParser::parseOrShowHelp(const std::vector<std::string>& args) {
+  bool help = false;
+  toggle("--help", "show this help", [&] { help = true; });
+  parse(args);
+  if (help) std::fputs(usage().c_str(), stdout);
+  return help;
 }
 
 std::string ArgParser::usage() const {
@@ -88,6 +97,14 @@ void parseSize(const std::string& flag, const std::string& text, int& width, int
   height = int(parseUint(flag, text.substr(x + 1), 1, 16384));
 }
 
+void addParamFlag(ArgParser& p, std::vector<std::pair<std::string, std::string>>& params) {
+  p.value("--param", "NAME=VALUE", "BRDF parameter, repeatable; colors as r,g,b", [&](const std::string& v) {
+    const auto eq = v.find('=');
+    if (eq == std::string::npos || eq == 0) throw Error("--param " + v + ": expected NAME=VALUE");
+    params.emplace_back(v.substr(0, eq), v.substr(eq + 1));
+  });
+}
+
 void addSceneFlags(ArgParser& p, RenderSpec& s) {
   p.value("--env", "FILE", ".exr or .hdr lat-long map (default: assets/default_sky.exr)",
           [&](const std::string& v) { s.scene.envPath = v; });
@@ -96,11 +113,7 @@ void addSceneFlags(ArgParser& p, RenderSpec& s) {
   });
   p.value("--brdf", "NAME|FILE", "built-in BRDF (lambert | ggx, default ggx) or a MERL .binary file",
           [&](const std::string& v) { s.scene.brdf = v; });
-  p.value("--param", "NAME=VALUE", "BRDF parameter, repeatable; colors as r,g,b", [&](const std::string& v) {
-    const auto eq = v.find('=');
-    if (eq == std::string::npos || eq == 0) throw Error("--param " + v + ": expected NAME=VALUE");
-    s.scene.params.emplace_back(v.substr(0, eq), v.substr(eq + 1));
-  });
+  addParamFlag(p, s.scene.params);
   p.value("--object", "NAME", "sphere (default)", [&](const std::string& v) { s.scene.object = v; });
   p.value("--size", "WxH", "image size (default 256x256)",
           [&](const std::string& v) { parseSize("--size", v, s.scene.width, s.scene.height); });

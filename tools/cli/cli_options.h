@@ -37,6 +37,8 @@ class ArgParser {
              std::function<void(const std::string&)> apply);
   void toggle(const std::string& flag, const std::string& help, std::function<void()> apply);
   void parse(const std::vector<std::string>& args) const;  // throws iblx::Error
+  // Registers --help, parses, and prints the usage when --help was given; true then (the command returns).
+  bool parseOrShowHelp(const std::vector<std::string>& args);
   std::string usage() const;
 
  private:
@@ -51,6 +53,8 @@ class ArgParser {
 
 // Registers the shared flags; `rendering` adds the method/pass/output flags.
 void addSceneFlags(ArgParser& parser, RenderSpec& spec);
+// --param NAME=VALUE (repeatable) into `params`.
+void addParamFlag(ArgParser& parser, std::vector<std::pair<std::string, std::string>>& params);
 void addMethodFlags(ArgParser& parser, RenderSpec& spec);
 void addRunFlags(ArgParser& parser, RenderSpec& spec);
 void addDeviceFlags(ArgParser& parser, RenderSpec& spec);

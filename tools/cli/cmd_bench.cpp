@@ -20,7 +20,6 @@ int cmdBench(const Args& args) {
   spec.samplesPerPass = 64;
   spec.passes = 7;
   ArgParser parser("bench");
-  bool help = false;
   std::vector<std::string> sequences, methods;
   uint32_t repeat = 1;
   addSceneFlags(parser, spec);
@@ -36,12 +35,7 @@ int cmdBench(const Args& args) {
   parser.value("--repeat", "N", "measure every method N times, in rounds, and report medians (default 1)",
                [&](const std::string& v) { repeat = parseUint("--repeat", v, 1, 1000); });
   parser.toggle("--json", "one JSON object per line instead of the table", [&] { spec.json = true; });
-  parser.toggle("--help", "show this help", [&] { help = true; });
-  parser.parse(args);
-  if (help) {
-    std::fputs(parser.usage().c_str(), stdout);
-    return 0;
-  }
+  if (parser.parseOrShowHelp(args)) return 0;
   if (sequences.empty())
     for (const auto& s : sequenceRegistry()) sequences.push_back(s.name);
   const Scene scene = loadScene(spec.scene);

@@ -9,13 +9,7 @@ namespace iblx::cli {
 
 int cmdDevices(const Args& args) {
   ArgParser parser("devices");
-  bool help = false;
-  parser.toggle("--help", "show this help", [&] { help = true; });
-  parser.parse(args);
-  if (help) {
-    std::fputs(parser.usage().c_str(), stdout);
-    return 0;
-  }
+  if (parser.parseOrShowHelp(args)) return 0;
   const auto devices = VulkanContext::describeDevices();
   if (devices.empty()) std::puts("no Vulkan devices (install mesa-vulkan-drivers for lavapipe)");
   for (const auto& d : devices)

@@ -12,7 +12,6 @@ namespace iblx::cli {
 int cmdMakeSky(const Args& args) {
   ProceduralSkyOptions options;
   std::string out = "sky.exr";
-  bool help = false;
   ArgParser parser("make-sky");
   parser.value("--out", "FILE", "output .exr (default sky.exr)", [&](const std::string& v) { out = v; });
   parser.value("--size", "WxH", "map size (default 256x128)",
@@ -31,12 +30,7 @@ int cmdMakeSky(const Args& args) {
   parser.value(
       "--sun-radiance", "L", "radiance of the sun disc (default 2e4, about 1e4 x the sky)",
       [&](const std::string& v) { options.sunRadiance = parseDouble("--sun-radiance", v, 0, 1e12); });
-  parser.toggle("--help", "show this help", [&] { help = true; });
-  parser.parse(args);
-  if (help) {
-    std::fputs(parser.usage().c_str(), stdout);
-    return 0;
-  }
+  if (parser.parseOrShowHelp(args)) return 0;
   checkImagePath("--out", out, true);
   const EnvImage sky = makeProceduralSky(options);
   writeExr(out, sky.width, sky.height, sky.rgb);

@@ -18,17 +18,10 @@ int cmdMerlSynth(const Args& args) {
   std::string out = "material.binary";
   MerlSynthOptions options;
   bool seedGiven = false;
-  bool help = false;
   ArgParser parser("merl-synth");
   parser.value("--brdf", "NAME", "BRDF to tabulate: any built-in (default ggx)",
                [&](const std::string& v) { spec.scene.brdf = v; });
-  parser.value("--param", "NAME=VALUE", "BRDF parameter, repeatable; colors as r,g,b",
-               [&](const std::string& v) {
-                 const auto eq = v.find('=');
-                 if (eq == std::string::npos || eq == 0)
-                   throw Error("--param " + v + ": expected NAME=VALUE");
-                 spec.scene.params.emplace_back(v.substr(0, eq), v.substr(eq + 1));
-               });
+  addParamFlag(parser, spec.scene.params);
   parser.value("--out", "FILE", "output .binary (default material.binary)",
                [&](const std::string& v) { out = v; });
   parser.toggle(
@@ -44,12 +37,7 @@ int cmdMerlSynth(const Args& args) {
     seedGiven = true;
   });
   addDeviceFlags(parser, spec);
-  parser.toggle("--help", "show this help", [&] { help = true; });
-  parser.parse(args);
-  if (help) {
-    std::fputs(parser.usage().c_str(), stdout);
-    return 0;
-  }
+  if (parser.parseOrShowHelp(args)) return 0;
   if (seedGiven && options.invalidFraction == 0.0) warn("--seed is ignored without --invalid-fraction");
   if (std::filesystem::path(out).extension() != ".binary")
     throw Error("--out " + out + ": a MERL file must end in .binary");

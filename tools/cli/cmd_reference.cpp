@@ -12,17 +12,11 @@ int cmdReference(const Args& args) {
   RenderSpec spec;
   spec.out = "reference.exr";
   ArgParser parser("reference");
-  bool help = false;
   addSceneFlags(parser, spec);
   addDeviceFlags(parser, spec);
   parser.value("--out", "FILE", "output .exr (default reference.exr)",
                [&](const std::string& v) { spec.out = v; });
-  parser.toggle("--help", "show this help", [&] { help = true; });
-  parser.parse(args);
-  if (help) {
-    std::fputs(parser.usage().c_str(), stdout);
-    return 0;
-  }
+  if (parser.parseOrShowHelp(args)) return 0;
   resolveParams(findBrdfForArgument(spec.scene.brdf), spec.scene.params);
   checkImagePath("--out", spec.out, true);
   const Scene scene = loadScene(spec.scene);

@@ -18,17 +18,11 @@ int cmdRender(const Args& args) {
   RenderSpec spec;
   spec.out = "render.png";
   ArgParser parser("render");
-  bool help = false;
   addSceneFlags(parser, spec);
   addMethodFlags(parser, spec);
   addRunFlags(parser, spec);
   addDeviceFlags(parser, spec);
-  parser.toggle("--help", "show this help", [&] { help = true; });
-  parser.parse(args);
-  if (help) {
-    std::fputs(parser.usage().c_str(), stdout);
-    return 0;
-  }
+  if (parser.parseOrShowHelp(args)) return 0;
   if (spec.listMethods) {
     std::fputs(describeRegistry().c_str(), stdout);
     return 0;
