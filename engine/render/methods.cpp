@@ -8,6 +8,7 @@
 #include "engine/sampling/merl_sampling.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -37,18 +38,17 @@ TechniqueData makeEnvCdf(const EnvImage& image) {
 TechniqueData makeEnvHier(const EnvImage& image) {
   const EnvHierGpuData hier = packEnvHierForGpu(buildEnvHier(image));
   TechniqueData data;
-  data.add("env-hier children", std::span<const float>(hier.children));
-  // The level table is a compile-time constant of the part: read from a buffer, lavapipe loads it per lane at
-  // every level (852 instead of 1191 instructions per sample on the default map).
-  std::string table = "uvec4[](";
-  for (std::size_t i = 0; i < hier.levels.size(); ++i) {
-    const EnvHierLevel& l = hier.levels[i];
-    table += (i ? ", " : "") + std::string("uvec4(") + std::to_string(l.offset) + "u, " +
-             std::to_string(l.width) + "u, " + std::to_string(l.height) + "u, " + std::to_string(l.pad) +
-             "u)";
-  }
-  table += ")";
-  data.defines = {{"ENV_HIER_LEVELS", std::to_string(hier.levels.size())}, {"ENV_HIER_LEVEL_TABLE", table}};
+  data.add("env-hier shares", std::span<const float>(hier.shares));
+  data.add("env-hier guide", std::span<const EnvHierStart>(hier.guide));
+  // Sizes are compile-time constants of the part: read from a buffer, lavapipe would load them per lane.
+  const auto u = [](uint32_t v) { return std::to_string(v) + "u"; };
+  data.defines = {{"ENV_HIER_LEVELS", u(hier.levelCount)},
+                  {"ENV_HIER_BITS_X", u(uint32_t(std::countr_zero(hier.finestWidth)))},
+                  {"ENV_HIER_BITS_Y", u(uint32_t(std::countr_zero(hier.finestHeight)))},
+                  {"ENV_HIER_ONE_AXIS_NODES", u(hier.oneAxisNodes)},
+                  {"ENV_HIER_QUAD_CHILD_OFFSET", "(" + std::to_string(hier.quadChildOffset) + ")"},
+                  {"ENV_HIER_LEAF_START", u(hier.leafStart)},
+                  {"ENV_HIER_GUIDE_SIZE", u(hier.guideSize)}};
   return data;
 }
 

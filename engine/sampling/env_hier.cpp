@@ -4,6 +4,8 @@
 #include "engine/core/error.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <bit>
 #include <limits>
 #include <string>
@@ -18,21 +20,31 @@ float columnShare(float left, float right) {
   return total > 0.0f ? left / total : 0.5f;
 }
 
-// One binary choice of the warp: u < p goes first (u /= p), else second (u = (u - p) / (1 - p)); returns the
-// chosen share and the branch, u stays in [0, 1 - 2^-24].
-float chooseBranch(float p, float& u, int& branch) {
-  float share;
-  if (u < p) {
-    branch = 0;
-    share = p;
-    u = u / p;
-  } else {
-    branch = 1;
-    share = 1.0f - p;
-    u = (u - p) / share;  // share > 0: with p = 1 every u < 1 takes the first branch
-  }
-  u = std::clamp(u, 0.0f, kOneMinusEpsilonF);
-  return share;
+// The GLSL part's hierChoose, operation for operation: takes the first child with probability pFirst, remaps
+// u and multiplies prob by the share taken; returns 1 for the second.
+uint32_t hierChoose(float pFirst, float& u, float& prob) {
+  const bool second = u >= pFirst;
+  const float share = second ? 1.0f - pFirst : pFirst;
+  u = share > 0.0f ? std::clamp((second ? u - pFirst : u) / share, 0.0f, kOneMinusEpsilonF) : 0.0f;
+  prob *= share;
+  return second ? 1u : 0u;
+}
+
+// Morton index of node (x, y) in a level of w x h (powers of two): the low bits of both interleaved with x on
+// the even bits, the longer axis' remaining high bits on top.
+uint64_t mortonIndex(uint32_t x, uint32_t y, uint32_t w, uint32_t h) {
+  const int shortBits = std::countr_zero(std::min(w, h));
+  uint64_t m = 0;
+  for (int b = 0; b < shortBits; ++b)
+    m |= (uint64_t((x >> b) & 1u) << (2 * b)) | (uint64_t((y >> b) & 1u) << (2 * b + 1));
+  const uint32_t high = w >= h ? x >> shortBits : y >> shortBits;
+  return m | (uint64_t(high) << (2 * shortBits));
+}
+
+// Heap index of the child (cx, cy) of node g (EnvHierGpuData): no level table needed.
+uint32_t hierChild(const EnvHierGpuData& gpu, uint32_t g, uint32_t cx, uint32_t cy) {
+  if (g < gpu.oneAxisNodes) return 2u * g + 1u + cx + cy;
+  return uint32_t(int64_t(4u) * g + gpu.quadChildOffset) + cx + 2u * cy;
 }
 
 }  // namespace
@@ -105,7 +117,7 @@ EnvHierData buildEnvHier(const EnvImage& image) {
   return data;
 }
 
-EnvHierSampler::EnvHierSampler(EnvHierData data) : data_(std::move(data)) {
+EnvHierSampler::EnvHierSampler(EnvHierData data, uint32_t guideSize) : data_(std::move(data)) {
   const auto fail = [](const std::string& why) {
     throw Error("env-hier: invalid pyramid (" + why + "); rebuild it with buildEnvHier");
   };
@@ -127,6 +139,7 @@ EnvHierSampler::EnvHierSampler(EnvHierData data) : data_(std::move(data)) {
   for (const EnvHierLevel& l : levels)
     shift_.emplace_back(std::countr_zero(finest.width / l.width), std::countr_zero(finest.height / l.height));
   rowSolidAngles_ = rowSolidAngles(data_.width, data_.height);
+  gpu_ = packEnvHierForGpu(data_, guideSize);
 }
 
 EnvHierSampler::Children EnvHierSampler::children(int level, glm::ivec2 node) const {
@@ -145,17 +158,23 @@ EnvHierSampler::Children EnvHierSampler::children(int level, glm::ivec2 node) co
 
 EnvSample EnvHierSampler::sample(glm::dvec2 u) const {
   float ux = toGpuU(u.x), uy = toGpuU(u.y);
-  float prob = 1.0f;
-  glm::ivec2 n(0);
-  for (int k = 0; k + 1 < int(data_.levels.size()); ++k) {
-    const Children ch = children(k, n);
-    int column = 0, row = 0;
-    // Column first: split the block by the local ratio of its left column.
-    if (ch.splitX)
-      prob *= chooseBranch(columnShare(ch.q[0][0] + ch.q[0][1], ch.q[1][0] + ch.q[1][1]), ux, column);
-    // Then the row inside the chosen column.
-    if (ch.splitY) prob *= chooseBranch(columnShare(ch.q[column][0], ch.q[column][1]), uy, row);
-    n = ch.first + glm::ivec2(column, row);
+  // u * G is exact (G a power of two) and < G for u < 1.
+  const uint32_t g = gpu_.guideSize;
+  const EnvHierStart& start = gpu_.guide[std::size_t(std::min(uint32_t(uy * float(g)), g - 1u)) * g +
+                                         std::min(uint32_t(ux * float(g)), g - 1u)];
+  ux = std::clamp((ux - start.minX) * start.invSizeX, 0.0f, kOneMinusEpsilonF);
+  uy = std::clamp((uy - start.minY) * start.invSizeY, 0.0f, kOneMinusEpsilonF);
+  float prob = start.prob;
+  uint32_t node = start.node;
+  glm::ivec2 n(int(start.x), int(start.y));
+  while (node < gpu_.leafStart) {
+    const float* shares = &gpu_.shares[4 * std::size_t(node)];
+    // Column first, then the row inside the chosen column. Along an axis that does not split the share is 1,
+    // which leaves u unchanged.
+    const uint32_t column = hierChoose(shares[0], ux, prob);
+    const uint32_t row = hierChoose(shares[1 + column], uy, prob);
+    n = 2 * n + glm::ivec2(int(column), int(row));  // a 1-wide axis stays 0
+    node = hierChild(gpu_, node, column, row);
   }
   EnvSample s;
   if (n.x >= data_.width || n.y >= data_.height) {  // padding: unreachable unless every share underflowed
@@ -232,33 +251,86 @@ std::optional<glm::dvec2> EnvHierSampler::invert(glm::dvec3 wi) const {
   return glm::min(u, glm::dvec2(double(kOneMinusEpsilonF)));
 }
 
-EnvHierGpuData packEnvHierForGpu(const EnvHierData& data) {
+EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize) {
   EnvHierGpuData gpu;
-  const std::size_t levelCount = data.levels.size();
-  auto log2 = [](uint32_t v) {
-    uint32_t l = 0;
-    while (v > 1) v >>= 1, ++l;
-    return l;
-  };
   const EnvHierLevel& finest = data.levels.back();
-  for (std::size_t k = 0; k + 1 < levelCount; ++k) {
+  const int bitsX = std::countr_zero(finest.width), bitsY = std::countr_zero(finest.height);
+  const int oneAxisLevels = std::abs(bitsX - bitsY);
+  gpu.levelCount = uint32_t(data.levels.size());
+  gpu.finestWidth = finest.width;
+  gpu.finestHeight = finest.height;
+  gpu.oneAxisNodes = (1u << oneAxisLevels) - 1u;
+  gpu.quadChildOffset = 3 - (int32_t(1) << (oneAxisLevels + 1));
+  gpu.leafStart = finest.offset;  // levels are stored root first, so the finest level starts after the rest
+
+  // Interior nodes in heap order: level k's node (x, y) is gpu node levels[k].offset + morton(x, y).
+  gpu.shares.assign(4 * std::size_t(gpu.leafStart), 0.0f);
+  for (std::size_t k = 0; k + 1 < data.levels.size(); ++k) {
     const EnvHierLevel& coarse = data.levels[k];
     const EnvHierLevel& fine = data.levels[k + 1];
     const bool splitX = fine.width > coarse.width, splitY = fine.height > coarse.height;
-    const uint32_t shiftX = log2(finest.width) - log2(fine.width) + (splitX ? 1 : 0);
-    const uint32_t shiftY = log2(finest.height) - log2(fine.height) + (splitY ? 1 : 0);
-    EnvHierLevel info{uint32_t(gpu.children.size() / 4), coarse.width, coarse.height,
-                      (splitX ? 1u : 0u) | (splitY ? 2u : 0u) | (shiftX << 8) | (shiftY << 16)};
-    gpu.levels.push_back(info);
     for (uint32_t y = 0; y < coarse.height; ++y)
       for (uint32_t x = 0; x < coarse.width; ++x) {
         const uint32_t x0 = splitX ? 2 * x : x, y0 = splitY ? 2 * y : y;
         auto node = [&](uint32_t cx, uint32_t cy) { return data.nodes[fine.offset + cy * fine.width + cx]; };
-        gpu.children.push_back(node(x0, y0));
-        gpu.children.push_back(splitX ? node(x0 + 1, y0) : 0.0f);
-        gpu.children.push_back(splitY ? node(x0, y0 + 1) : 0.0f);
-        gpu.children.push_back(splitX && splitY ? node(x0 + 1, y0 + 1) : 0.0f);
+        const float q00 = node(x0, y0), q10 = splitX ? node(x0 + 1, y0) : 0.0f;
+        const float q01 = splitY ? node(x0, y0 + 1) : 0.0f, q11 = splitX && splitY ? node(x0 + 1, y0 + 1) : 0.0f;
+        // The same float operations as texelProbability, so sample() and pdf() multiply identical shares.
+        float* shares = &gpu.shares[4 * (coarse.offset + mortonIndex(x, y, coarse.width, coarse.height))];
+        shares[0] = splitX ? columnShare(q00 + q01, q10 + q11) : 1.0f;
+        shares[1] = splitY ? columnShare(q00, q01) : 1.0f;
+        shares[2] = splitY ? columnShare(q10, q11) : 1.0f;
       }
+  }
+
+  // The guide: walk the tree in double, tracking each node's rectangle in u, down to the nodes still as large
+  // as a guide cell; every cell records the deepest node that contains it (parents are marked first).
+  gpu.guideSize = guideSize != 0 ? guideSize : std::min<uint32_t>(256u, std::max(finest.width, finest.height));
+  if (!std::has_single_bit(gpu.guideSize)) throw Error("env-hier: the guide size must be a power of two");
+  const uint32_t cells = gpu.guideSize;
+  const double cellsD = double(cells);
+  gpu.guide.assign(std::size_t(cells) * cells, EnvHierStart{});
+  struct Pending {
+    EnvHierStart start;
+    glm::dvec2 lo, hi;  // the node's rectangle in u
+  };
+  std::vector<Pending> stack{{EnvHierStart{}, glm::dvec2(0.0), glm::dvec2(1.0)}};
+  while (!stack.empty()) {
+    const Pending p = stack.back();
+    stack.pop_back();
+    EnvHierStart start = p.start;
+    start.minX = float(p.lo.x);
+    start.minY = float(p.lo.y);
+    start.invSizeX = float(1.0 / (p.hi.x - p.lo.x));
+    start.invSizeY = float(1.0 / (p.hi.y - p.lo.y));
+    // Cells i with i / G >= lo and (i + 1) / G <= hi.
+    const uint32_t x0 = uint32_t(std::ceil(p.lo.x * cellsD)), x1 = uint32_t(std::floor(p.hi.x * cellsD));
+    const uint32_t y0 = uint32_t(std::ceil(p.lo.y * cellsD)), y1 = uint32_t(std::floor(p.hi.y * cellsD));
+    for (uint32_t cy = y0; cy < y1; ++cy)
+      for (uint32_t cx = x0; cx < x1; ++cx) gpu.guide[std::size_t(cy) * cells + cx] = start;
+    if (p.start.node >= gpu.leafStart) continue;
+    const float* shares = &gpu.shares[4 * std::size_t(p.start.node)];
+    const float pLeft = shares[0];
+    for (uint32_t column = 0; column < 2; ++column) {
+      const float shareX = column == 0 ? pLeft : 1.0f - pLeft;
+      if (!(shareX > 0.0f)) continue;
+      const double splitX = p.lo.x + double(pLeft) * (p.hi.x - p.lo.x);
+      const double loX = column == 0 ? p.lo.x : splitX, hiX = column == 0 ? splitX : p.hi.x;
+      const float pTop = shares[1 + column];
+      for (uint32_t row = 0; row < 2; ++row) {
+        const float shareY = row == 0 ? pTop : 1.0f - pTop;
+        if (!(shareY > 0.0f)) continue;
+        const double splitY = p.lo.y + double(pTop) * (p.hi.y - p.lo.y);
+        const double loY = row == 0 ? p.lo.y : splitY, hiY = row == 0 ? splitY : p.hi.y;
+        if ((hiX - loX) * cellsD < 1.0 || (hiY - loY) * cellsD < 1.0) continue;  // holds no whole cell
+        Pending child{p.start, {loX, loY}, {hiX, hiY}};
+        child.start.prob = p.start.prob * shareX * shareY;  // the GPU's order: prob *= shareX; prob *= shareY
+        child.start.node = hierChild(gpu, p.start.node, column, row);
+        child.start.x = 2 * p.start.x + column;
+        child.start.y = 2 * p.start.y + row;
+        stack.push_back(child);
+      }
+    }
   }
   return gpu;
 }

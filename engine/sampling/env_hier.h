@@ -33,19 +33,51 @@ struct EnvHierData {
 // Builds the pyramid. Throws iblx::Error on an empty image or a negative or non-finite texel.
 EnvHierData buildEnvHier(const EnvImage& image);
 
-// The layout shaders/env/env_hier.glsl reads: for every level but the finest, one vec4 per node holding its
-// children (q(0,0), q(1,0), q(0,1), q(1,1)), 0 where missing, so each step of the descent is one load.
-// Level info: x = offset (in vec4s), y = width, z = height, w = splitX | splitY << 1 | shiftX << 8 | shiftY
-// << 16 (shift = the number of x / y doublings from this level's children down to the finest level).
-struct EnvHierGpuData {
-  std::vector<float> children;  // 4 floats per node
-  std::vector<EnvHierLevel> levels;
+// Where a descent may start for the u values of one guide cell: the deepest node whose preimage in u (a
+// rectangle, since every split is along u.x or u.y) contains the whole cell. std430: vec4 + uvec4.
+struct EnvHierStart {
+  float minX = 0.0f, minY = 0.0f;          // the node's rectangle in u: [min, min + 1/invSize)
+  float invSizeX = 1.0f, invSizeY = 1.0f;  // u_local = clamp((u - min) * invSize, 0, 1 - 2^-24), in float
+  uint32_t node = 0;                       // heap index (below); >= leafStart for a texel
+  uint32_t x = 0, y = 0;                   // the node's coordinates in its level
+  float prob = 1.0f;                       // the float product of the shares on the path to it
 };
-EnvHierGpuData packEnvHierForGpu(const EnvHierData& data);
+static_assert(sizeof(EnvHierStart) == 32, "EnvHierStart is a std430 vec4 + uvec4");
+
+// The layout shaders/env/env_hier.glsl reads.
+//
+// Nodes are numbered as a heap: level by level from the root, each level in Morton order (x on the even
+// bits; the longer axis' extra high bits on top), so the children of a node are consecutive and found
+// without any per-level table. With a = |log2 Pw - log2 Ph|, the first a levels split the longer axis only:
+//   node g splitting one axis (g < oneAxisNodes = 2^a - 1): children 2g + 1 + c, c = cx + cy;
+//   node g splitting both:                                children 4g + quadChildOffset + cx + 2 cy,
+//                                                          quadChildOffset = 3 - 2^(a+1).
+// shares[4g .. 4g+3] holds interior node g's split: (pLeft, pTop of the left column, pTop of the right column,
+// 0), computed from its children q as texelProbability does (1 along an axis that does not split), so a step
+// of the descent is one load and no division for the shares; nodes >= leafStart are the finest level (the
+// texels), which need no record.
+//
+// The guide (guideSize^2 cells over u, row-major) lets the descent skip the levels every u of a cell shares:
+// on the default map most samples start within two levels of their texel (EnvHierStart).
+struct EnvHierGpuData {
+  std::vector<float> shares;  // 4 floats per interior node
+  std::vector<EnvHierStart> guide;
+  uint32_t guideSize = 1;
+  uint32_t levelCount = 1;  // levels including the root and the finest
+  uint32_t oneAxisNodes = 0, leafStart = 0;
+  int32_t quadChildOffset = 1;
+  uint32_t finestWidth = 1, finestHeight = 1;  // Pw x Ph
+};
+// guideSize 0 picks min(256, max(Pw, Ph)).
+EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize = 0);
 
 // CPU twin of the env-hier GLSL part, step by step in float as the GPU computes it.
 //
-// Descent from the root, with u as the float the GPU receives (toGpuU). Going from level k to k+1, the
+// sample(): u as the float the GPU receives (toGpuU) selects its guide cell min(floor(u * G), G - 1); the
+// descent starts at that cell's node with u = clamp((u - min) * invSize, 0, 1 - 2^-24) and prob = its prob.
+// In exact arithmetic this is the descent from the root (the guide only skips the levels the cell's u values
+// share); in float the start differs by rounding, and pdf() (from the root) agrees with it to about 1e-6.
+// The descent, from the root or from a start node: Going from level k to k+1, the
 // children along x are {2x, 2x+1} if level k+1 is twice as wide, else {x}; the same along y. With q(i, j) the
 // child values (i: column, j: row; a missing child counts as 0):
 //   column: left = q(0,0) + q(0,1); right = q(1,0) + q(1,1); total = left + right (in this order);
@@ -66,11 +98,14 @@ EnvHierGpuData packEnvHierForGpu(const EnvHierData& data);
 // - Low distortion: a 2x2 block is split into halves of its own mass, so neighbourhoods in u stay compact
 //   (good for Sobol / QMC), with no row-long shear around isolated peaks.
 // - Discontinuous at every quadtree split (at all scales): a u crossing a split jumps between blocks.
-// - Cost: log2(max(Pw, Ph)) levels of 4 dependent loads; padding to powers of two costs memory (< 4x).
+// - Cost: one guide load, then the levels below the start node, one load each (on the default 256x128 sky a
+//   sample starts 0.64 levels above its texel on average, and 3.5 for the slowest of 8 SIMD lanes, instead
+//   of 8); padding to powers of two costs memory (< 4x); the guide costs 32 B per cell (2 MB at 256^2).
 class EnvHierSampler {
  public:
-  // Keeps a copy of the pyramid. Throws iblx::Error when the levels do not describe a valid pyramid.
-  explicit EnvHierSampler(EnvHierData data);
+  // Keeps a copy of the pyramid and packs it as the GPU reads it (guideSize as in packEnvHierForGpu).
+  // Throws iblx::Error when the levels do not describe a valid pyramid.
+  explicit EnvHierSampler(EnvHierData data, uint32_t guideSize = 0);
 
   EnvSample sample(glm::dvec2 u) const;
   // The same density for any direction: the product of the shares on the path to wi's texel / Omega_f(y).
@@ -81,6 +116,7 @@ class EnvHierSampler {
   // Probability prob (float) of texel (x, y): the product of the shares on its path, as sample() computes it.
   float texelProbability(int x, int y) const;
   const EnvHierData& data() const { return data_; }
+  const EnvHierGpuData& gpuData() const { return gpu_; }
 
  private:
   // The children at level k+1 of node (x, y) at level k; q[i][j] = column i, row j (0 when missing).
@@ -92,6 +128,7 @@ class EnvHierSampler {
   Children children(int level, glm::ivec2 node) const;
 
   EnvHierData data_;
+  EnvHierGpuData gpu_;  // sample() walks the GPU layout, as the GLSL part does
   std::vector<float> rowSolidAngles_;
   std::vector<glm::ivec2> shift_;  // per level: log2(finest size / level size) along x and y
 };

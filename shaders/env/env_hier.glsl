@@ -1,21 +1,30 @@
 // Env technique "env-hier": hierarchical 2x2 mip-pyramid warp (engine/sampling/env_hier.cpp builds it,
-// packEnvHierForGpu lays it out). Each level splits u by a local ratio of child sums, so float precision holds at
-// any dynamic range; low distortion, but discontinuous at every quadtree split. pdf = product of the shares
-// actually chosen divided by the texel's exact solid angle; inside a texel the direction is uniform in solid angle.
+// packEnvHierForGpu lays it out). Each level splits u by a local ratio of child sums, so float precision holds
+// at any dynamic range; low distortion, but discontinuous at every quadtree split. pdf = product of the shares
+// actually chosen divided by the texel's exact solid angle; inside a texel the direction is uniform in solid
+// angle. A guide over u starts each descent at the deepest node its u values share.
 #include "lib/latlong.glsl"
 
-// Per node of every level but the finest: its children (q00, q10, q01, q11), 0 where missing.
-layout(std430, set = 2, binding = 0) readonly buffer EnvHierChildren { vec4 hierChildren[]; };
-// Per level, root first: x = offset into hierChildren, y = width, z = height,
-// w = splitX | splitY << 1 | shiftX << 8 | shiftY << 16 (doublings from the children down to the finest level).
-// A constant from the builder (it depends on the map's size only), so every level's fields are immediates.
-const uvec4 hierLevels[ENV_HIER_LEVELS] = ENV_HIER_LEVEL_TABLE;
+// Interior nodes in heap order (EnvHierGpuData in engine/sampling/env_hier.h): node g's split (pLeft, pTop of
+// the left column, pTop of the right column, 0), 1 along an axis that does not split. Node g's children are
+// 2g + 1 + c below ENV_HIER_ONE_AXIS_NODES (levels that split the longer axis only) and
+// 4g + ENV_HIER_QUAD_CHILD_OFFSET + cx + 2cy after; nodes from ENV_HIER_LEAF_START on are texels.
+layout(std430, set = 2, binding = 0) readonly buffer EnvHierShares { vec4 hierShares[]; };
+// Per cell of a G x G grid over u: the deepest node containing the whole cell, where the descent starts.
+struct EnvHierStart {
+  vec4 rect;   // xy = the node's lower corner in u, zw = 1 / its size
+  uvec4 node;  // heap index, x, y, the bits of its probability
+};
+layout(std430, set = 2, binding = 1) readonly buffer EnvHierGuide { EnvHierStart hierGuide[]; };
 
-// Splits between a first child of weight a and a second of weight b: returns 1 for the second, remaps u, and
-// multiplies prob by the share taken. A missing second child (b = 0) gives share 1 and leaves u unchanged.
-uint hierChoose(float a, float b, inout float u, inout float prob) {
-  float total = a + b;
-  float pFirst = total > 0.0 ? a / total : 0.5;
+uint hierChild(uint g, uint cx, uint cy) {
+  return g < ENV_HIER_ONE_AXIS_NODES ? 2u * g + 1u + cx + cy
+                                     : uint(int(4u * g) + ENV_HIER_QUAD_CHILD_OFFSET) + cx + 2u * cy;
+}
+
+// Takes the first child with probability pFirst: returns 1 for the second, remaps u, and multiplies prob by
+// the share taken. pFirst = 1 (no split along this axis) leaves u unchanged.
+uint hierChoose(float pFirst, inout float u, inout float prob) {
   bool second = u >= pFirst;
   float share = second ? 1.0 - pFirst : pFirst;
   float remapped = (second ? u - pFirst : u) / share;  // share > 0: a share of 0 is never chosen
@@ -25,16 +34,19 @@ uint hierChoose(float a, float b, inout float u, inout float prob) {
 }
 
 vec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {
-  const uint levelCount = ENV_HIER_LEVELS;  // fixed by the builder: the descent unrolls
-  uint x = 0u, y = 0u;
-  float prob = 1.0;
-  for (uint l = 0u; l < levelCount; ++l) {
-    uvec4 level = hierLevels[l];
-    vec4 q = hierChildren[level.x + y * level.y + x];
-    uint cx = hierChoose(q.x + q.z, q.y + q.w, u.x, prob);  // column first, in the CPU twin's order
-    uint cy = hierChoose(cx == 0u ? q.x : q.y, cx == 0u ? q.z : q.w, u.y, prob);
-    x = (level.w & 1u) != 0u ? 2u * x + cx : x;
-    y = (level.w & 2u) != 0u ? 2u * y + cy : y;
+  const uint guideSize = ENV_HIER_GUIDE_SIZE;  // a power of two: u * G is exact
+  uvec2 cell = min(uvec2(u * float(guideSize)), uvec2(guideSize - 1u));
+  EnvHierStart start = hierGuide[cell.y * guideSize + cell.x];
+  u = clamp((u - start.rect.xy) * start.rect.zw, vec2(0.0), vec2(kOneMinusEpsilon));
+  uint g = start.node.x, x = start.node.y, y = start.node.z;
+  float prob = uintBitsToFloat(start.node.w);
+  while (g < ENV_HIER_LEAF_START) {
+    vec4 shares = hierShares[g];
+    uint cx = hierChoose(shares.x, u.x, prob);  // column first, in the CPU twin's order
+    uint cy = hierChoose(cx == 0u ? shares.y : shares.z, u.y, prob);
+    x = 2u * x + cx;  // along an axis that does not split, c = 0 and the coordinate stays 0
+    y = 2u * y + cy;
+    g = hierChild(g, cx, cy);
   }
   ivec2 texel = min(ivec2(x, y), envSize() - 1);  // padding texels have weight 0 and are never chosen
   float solidAngle = texelSolidAngle(texel);
@@ -45,23 +57,20 @@ vec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {
 
 float envPdf(vec3 wi, vec3 n) {
   uvec2 texel = uvec2(directionToTexel(wi));
-  const uint levelCount = ENV_HIER_LEVELS;
+  const uint interiorLevels = ENV_HIER_LEVELS - 1u;  // fixed by the builder: the walk unrolls
+  uint g = 0u;
   float prob = 1.0;
-  // Walk from the root along the path to the texel, multiplying the shares the descent would take.
-  for (uint l = 0u; l < levelCount; ++l) {
-    uvec4 level = hierLevels[l];
-    uint shiftX = (level.w >> 8u) & 0xffu, shiftY = level.w >> 16u;
-    bool splitX = (level.w & 1u) != 0u, splitY = (level.w & 2u) != 0u;
-    uint x = texel.x >> shiftX, y = texel.y >> shiftY;  // this level's node on the path
-    uint cx = splitX ? (texel.x >> (shiftX - 1u)) & 1u : 0u;
-    uint cy = splitY ? (texel.y >> (shiftY - 1u)) & 1u : 0u;
-    vec4 q = hierChildren[level.x + y * level.y + x];
-    float left = q.x + q.z, right = q.y + q.w, total = left + right;
-    float pLeft = total > 0.0 ? left / total : 0.5;
-    prob *= cx == 0u ? pLeft : 1.0 - pLeft;
-    float top = cx == 0u ? q.x : q.y, bottom = cx == 0u ? q.z : q.w, column = top + bottom;
-    float pTop = column > 0.0 ? top / column : 0.5;
+  // Walk from the root along the path to the texel, multiplying the shares the descent would take. Level l+1
+  // is 2^(bits - (L - l - 1)) wide when that exponent is positive, else 1 wide (no split along that axis).
+  for (uint l = 0u; l < interiorLevels; ++l) {
+    uint shift = interiorLevels - 1u - l;  // doublings from level l+1 down to the finest
+    uint cx = l + 1u + ENV_HIER_BITS_X > interiorLevels ? (texel.x >> shift) & 1u : 0u;
+    uint cy = l + 1u + ENV_HIER_BITS_Y > interiorLevels ? (texel.y >> shift) & 1u : 0u;
+    vec4 shares = hierShares[g];
+    prob *= cx == 0u ? shares.x : 1.0 - shares.x;
+    float pTop = cx == 0u ? shares.y : shares.z;
     prob *= cy == 0u ? pTop : 1.0 - pTop;
+    g = hierChild(g, cx, cy);
   }
   float solidAngle = texelSolidAngle(ivec2(texel));
   return solidAngle > 0.0 ? prob / solidAngle : 0.0;

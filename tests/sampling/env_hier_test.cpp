@@ -148,3 +148,51 @@ TEST_CASE("env-hier: rejects invalid images") {
   bad.levels.erase(bad.levels.begin() + 1);
   CHECK_THROWS_AS(EnvHierSampler{bad}, Error);
 }
+
+TEST_CASE("env-hier: the guide only skips levels (same warp as the descent from the root)") {
+  // Wide, tall (the one-axis levels split y), padded and 1-texel maps next to the hard ones.
+  std::vector<test::NamedEnv> envs = test::samplerTestEnvs();
+  for (const auto& [w, h] : {std::pair{8, 32}, std::pair{3, 13}, std::pair{1, 1}, std::pair{16, 1}})
+    envs.push_back({std::to_string(w) + "x" + std::to_string(h) + " random",
+                    test::makeEnv(w, h, [](int x, int y, double, double) {
+                      const double v = 0.1 + double((x * 7919 + y * 104729) % 97);
+                      return std::array<double, 3>{v, v, v};
+                    })});
+  for (const auto& env : envs) {
+    CAPTURE(env.name);
+    const EnvHierData data = buildEnvHier(env.image);
+    const EnvHierSampler fromRoot(data, 1);  // one cell: every descent starts at the root
+    const EnvHierSampler guided(data);
+    const EnvHierGpuData& gpu = guided.gpuData();
+    CHECK(fromRoot.gpuData().guide.size() == 1);
+    CHECK(fromRoot.gpuData().guide[0].node == 0);
+    // Every cell's start node contains the cell: its rectangle covers the cell's corners.
+    const double g = double(gpu.guideSize);
+    std::size_t deeperThanRoot = 0;
+    for (uint32_t cy = 0; cy < gpu.guideSize; ++cy)
+      for (uint32_t cx = 0; cx < gpu.guideSize; ++cx) {
+        const EnvHierStart& s = gpu.guide[std::size_t(cy) * gpu.guideSize + cx];
+        deeperThanRoot += s.node != 0 ? 1 : 0;
+        const double slack = 1e-6;
+        REQUIRE(double(s.minX) <= cx / g + slack);
+        REQUIRE(double(s.minY) <= cy / g + slack);
+        REQUIRE(double(s.minX) + 1.0 / double(s.invSizeX) >= (cx + 1) / g - slack);
+        REQUIRE(double(s.minY) + 1.0 / double(s.invSizeY) >= (cy + 1) / g - slack);
+      }
+    if (data.levels.size() > 3) CHECK(deeperThanRoot > gpu.guide.size() / 2);  // the guide does skip levels
+    // The same texel, pdf and direction up to float rounding near split lines.
+    std::size_t differentTexel = 0;
+    const auto points = test::uniformPoints(20000, 11);
+    for (const glm::dvec2 u : points) {
+      const EnvSample a = fromRoot.sample(u), b = guided.sample(u);
+      if (a.texel != b.texel) {
+        ++differentTexel;
+        continue;
+      }
+      CHECK(b.pdfSolidAngle == doctest::Approx(a.pdfSolidAngle).epsilon(1e-5));
+      CHECK(glm::length(a.direction - b.direction) < 1e-3);
+      CHECK(guided.pdf(b.direction) == doctest::Approx(b.pdfSolidAngle).epsilon(1e-5));
+    }
+    CHECK(differentTexel <= points.size() / 1000);
+  }
+}
