@@ -2,30 +2,43 @@
 #include "engine/render/brdf_tabulation.h"
 
 #include "engine/core/error.h"
+#include "engine/core/hash.h"
 #include "engine/render/kernel_assembly.h"
+#include "engine/sampling/sphere_mapping.h"
 #include "engine/vk/compute_kernel.h"
 
 #include <algorithm>
+#include <map>
+#include <mutex>
 #include <cmath>
 #include <random>
 
 namespace iblx {
 
-std::vector<glm::dvec3> evaluateBrdf(const VulkanContext& context, ShaderCompiler& compiler,
-                                     const Scene& scene, std::span<const glm::dvec3> wi,
-                                     std::span<const glm::dvec3> wo) {
-  if (wi.size() != wo.size()) throw Error("evaluateBrdf: as many wi as wo are needed");
-  const SceneGpu gpu = uploadScene(context, scene);
-  KernelParts parts{"brdf_eval.comp",
-                    {scene.brdf->evalPart},
-                    paramBlockGlsl(*scene.brdf),
-                    brdfBindingDefines(gpu.brdfData.size())};
-  const auto spirv = compiler.compile(assemblePrelude(parts), "brdf eval " + scene.brdf->name);
-  const auto set3 = gpu.brdfSet();
-  KernelLayout layout{{0, 2, 0, uint32_t(set3.size())}, sizeof(uint32_t)};
-  ComputeKernel kernel(context, spirv, layout, "brdf eval");
-  kernel.bindBuffers(3, set3);
+struct BrdfEvaluator::State {
+  const VulkanContext& context;
+  SceneGpu gpu;
+  std::unique_ptr<ComputeKernel> kernel;
+};
 
+BrdfEvaluator::BrdfEvaluator(const GpuServices& services, const Scene& scene)
+    : state_(std::make_unique<State>(State{services.context, uploadScene(services.context, scene), nullptr})) {
+  KernelParts parts = brdfKernelParts("brdf_eval.comp", *scene.brdf);
+  parts.defines = brdfBindingDefines(state_->gpu.brdfData.size());
+  const auto spirv = compileKernel(services.compiler, parts, "brdf eval " + scene.brdf->name);
+  const auto set3 = state_->gpu.brdfSet();
+  KernelLayout layout{{0, 2, 0, uint32_t(set3.size())}, sizeof(uint32_t)};
+  state_->kernel = std::make_unique<ComputeKernel>(services.context, spirv, layout, "brdf eval");
+  state_->kernel->bindBuffers(3, set3);
+}
+
+BrdfEvaluator::~BrdfEvaluator() = default;
+
+std::vector<glm::dvec3> BrdfEvaluator::evaluate(std::span<const glm::dvec3> wi,
+                                                std::span<const glm::dvec3> wo) const {
+  if (wi.size() != wo.size()) throw Error("evaluateBrdf: as many wi as wo are needed");
+  const VulkanContext& context = state_->context;
+  ComputeKernel& kernel = *state_->kernel;
   const auto& limits = context.limits();
   const std::size_t maxPairs =
       std::min<std::size_t>({std::size_t(limits.maxComputeWorkGroupCount[0]) * 64,
@@ -50,6 +63,80 @@ std::vector<glm::dvec3> evaluateBrdf(const VulkanContext& context, ShaderCompile
     for (const glm::vec4& v : out.readAll<glm::vec4>()) values.emplace_back(v.x, v.y, v.z);
   }
   return values;
+}
+
+std::vector<glm::dvec3> evaluateBrdf(const VulkanContext& context, ShaderCompiler& compiler,
+                                     const Scene& scene, std::span<const glm::dvec3> wi,
+                                     std::span<const glm::dvec3> wo) {
+  return BrdfEvaluator({context, compiler}, scene).evaluate(wi, wo);
+}
+
+double estimateLobeWidth(const GpuServices& services, const Scene& scene) {
+  const BrdfEvaluator evaluator(services, scene);
+  constexpr double kStep = 0.05 * kPi / 180.0;
+  constexpr int kHalfSteps = 1800;  // +-90 degrees around the mirror direction
+  double width = 0.0;
+  for (const double viewDeg : {0.0, 60.0}) {
+    const double t = viewDeg * kPi / 180.0;
+    const glm::dvec3 wo(std::sin(t), 0.0, std::cos(t)), mirror(-wo.x, 0.0, wo.z);
+    // Two great circles through the mirror direction: in the plane of incidence and across it.
+    const glm::dvec3 axes[2] = {glm::normalize(glm::cross(mirror, glm::dvec3(0.0, 1.0, 0.0))),
+                                glm::dvec3(0.0, 1.0, 0.0)};
+    for (const glm::dvec3& axis : axes) {
+      std::vector<glm::dvec3> wi, wos;
+      for (int k = -kHalfSteps; k <= kHalfSteps; ++k) {
+        const double a = k * kStep;
+        wi.push_back(std::cos(a) * mirror + std::sin(a) * axis);
+        wos.push_back(wo);
+      }
+      const std::vector<glm::dvec3> f = evaluator.evaluate(wi, wos);
+      std::vector<double> g(f.size());
+      double mean = 0.0, peak = 0.0;
+      std::size_t at = 0;
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        g[i] = (f[i].x + f[i].y + f[i].z) / 3.0 * std::max(wi[i].z, 0.0);
+        mean += g[i] / double(f.size());
+        if (g[i] > peak) peak = g[i], at = i;
+      }
+      if (!(peak > 4.0 * mean)) continue;  // no lobe along this circle
+      std::size_t lo = at, hi = at;
+      while (lo > 0 && g[lo - 1] >= 0.5 * peak) --lo;
+      while (hi + 1 < g.size() && g[hi + 1] >= 0.5 * peak) ++hi;
+      const double fwhm = double(hi - lo + 1) * kStep;
+      width = width > 0.0 ? std::min(width, fwhm) : fwhm;
+    }
+  }
+  return width;
+}
+
+std::shared_ptr<const MerlTableData> tabulateBrdfTable(const GpuServices& services, const Scene& scene) {
+  // One table per BRDF source and parameter values, for the life of the process.
+  static std::mutex mutex;
+  static std::map<std::string, std::shared_ptr<const MerlTableData>> cache;
+  const std::vector<float> params = packParams(*scene.brdf, scene.params);
+  std::string key = scene.brdf->evalPart + "|" + scene.brdf->evalSource + "|";
+  key.append(reinterpret_cast<const char*>(params.data()), params.size() * sizeof(float));
+  if (scene.brdf->data) {  // a material read from a file (MERL): its data is part of the BRDF
+    ContentHash hash;
+    for (const auto& buffer : scene.brdf->data(scene).buffers)
+      hash.add(std::string_view(reinterpret_cast<const char*>(buffer.data()), buffer.size()));
+    key += '|';
+    key += std::to_string(hash.value());
+  }
+  std::lock_guard lock(mutex);
+  if (auto it = cache.find(key); it != cache.end()) return it->second;
+  const BrdfEvaluator evaluator(services, scene);
+  std::vector<glm::dvec3> wi, wo;
+  auto table = std::make_shared<const MerlTableData>(
+      buildHalfVectorTable([&](std::span<const HalfVectorTablePoint> points, std::span<double> weights) {
+        wi.resize(points.size());
+        wo.resize(points.size());
+        for (std::size_t i = 0; i < points.size(); ++i) wi[i] = points[i].wi, wo[i] = points[i].wo;
+        const std::vector<glm::dvec3> f = evaluator.evaluate(wi, wo);
+        for (std::size_t i = 0; i < points.size(); ++i) weights[i] = (f[i].x + f[i].y + f[i].z) / 3.0;
+      }));
+  cache.emplace(std::move(key), table);
+  return table;
 }
 
 namespace {

@@ -4,21 +4,44 @@
 #pragma once
 
 #include "engine/render/scene.h"
+#include "engine/sampling/merl_sampling.h"
 #include "engine/vk/shader_compiler.h"
 
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
 namespace iblx {
 
 // f(wi, wo) in 1/sr for each pair (local frame: normal +z), evaluated as the integrator would. Runs in chunks
-// within the device's dispatch and buffer limits.
+// within the device's dispatch and buffer limits. Compiles and uploads once; call evaluate() many times.
+class BrdfEvaluator {
+ public:
+  BrdfEvaluator(const GpuServices& gpu, const Scene& scene);
+  ~BrdfEvaluator();
+  std::vector<glm::dvec3> evaluate(std::span<const glm::dvec3> wi, std::span<const glm::dvec3> wo) const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 std::vector<glm::dvec3> evaluateBrdf(const VulkanContext& context, ShaderCompiler& compiler,
                                      const Scene& scene, std::span<const glm::dvec3> wi,
                                      std::span<const glm::dvec3> wo);
+
+// Angular width (radians) of the narrowest lobe of the scene's BRDF, measured on the GPU: the full width at half
+// maximum of f cos along great circles through the mirror direction (in and across the plane of incidence, for
+// views at 0 and 60 degrees), at 0.05 degree steps. 0 when f cos has no peak (a maximum below 4 times its mean
+// along the circle). The reference refines its quadrature around lobes narrower than its texels.
+double estimateLobeWidth(const GpuServices& gpu, const Scene& scene);
+
+// brdf-tab's tables: the half-vector tables of merl-table (engine/sampling/merl_sampling.h) with the sampling
+// weight mean(f) of the scene's compiled BRDF, evaluated on the GPU. Kept in memory per BRDF source and
+// parameter values, so the renderers of one scene (bench, converge) build them once.
+std::shared_ptr<const MerlTableData> tabulateBrdfTable(const GpuServices& gpu, const Scene& scene);
 
 // A built-in BRDF tabulated in MERL's layout: the values of writeMerl (3 * kMerlBins, planar, 1/sr), each the
 // BRDF at its bin's centre (merlBinCenter). A centre direction at or below the horizon is evaluated at the

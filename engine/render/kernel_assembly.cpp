@@ -1,6 +1,8 @@
 // Prelude generation for the integrator and reference kernels.
 #include "engine/render/kernel_assembly.h"
 
+#include "engine/vk/shader_compiler.h"
+
 #include <sstream>
 
 namespace iblx {
@@ -15,6 +17,17 @@ std::string assemblePrelude(const KernelParts& parts) {
   s << "#include \"" << parts.kernel << "\"\n";
   for (const auto& part : parts.parts) s << "#include \"" << part << "\"\n";
   return s.str();
+}
+
+KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf) {
+  KernelParts k{std::move(kernel), {brdf.evalPart}, paramBlockGlsl(brdf), {}, {}};
+  if (!brdf.evalSource.empty()) k.sources.emplace_back(brdf.evalPart, brdf.evalSource);
+  return k;
+}
+
+std::vector<uint32_t> compileKernel(ShaderCompiler& compiler, const KernelParts& parts, const std::string& name) {
+  for (const auto& [path, text] : parts.sources) compiler.addSource(path, text);
+  return compiler.compile(assemblePrelude(parts), name);
 }
 
 std::vector<std::pair<std::string, std::string>> brdfBindingDefines(std::size_t brdfDataBuffers) {
@@ -32,13 +45,15 @@ KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method, co
   k.parts.push_back(scene.brdf->evalPart);
   if (method.brdfTechnique) k.parts.push_back(method.brdfTechnique->part);
   k.parts.push_back(strategyPart(method.method->strategy));
+  if (!scene.brdf->evalSource.empty()) k.sources.emplace_back(scene.brdf->evalPart, scene.brdf->evalSource);
   return k;
 }
 
 KernelParts referenceParts(const Scene& scene) {
   // No BRDF technique in the reference: only the BRDF's own data binding.
-  return {
-      "reference.comp", {scene.brdf->evalPart}, paramBlockGlsl(*scene.brdf), {{"BRDF_DATA_BINDING", "1"}}};
+  KernelParts k = brdfKernelParts("reference.comp", *scene.brdf);
+  k.defines = {{"BRDF_DATA_BINDING", "1"}};
+  return k;
 }
 
 KernelLayout sceneKernelLayout(uint32_t envBuffers, uint32_t brdfBuffers) {

@@ -2,6 +2,7 @@
 #include "engine/render/methods.h"
 
 #include "engine/core/error.h"
+#include "engine/render/brdf_tabulation.h"
 #include "engine/render/scene.h"
 #include "engine/sampling/env_cdf.h"
 #include "engine/sampling/env_hier.h"
@@ -52,7 +53,7 @@ TechniqueData makeEnvHier(const EnvImage& image) {
   return data;
 }
 
-double ggxLobeWidth(const Scene& scene) {
+double ggxLobeWidth(const Scene& scene, const GpuServices&) {
   return 2.0 * std::atan(scene.params.at("roughness")[0]);
 }
 
@@ -62,13 +63,19 @@ TechniqueData makeMerlData(const Scene& scene) {
   return data;
 }
 
-TechniqueData makeMerlThetaH(const Scene& scene) {
+TechniqueData makeMerlThetaH(const Scene& scene, const GpuServices&) {
   TechniqueData data;
   data.add("merl-thetah cdf", std::span<const float>(scene.measured->thetaHTable().cdf));
   return data;
 }
 
-TechniqueData makeMerlTable(const Scene& scene) {
+TechniqueData makeBrdfTab(const Scene& scene, const GpuServices& gpu) {
+  TechniqueData data;
+  data.add("brdf-tab slices", std::span<const float>(tabulateBrdfTable(gpu, scene)->tables));
+  return data;
+}
+
+TechniqueData makeMerlTable(const Scene& scene, const GpuServices&) {
   TechniqueData data;
   data.add("merl-table slices", std::span<const float>(scene.measured->sampleTable().tables));
   return data;
@@ -80,7 +87,7 @@ const BrdfInfo kBrdfs[] = {
      "brdf/lambert.glsl",
      {{"albedo", ParamType::Color, 0.0, 1.0, {0.8, 0.8, 0.8}, "diffuse reflectance"}},
      "cosine",
-     [](const Scene&) { return 0.0; }},
+     [](const Scene&, const GpuServices&) { return 0.0; }},
     {"ggx",
      "metallic-roughness GGX microfacet (Walter 2007) + Lambert diffuse",
      "brdf/ggx.glsl",
@@ -94,7 +101,7 @@ const BrdfInfo kBrdfs[] = {
      "brdf/merl.glsl",
      {},
      "merl-table",
-     [](const Scene& scene) { return scene.measured->lobeWidth(); },
+     [](const Scene& scene, const GpuServices&) { return scene.measured->lobeWidth(); },
      ".binary",
      makeMerlData},
 };
@@ -106,23 +113,42 @@ const EnvTechniqueInfo kEnvTechniques[] = {
     {"env-hier", "hierarchical 2x2 mip-pyramid warp", "env/env_hier.glsl", makeEnvHier},
 };
 
+bool isBrdf(const BrdfInfo& brdf, const char* name) {
+  return brdf.name == name && brdf.evalSource.empty();  // a .brdf file may be called "ggx" too
+}
+
 const BrdfTechniqueInfo kBrdfTechniques[] = {
-    {"cosine", "cosine-weighted hemisphere", "brdf_sampler/cosine.glsl", {}, nullptr},
+    {"cosine", "cosine-weighted hemisphere", "brdf_sampler/cosine.glsl", "any BRDF", nullptr, nullptr},
     {"ggx-vndf",
      "GGX visible normals (Heitz 2018) + cosine for the diffuse lobe",
      "brdf_sampler/ggx_vndf.glsl",
-     {"ggx"},
+     "ggx",
+     [](const BrdfInfo& b) { return isBrdf(b, "ggx"); },
      nullptr},
     {"merl-thetah",
      "1D inverse CDF over MERL's theta_h bins, phi_h uniform (baseline)",
      "brdf_sampler/merl_thetah.glsl",
-     {"merl"},
+     "merl",
+     [](const BrdfInfo& b) { return isBrdf(b, "merl"); },
      makeMerlThetaH},
     {"merl-table",
      "per-theta_o 2D tables of f cos over the half vector (sqrt-warped theta_h x phi_h)",
-     "brdf_sampler/merl_table.glsl",
-     {"merl"},
+     "brdf_sampler/half_vector_table.glsl",
+     "merl",
+     [](const BrdfInfo& b) { return isBrdf(b, "merl"); },
      makeMerlTable},
+    {"brdf-tab",
+     "merl-table's tables of f cos over the half vector, tabulated on the GPU from the compiled BRDF",
+     "brdf_sampler/half_vector_table.glsl",
+     "any BRDF",
+     nullptr,
+     makeBrdfTab},
+    {"isfunc",
+     "the .brdf file's own sampleBRDF and pdfBRDF (its ::begin isFunc section)",
+     "brdf_sampler/isfunc.glsl",
+     ".brdf files whose isFunc defines sampleBRDF and pdfBRDF",
+     [](const BrdfInfo& b) { return b.hasSampleHook; },
+     nullptr},
 };
 
 const SequenceInfo kSequences[] = {
@@ -159,10 +185,6 @@ std::string formatValue(const ParamDecl& p, const std::array<double, 3>& v) {
 
 }  // namespace
 
-bool BrdfTechniqueInfo::appliesTo(const std::string& brdf) const {
-  return brdfs.empty() || std::find(brdfs.begin(), brdfs.end(), brdf) != brdfs.end();
-}
-
 std::span<const BrdfInfo> brdfRegistry() {
   return kBrdfs;
 }
@@ -195,14 +217,15 @@ const BrdfInfo& findBrdf(const std::string& name) {
   return findIn(brdfRegistry(), name, "--brdf");
 }
 
-const BrdfInfo& findBrdfForArgument(const std::string& nameOrPath) {
+const BrdfInfo* findBrdfForArgument(const std::string& nameOrPath) {
   const std::string extension = std::filesystem::path(nameOrPath).extension().string();
+  if (extension == ".brdf" || extension == ".bparam") return nullptr;
   for (const auto& b : brdfRegistry())
-    if (!b.fileExtension.empty() && extension == b.fileExtension) return b;
+    if (!b.fileExtension.empty() && extension == b.fileExtension) return &b;
   std::string valid;
   for (const auto& b : brdfRegistry())
     if (b.fileExtension.empty()) {
-      if (b.name == nameOrPath) return b;
+      if (b.name == nameOrPath) return &b;
       valid += (valid.empty() ? "" : ", ") + b.name;
     }
   for (const auto& b : brdfRegistry())
@@ -212,6 +235,7 @@ const BrdfInfo& findBrdfForArgument(const std::string& nameOrPath) {
                     b.fileExtension);
       valid += ", a " + b.fileExtension + " file (" + b.name + ")";
     }
+  valid += ", a .brdf or .bparam file (BRDF Explorer)";
   throw Error("unknown --brdf '" + nameOrPath + "'; valid: " + valid);
 }
 const EnvTechniqueInfo& findEnvTechnique(const std::string& name, const std::string& what) {
@@ -239,13 +263,8 @@ std::string describeRegistry() {
       << "; any BRDF\n";
   s << "BRDF techniques (--brdf-sampler, used by brdf and mis):\n";
   for (const auto& t : brdfTechniqueRegistry()) {
-    std::string applies = "any BRDF";
-    if (!t.brdfs.empty()) {
-      applies = "BRDFs: ";
-      for (size_t i = 0; i < t.brdfs.size(); ++i) applies += (i ? ", " : "") + t.brdfs[i];
-    }
     s << "  " << t.name << std::string(12 - std::min<size_t>(11, t.name.size()), ' ') << t.description << "; "
-      << applies << "\n";
+      << (t.applies ? "BRDFs: " : "") << t.appliesText << "\n";
   }
   s << "sequences (--seq):\n";
   for (const auto& q : sequenceRegistry())

@@ -3,6 +3,7 @@
 // method is one builder, one GLSL part and one line in methods.cpp.
 #pragma once
 
+#include "engine/core/params.h"
 #include "engine/io/env_image.h"
 
 #include <array>
@@ -15,7 +16,16 @@
 
 namespace iblx {
 
-struct Scene;  // engine/render/scene.h
+struct Scene;            // engine/render/scene.h
+class VulkanContext;     // engine/vk/context.h
+class ShaderCompiler;    // engine/vk/shader_compiler.h
+
+// What a builder that needs the GPU gets (brdf-tab tabulates the compiled BRDF; the reference measures a
+// .brdf file's lobe).
+struct GpuServices {
+  const VulkanContext& context;
+  ShaderCompiler& compiler;
+};
 
 // GPU data of a technique or of a BRDF read from a file: storage buffers in binding order, and preprocessor
 // definitions for its GLSL part (sizes known at build time, so most loops over them have constant trip counts
@@ -35,17 +45,6 @@ struct TechniqueData {
 
 // ---- BRDFs
 // -------------------------------------------------------------------------------------------------
-enum class ParamType { Float, Color, Bool };
-
-struct ParamDecl {
-  std::string name;
-  ParamType type = ParamType::Float;
-  double min = 0.0, max = 1.0;                  // bounds, inclusive (every channel for colors)
-  std::array<double, 3> defaultValue{0, 0, 0};  // floats and bools use [0]
-  std::string description;
-};
-
-using ParamValues = std::map<std::string, std::array<double, 3>>;
 
 struct BrdfInfo {
   std::string name;
@@ -55,11 +54,16 @@ struct BrdfInfo {
   std::string bestSampler;  // BRDF technique used when --brdf-sampler is not given
   // Angular width (radians) of the narrowest lobe of the scene's BRDF; 0 when the BRDF is smooth.
   // The reference uses it to refine its quadrature around the mirror direction.
-  std::function<double(const Scene&)> lobeWidth;
+  std::function<double(const Scene&, const GpuServices&)> lobeWidth;
   // A BRDF read from a file (`--brdf FILE`) names the file extension it reads; empty for built-ins.
   std::string fileExtension;
   // Buffers its eval part reads, made from the scene (set 3 from binding BRDF_DATA_BINDING on); may be null.
   std::function<TechniqueData(const Scene&)> data;
+  // A BRDF made at run time (a .brdf file, engine/render/analytic_brdf.h): the GLSL text of evalPart, which
+  // every compile of a kernel that includes it registers with the compiler (KernelParts::sources).
+  std::string evalSource;
+  // The file's own sampling routine (::begin isFunc with sampleBRDF and pdfBRDF): technique `isfunc`.
+  bool hasSampleHook = false;
 };
 
 struct EnvTechniqueInfo {
@@ -72,11 +76,13 @@ struct EnvTechniqueInfo {
 struct BrdfTechniqueInfo {
   std::string name;
   std::string description;
-  std::string part;                // implements interfaces/brdf_sampler.glsl
-  std::vector<std::string> brdfs;  // the BRDFs it applies to; empty = every BRDF
+  std::string part;        // implements interfaces/brdf_sampler.glsl
+  std::string appliesText;  // for --list-methods, e.g. "any BRDF", "ggx"
+  // Whether it can sample a BRDF; null = every BRDF.
+  std::function<bool(const BrdfInfo&)> applies;
   // Its tables, made from the scene (set 3 from binding BRDF_SAMPLER_BINDING on); may be null.
-  std::function<TechniqueData(const Scene&)> build;
-  bool appliesTo(const std::string& brdf) const;
+  std::function<TechniqueData(const Scene&, const GpuServices&)> build;
+  bool appliesTo(const BrdfInfo& brdf) const { return !applies || applies(brdf); }
 };
 
 struct SequenceInfo {
@@ -104,8 +110,10 @@ std::string strategyPart(Strategy strategy);
 
 // Lookups that throw iblx::Error listing the valid names (`what` names the flag, e.g. "--method").
 const BrdfInfo& findBrdf(const std::string& name);
-// --brdf's argument: a built-in name, or a file whose extension a file-based BRDF reads.
-const BrdfInfo& findBrdfForArgument(const std::string& nameOrPath);
+// --brdf's argument without reading any file: a built-in, a file-based registry entry (MERL .binary) or
+// null for a .brdf / .bparam file (engine/render/scene.h's loadBrdfArgument reads those). Throws for an
+// unknown name.
+const BrdfInfo* findBrdfForArgument(const std::string& nameOrPath);
 const EnvTechniqueInfo& findEnvTechnique(const std::string& name, const std::string& what = "--env-sampler");
 const BrdfTechniqueInfo& findBrdfTechnique(const std::string& name,
                                            const std::string& what = "--brdf-sampler");

@@ -16,7 +16,7 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   const auto start = std::chrono::steady_clock::now();
   SceneGpu gpu = uploadScene(context, scene);
   const auto spirv =
-      compiler.compile(assemblePrelude(referenceParts(scene)), "reference " + scene.brdf->name);
+      compileKernel(compiler, referenceParts(scene), "reference " + scene.brdf->name);
   const auto brdfSet = gpu.brdfSet();
   ComputeKernel kernel(context, spirv, sceneKernelLayout(0, uint32_t(brdfSet.size() - 1)), "reference");
   kernel.bindBuffers(0, gpu.frameSet());
@@ -25,7 +25,7 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
 
   const int W = scene.env.width, H = scene.env.height;
   const double texelAngle = std::max(kPi / H, 2.0 * kPi / W);  // largest texel side (at the equator)
-  const double lobe = scene.brdf->lobeWidth ? scene.brdf->lobeWidth(scene) : 0.0;
+  const double lobe = scene.brdf->lobeWidth ? scene.brdf->lobeWidth(scene, {context, compiler}) : 0.0;
   // Texels much smaller than every feature of f cos (the lobe, the cosine) take the midpoint rule (error
   // ~ texel^2 / 24 relative); larger ones the 2x2 Gauss rule on coarseSubdivisions^2 sub-cells.
   const double smoothScale = lobe > 0.0 ? std::min(0.05, lobe / 8.0) : 0.05;

@@ -30,12 +30,12 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   for (size_t i = 0; i < envData.buffers.size(); ++i)
     envBuffers_.push_back(Buffer::fromData(context, envData.buffers[i], envData.names[i]));
   TechniqueData brdfData = method.brdfTechnique && method.brdfTechnique->build
-                               ? method.brdfTechnique->build(scene)
+                               ? method.brdfTechnique->build(scene, {context, compiler})
                                : TechniqueData{};
   for (size_t i = 0; i < brdfData.buffers.size(); ++i)
     brdfTechniqueBuffers_.push_back(Buffer::fromData(context, brdfData.buffers[i], brdfData.names[i]));
   const KernelParts parts = integratorParts(scene, method, envData, brdfData, gpu_.brdfData.size());
-  const auto spirv = compiler.compile(assemblePrelude(parts), "integrate " + method.label());
+  const auto spirv = compileKernel(compiler, parts, "integrate " + method.label());
   const auto brdfSet = gpu_.brdfSet(brdfTechniqueBuffers_);
   kernel_ = std::make_unique<ComputeKernel>(
       context, spirv, sceneKernelLayout(uint32_t(envBuffers_.size()), uint32_t(brdfSet.size() - 1)),

@@ -3,6 +3,8 @@
 
 #include "engine/core/error.h"
 #include "engine/core/log.h"
+#include "engine/io/brdf_file.h"
+#include "engine/render/analytic_brdf.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/merl_sampling.h"
 
@@ -53,21 +55,67 @@ double MeasuredBrdf::lobeWidth() const {
   return 0.0;
 }
 
-namespace {
-// The material of a BRDF read from a file (--brdf FILE), or null for a built-in. The only such BRDF today is
-// MERL's; a new file format adds its loader here.
-std::shared_ptr<const MeasuredBrdf> loadBrdfFile(const BrdfInfo& brdf, const std::string& path) {
-  if (brdf.fileExtension.empty()) return nullptr;
-  if (!std::filesystem::exists(path)) throw Error("--brdf " + path + ": no such file");
-  return std::make_shared<const MeasuredBrdf>(loadMerl(path));
+LoadedBrdf loadBrdfArgument(const std::string& nameOrPath) {
+  if (const BrdfInfo* registered = findBrdfForArgument(nameOrPath)) {
+    LoadedBrdf loaded;
+    loaded.info = std::shared_ptr<const BrdfInfo>(std::shared_ptr<const BrdfInfo>(), registered);  // not owned
+    if (!registered->fileExtension.empty()) {  // MERL, the one registry BRDF read from a file
+      if (!std::filesystem::exists(nameOrPath)) throw Error("--brdf " + nameOrPath + ": no such file");
+      loaded.measured = std::make_shared<const MeasuredBrdf>(loadMerl(nameOrPath));
+      loaded.file = nameOrPath;
+    }
+    return loaded;
+  }
+  const BrdfFile file = readBrdfFile(nameOrPath);
+  if (file.kind == BrdfFile::Kind::Analytic) return {makeAnalyticBrdf(file), nullptr, nameOrPath};
+
+  // A .bparam: load what it names, then take its saved values as the defaults, by name.
+  const std::string source = file.bparamSource.string();
+  const std::string sourceExtension = file.bparamSource.extension().string();
+  if (sourceExtension == ".bparam")
+    throw Error(nameOrPath + ":1: a .bparam must name a .brdf or MERL .binary file, not another .bparam");
+  LoadedBrdf loaded;
+  if (sourceExtension == ".brdf") {
+    BrdfFile target = readBrdfFile(file.bparamSource);
+    for (const BrdfFileParam& saved : file.params) {
+      auto it = std::find_if(target.params.begin(), target.params.end(),
+                             [&](const BrdfFileParam& p) { return p.decl.name == saved.decl.name; });
+      if (it == target.params.end()) {
+        warn(nameOrPath + ":" + std::to_string(saved.line) + ": " + source + " has no parameter '" +
+             saved.decl.name + "'; its saved value is ignored");
+        continue;
+      }
+      if (it->decl.type != saved.decl.type) {
+        warn(nameOrPath + ":" + std::to_string(saved.line) + ": '" + saved.decl.name + "' has another type in " +
+             source + "; its saved value is ignored");
+        continue;
+      }
+      auto value = saved.decl.defaultValue;
+      for (double& v : value) v = std::clamp(v, it->decl.min, it->decl.max);
+      if (value != saved.decl.defaultValue)
+        warn(nameOrPath + ":" + std::to_string(saved.line) + ": the saved value of '" + saved.decl.name +
+             "' is outside its range in " + source + " and is clamped");
+      it->decl.defaultValue = value;
+    }
+    auto info = std::make_shared<BrdfInfo>(*makeAnalyticBrdf(target));
+    info->name = std::filesystem::path(nameOrPath).stem().string();
+    info->description = "BRDF Explorer parameters " + nameOrPath + " for " + source;
+    loaded.info = std::move(info);
+    loaded.file = file.bparamSource;
+  } else {
+    loaded = loadBrdfArgument(source);
+    for (const BrdfFileParam& saved : file.params)
+      warn(nameOrPath + ":" + std::to_string(saved.line) + ": " + source + " has no parameters; '" +
+           saved.decl.name + "' is ignored");
+  }
+  return loaded;
 }
-}  // namespace
 
 Scene makeScene(EnvImage env, const SceneSpec& spec) {
-  return makeScene(std::move(env), spec, nullptr);
+  return makeScene(std::move(env), spec, loadBrdfArgument(spec.brdf));
 }
 
-Scene makeScene(EnvImage env, const SceneSpec& spec, std::shared_ptr<const MeasuredBrdf> measured) {
+Scene makeScene(EnvImage env, const SceneSpec& spec, LoadedBrdf brdf) {
   if (spec.width < 1 || spec.height < 1 || spec.width > 16384 || spec.height > 16384)
     throw Error("--size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                 ": width and height must be in [1, 16384]");
@@ -75,18 +123,22 @@ Scene makeScene(EnvImage env, const SceneSpec& spec, std::shared_ptr<const Measu
   Scene scene;
   scene.env = std::move(env);
   scene.envRotationDeg = spec.envRotationDeg;
-  scene.brdf = &findBrdfForArgument(spec.brdf);
+  scene.brdf = std::move(brdf.info);
   scene.params = resolveParams(*scene.brdf, spec.params);
-  scene.measured = measured ? std::move(measured) : loadBrdfFile(*scene.brdf, spec.brdf);
+  scene.measured = std::move(brdf.measured);
+  scene.brdfFile = std::move(brdf.file);
   scene.gbuffer = makeGBuffer(spec.object, spec.width, spec.height);
   return scene;
 }
 
 Scene loadScene(const SceneSpec& spec) {
-  const auto path = spec.envPath.empty() ? defaultEnvPath() : spec.envPath;
   // The BRDF (and its file) first, so a bad --brdf does not wait for a large map to load.
-  auto measured = loadBrdfFile(findBrdfForArgument(spec.brdf), spec.brdf);
-  return makeScene(loadEnvImage(path), spec, std::move(measured));
+  return loadScene(spec, loadBrdfArgument(spec.brdf));
+}
+
+Scene loadScene(const SceneSpec& spec, LoadedBrdf brdf) {
+  const auto path = spec.envPath.empty() ? defaultEnvPath() : spec.envPath;
+  return makeScene(loadEnvImage(path), spec, std::move(brdf));
 }
 
 std::string ResolvedMethod::label() const {
@@ -129,7 +181,7 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
   if (needsBrdf) {
     const std::string name = spec.brdfSampler.empty() ? brdf.bestSampler : spec.brdfSampler;
     r.brdfTechnique = &findBrdfTechnique(name);
-    if (!r.brdfTechnique->appliesTo(brdf.name))
+    if (!r.brdfTechnique->appliesTo(brdf))
       throw Error("--brdf-sampler " + name + " does not apply to BRDF '" + brdf.name +
                   "' (see --list-methods)");
   }

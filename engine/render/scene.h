@@ -60,12 +60,24 @@ class MeasuredBrdf {
   mutable std::unique_ptr<MerlTableData> table_;
 };
 
+// A --brdf argument resolved: a registry BRDF, or one made from a .brdf file (engine/render/analytic_brdf.h),
+// with the material of a MERL file. A .bparam file resolves to the BRDF it names, with its saved values as the
+// parameters' defaults (BRDF Explorer copies them by name) and its own file name as the BRDF's name.
+struct LoadedBrdf {
+  std::shared_ptr<const BrdfInfo> info;
+  std::shared_ptr<const MeasuredBrdf> measured;  // set for the MERL BRDF
+  std::filesystem::path file;                    // the .brdf / .binary read (empty for a built-in)
+};
+// Reads the files a --brdf argument names. Throws iblx::Error with the file (and line) and the problem.
+LoadedBrdf loadBrdfArgument(const std::string& nameOrPath);
+
 struct Scene {
   EnvImage env;
   double envRotationDeg = 0.0;
-  const BrdfInfo* brdf = nullptr;
+  std::shared_ptr<const BrdfInfo> brdf;
   ParamValues params;
   std::shared_ptr<const MeasuredBrdf> measured;  // set for the MERL BRDF
+  std::filesystem::path brdfFile;                // the BRDF's file, for saving a .bparam (empty: a built-in)
   GBuffer gbuffer;
 };
 
@@ -82,9 +94,10 @@ struct ResolvedMethod {
 
 std::filesystem::path defaultEnvPath();
 Scene makeScene(EnvImage env, const SceneSpec& spec);  // reads the --brdf file, if any
-// The same with the BRDF file's material already loaded (null: read it).
-Scene makeScene(EnvImage env, const SceneSpec& spec, std::shared_ptr<const MeasuredBrdf> measured);
+// The same with the --brdf argument already loaded.
+Scene makeScene(EnvImage env, const SceneSpec& spec, LoadedBrdf brdf);
 Scene loadScene(const SceneSpec& spec);  // reads spec.envPath (or the default map)
+Scene loadScene(const SceneSpec& spec, LoadedBrdf brdf);  // the same with the --brdf argument already loaded
 ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf);
 
 // Set-0 and set-3 buffers shared by the integrator and the reference kernel.

@@ -1,5 +1,5 @@
-// merl-thetah and merl-table: table builders (double accumulation, float storage) and the float-exact CPU
-// twins of shaders/brdf_sampler/merl_thetah.glsl and merl_table.glsl.
+// merl-thetah and the half-vector tables (merl-table, brdf-tab): table builders (double accumulation, float
+// storage) and the float-exact CPU twins of shaders/brdf_sampler/merl_thetah.glsl and half_vector_table.glsl.
 #include "engine/sampling/merl_sampling.h"
 
 #include "engine/core/error.h"
@@ -165,12 +165,8 @@ double MerlThetaHSampler::pdf(glm::dvec3 wi, glm::dvec3 wo) const {
 // ---- merl-table
 // ------------------------------------------------------------------------------------------------
 
-MerlTableData buildMerlTable(const MerlBrdf& brdf) {
-  checkMaterial(brdf, "merl-table");
+MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights) {
   constexpr int kRows = kMerlTableThetaBins, kCols = kMerlTablePhiBins, kSub = kTableSubPoints;
-  // Sampling weight w = mean of R, G, B of every MERL bin, read once per sub-point below.
-  std::vector<double> binWeights(kMerlBins);
-  for (std::size_t i = 0; i < kMerlBins; ++i) binWeights[i] = merlSamplingWeight(brdf, i);
   // The grid points, shared by all slices: kSub + 1 per cell and axis, edges included (neighbouring cells
   // share their edge points), all shifted by kMerlTableGridOffset of a grid step so that none lies on a MERL
   // bin edge or in wo's plane of incidence, where the bin would depend on rounding. Per row point theta_h
@@ -197,6 +193,9 @@ MerlTableData buildMerlTable(const MerlBrdf& brdf) {
   data.tables.resize(std::size_t(kMerlTableSlices) * kMerlTableSliceFloats);
   std::vector<double> cells(std::size_t(kRows) * kCols), rowWeights(kRows);
   std::vector<double> points(std::size_t(kRowPoints) * kColumnPoints);
+  std::vector<HalfVectorTablePoint> queries;
+  std::vector<std::size_t> queryPoint;  // the grid point of each query
+  std::vector<double> queryFactor, queryWeight;
   for (int s = 0; s < kMerlTableSlices; ++s) {
     // The slice serves every wo with theta_o in [lo, hi): its weights are the larger of the two edges' (see
     // merl_sampling.h), so no wo in it finds its lobe in cells the table starves, at the horizon above all.
@@ -205,33 +204,33 @@ MerlTableData buildMerlTable(const MerlBrdf& brdf) {
     const glm::dvec3 wos[2] = {{std::sin(edges[0]), 0.0, std::cos(edges[0])},
                                {std::sin(edges[1]), 0.0, std::cos(edges[1])}};
     // g(u) = w(f(wi, wo)) cos(theta_i) 2 pi^2 u_theta sin(theta_h) 4 |wo.h| at every grid point, the larger
-    // of the two edges': p(u) proportional to g makes p(wi) proportional to w(f) cos(theta_i).
+    // of the two edges': p(u) proportional to g makes p(wi) proportional to w(f) cos(theta_i). The pairs
+    // with wi above the horizon go to `weights` in one batch per slice.
+    queries.clear();
+    queryPoint.clear();
+    queryFactor.clear();
     for (int a = 0; a < kRowPoints; ++a) {
       const RowPoint& rp = rowPoints[std::size_t(a)];
       for (int b = 0; b < kColumnPoints; ++b) {
         const glm::dvec2 cs = columnPoints[std::size_t(b)];
         const glm::dvec3 h(rp.sinThetaH * cs.x, rp.sinThetaH * cs.y, rp.cosThetaH);
-        double g = 0.0;
         for (const glm::dvec3& wo : wos) {
           const double woDotH = glm::dot(wo, h);
           const glm::dvec3 wi = 2.0 * woDotH * h - wo;
           if (!(wi.z > 0.0) || !(rp.jacobian > 0.0)) continue;  // f = 0 and cos clamps to 0, or no area
-          // f = evalMerl(brdf, wi, wo), with the half vector and its angles known: wi in the frame of h
-          // (rotated by -phi_h about z, then by -theta_h about y, as merlAngles does) gives theta_d and
-          // phi_d.
-          const double x1 = wi.x * cs.x + wi.y * cs.y, y1 = wi.y * cs.x - wi.x * cs.y;
-          MerlAngles angles;
-          angles.thetaH = rp.thetaH;
-          angles.thetaD = std::acos(std::clamp(x1 * rp.sinThetaH + wi.z * rp.cosThetaH, -1.0, 1.0));
-          angles.phiD = std::atan2(y1, x1 * rp.cosThetaH - wi.z * rp.sinThetaH);
-          if (angles.phiD < 0.0) angles.phiD += kPi;
-          if (angles.phiD >= kPi) angles.phiD = 0.0;
-          const glm::ivec3 bin = merlBin(angles);
-          const double w = binWeights[merlBinIndex(bin.x, bin.y, bin.z)];
-          g = std::max(g, w * wi.z * rp.jacobian * 4.0 * std::abs(woDotH));
+          queries.push_back({wi, wo, rp.thetaH, rp.sinThetaH, rp.cosThetaH, cs});
+          queryPoint.push_back(std::size_t(a) * kColumnPoints + std::size_t(b));
+          queryFactor.push_back(wi.z * rp.jacobian * 4.0 * std::abs(woDotH));
         }
-        points[std::size_t(a) * kColumnPoints + std::size_t(b)] = g;
       }
+    }
+    queryWeight.assign(queries.size(), 0.0);
+    weights(queries, queryWeight);
+    std::fill(points.begin(), points.end(), 0.0);
+    for (std::size_t q = 0; q < queries.size(); ++q) {
+      const double w = queryWeight[q];
+      if (!(w > 0.0) || !std::isfinite(w)) continue;  // a negative or non-finite value reflects nothing
+      points[queryPoint[q]] = std::max(points[queryPoint[q]], w * queryFactor[q]);
     }
     // Cell weight: the largest g on the cell's (kSub + 1)^2 points, a conservative envelope.
     for (int r = 0; r < kRows; ++r)
@@ -259,6 +258,30 @@ MerlTableData buildMerlTable(const MerlBrdf& brdf) {
     writeFloatCdf(rowWeights, slice);
   }
   return data;
+}
+
+MerlTableData buildMerlTable(const MerlBrdf& brdf) {
+  checkMaterial(brdf, "merl-table");
+  // Sampling weight w = mean of R, G, B of every MERL bin, read once per query below.
+  std::vector<double> binWeights(kMerlBins);
+  for (std::size_t i = 0; i < kMerlBins; ++i) binWeights[i] = merlSamplingWeight(brdf, i);
+  return buildHalfVectorTable([&](std::span<const HalfVectorTablePoint> queries, std::span<double> out) {
+    for (std::size_t q = 0; q < queries.size(); ++q) {
+      const HalfVectorTablePoint& p = queries[q];
+      // f = evalMerl(brdf, wi, wo), with the half vector and its angles known: wi in the frame of h (rotated
+      // by -phi_h about z, then by -theta_h about y, as merlAngles does) gives theta_d and phi_d.
+      const glm::dvec3& wi = p.wi;
+      const double x1 = wi.x * p.phiH.x + wi.y * p.phiH.y, y1 = wi.y * p.phiH.x - wi.x * p.phiH.y;
+      MerlAngles angles;
+      angles.thetaH = p.thetaH;
+      angles.thetaD = std::acos(std::clamp(x1 * p.sinThetaH + wi.z * p.cosThetaH, -1.0, 1.0));
+      angles.phiD = std::atan2(y1, x1 * p.cosThetaH - wi.z * p.sinThetaH);
+      if (angles.phiD < 0.0) angles.phiD += kPi;
+      if (angles.phiD >= kPi) angles.phiD = 0.0;
+      const glm::ivec3 bin = merlBin(angles);
+      out[q] = binWeights[merlBinIndex(bin.x, bin.y, bin.z)];
+    }
+  });
 }
 
 MerlTableSampler::MerlTableSampler(MerlTableData data) : data_(std::move(data)) {

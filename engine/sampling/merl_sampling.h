@@ -1,6 +1,6 @@
 // Importance sampling of MERL materials: builders (double) and float-exact CPU twins of the BRDF techniques
 // `merl-thetah` (shaders/brdf_sampler/merl_thetah.glsl) and `merl-table`
-// (shaders/brdf_sampler/merl_table.glsl). Both sample a half vector h around the normal in the
+// (shaders/brdf_sampler/half_vector_table.glsl, which also serves `brdf-tab` for any BRDF). Both sample a half vector h around the normal in the
 // square-root-warped parameterisation of MERL's theta_h,
 //   u_theta = sqrt(theta_h / (pi/2)),  u_phi = phi_h / (2 pi),
 // and reflect: wi = 2 (wo.h) h - wo. Densities (sampling_sota.md §3.3, Mitsuba 3 measured.cpp):
@@ -17,6 +17,8 @@
 
 #include <glm/glm.hpp>
 
+#include <functional>
+#include <span>
 #include <vector>
 
 namespace iblx {
@@ -90,6 +92,19 @@ struct MerlTableData {
   std::vector<float> tables;  // kMerlTableSlices * kMerlTableSliceFloats, slice after slice
 };
 MerlTableData buildMerlTable(const MerlBrdf& brdf);
+
+// The same tables for any BRDF whose sampling weight w(f(wi, wo)) (e.g. the mean of R, G, B) `weights`
+// computes: it receives one batch of grid points per slice (wi above the horizon, wo in the xz plane, and
+// the half vector's angles) and fills one weight per point. Negative and non-finite weights count as 0.
+// brdf-tab (engine/render/brdf_table.cpp) evaluates them on the GPU with the BRDF's compiled part.
+struct HalfVectorTablePoint {
+  glm::dvec3 wi, wo;
+  double thetaH, sinThetaH, cosThetaH;
+  glm::dvec2 phiH;  // (cos, sin) of phi_h
+};
+using HalfVectorSliceWeights =
+    std::function<void(std::span<const HalfVectorTablePoint> points, std::span<double> weights)>;
+MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights);
 
 // Twin of the GLSL part: slice of wo; row i = largest with marginal[i] <= u.y, column j = largest with
 // conditional_i[j] <= u.x (searches in float, zero-width bins never chosen); t offsets as in merl-thetah;

@@ -39,11 +39,12 @@ struct ProbeRunner {
       envBuffers.push_back(Buffer::fromData(gpuContext(), envData.buffers[i], envData.names[i]));
     for (size_t i = 0; i < brdfData.buffers.size(); ++i)
       brdfBuffers.push_back(Buffer::fromData(gpuContext(), brdfData.buffers[i], brdfData.names[i]));
-    KernelParts k{kernelFile, std::move(parts), paramBlockGlsl(*scene.brdf), envData.defines};
+    KernelParts k{kernelFile, std::move(parts), paramBlockGlsl(*scene.brdf), envData.defines, {}};
+    if (!scene.brdf->evalSource.empty()) k.sources.emplace_back(scene.brdf->evalPart, scene.brdf->evalSource);
     k.defines.insert(k.defines.end(), brdfData.defines.begin(), brdfData.defines.end());
     const auto bindings = brdfBindingDefines(gpu.brdfData.size());
     k.defines.insert(k.defines.end(), bindings.begin(), bindings.end());
-    const auto spirv = gpuCompiler().compile(assemblePrelude(k), kernelFile);
+    const auto spirv = compileKernel(gpuCompiler(), k, kernelFile);
     const auto set3 = gpu.brdfSet(brdfBuffers);
     KernelLayout layout = sceneKernelLayout(uint32_t(envBuffers.size()), uint32_t(set3.size() - 1));
     layout.buffersPerSet[1] = 2;
@@ -175,7 +176,7 @@ BrdfTechniqueProbe::BrdfTechniqueProbe(const std::string& technique, const std::
   const auto& info = findBrdfTechnique(technique);
   Scene scene = probeScene(EnvImage{2, 1, std::vector<float>(6, 1.0f)}, brdf, params);
   const std::string evalPart = scene.brdf->evalPart;
-  const TechniqueData data = info.build ? info.build(scene) : TechniqueData{};
+  const TechniqueData data = info.build ? info.build(scene, {gpuContext(), gpuCompiler()}) : TechniqueData{};
   impl_ = std::make_unique<Impl>(std::move(scene), "probe/brdf_sampler_probe.comp",
                                  std::vector<std::string>{evalPart, info.part}, TechniqueData{}, data, wo);
 }

@@ -44,20 +44,21 @@ int cmdMerlSynth(const Args& args) {
   const auto outDir = std::filesystem::path(out).parent_path();
   if (!outDir.empty() && !std::filesystem::is_directory(outDir))
     throw Error("--out " + out + ": directory " + outDir.string() + " does not exist");
-  const BrdfInfo& brdf = findBrdfForArgument(spec.scene.brdf);
-  if (!brdf.fileExtension.empty())
-    throw Error("--brdf " + spec.scene.brdf + ": merl-synth tabulates a built-in BRDF, not a file");
+  LoadedBrdf loaded = loadBrdfArgument(spec.scene.brdf);
+  if (loaded.measured)
+    throw Error("--brdf " + spec.scene.brdf + ": merl-synth tabulates a built-in BRDF or a .brdf file, not a MERL file");
+  const std::string brdfName = loaded.info->name;
 
   const auto start = std::chrono::steady_clock::now();
   spec.scene.width = spec.scene.height = 1;
-  const Scene scene = makeScene(EnvImage{2, 1, std::vector<float>(6, 0.0f)}, spec.scene);
+  const Scene scene = makeScene(EnvImage{2, 1, std::vector<float>(6, 0.0f)}, spec.scene, std::move(loaded));
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
   ShaderCompiler compiler;
   const MerlSynthResult table = tabulateMerl(context, compiler, scene, options);
   writeMerl(out, table.values);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("wrote %s: %s tabulated at %zu bin centres, %zu bins marked invalid (-1), %.2f s\n",
-              out.c_str(), brdf.name.c_str(), kMerlBins, table.invalidBins, seconds);
+              out.c_str(), brdfName.c_str(), kMerlBins, table.invalidBins, seconds);
   return 0;
 }
 

@@ -17,9 +17,10 @@ int cmdReference(const Args& args) {
   parser.value("--out", "FILE", "output .exr (default reference.exr)",
                [&](const std::string& v) { spec.out = v; });
   if (parser.parseOrShowHelp(args)) return 0;
-  resolveParams(findBrdfForArgument(spec.scene.brdf), spec.scene.params);
+  LoadedBrdf brdf = loadBrdfArgument(spec.scene.brdf);
+  resolveParams(*brdf.info, spec.scene.params);
   checkImagePath("--out", spec.out, true);
-  const Scene scene = loadScene(spec.scene);
+  const Scene scene = loadScene(spec.scene, std::move(brdf));
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
   ShaderCompiler compiler;
   ReferenceOptions options;

@@ -28,9 +28,9 @@ int cmdRender(const Args& args) {
     return 0;
   }
   // Everything a user can get wrong is checked before the map is loaded and anything is rendered.
-  const BrdfInfo& brdf = findBrdfForArgument(spec.scene.brdf);
-  resolveParams(brdf, spec.scene.params);
-  const ResolvedMethod method = resolveMethod(spec.method, brdf);
+  LoadedBrdf brdf = loadBrdfArgument(spec.scene.brdf);
+  resolveParams(*brdf.info, spec.scene.params);
+  const ResolvedMethod method = resolveMethod(spec.method, *brdf.info);
   checkImagePath("--out", spec.out);
   if (!spec.timeBudgetSeconds && uint64_t(spec.passes) * spec.samplesPerPass > 0xffffffffull)
     throw Error("--passes x --spp exceeds 2^32 samples per pixel (the sample index would wrap)");
@@ -54,7 +54,7 @@ int cmdRender(const Args& args) {
       if (!std::isfinite(v))
         throw Error("--reference-file " + spec.referenceFile.string() + ": contains NaN or Inf values");
   }
-  const Scene scene = loadScene(spec.scene);
+  const Scene scene = loadScene(spec.scene, std::move(brdf));
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
   ShaderCompiler compiler;
   Renderer renderer(context, compiler, scene, method, spec.seed);
