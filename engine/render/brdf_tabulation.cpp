@@ -109,6 +109,38 @@ double estimateLobeWidth(const GpuServices& services, const Scene& scene) {
   return width;
 }
 
+namespace {
+// View azimuths whose envelope brdf-tab takes for an anisotropic BRDF (buildHalfVectorTable).
+constexpr int kAnisotropicAzimuths = 8;
+
+bool isAnisotropic(const BrdfEvaluator& evaluator) {
+  // The same random pairs, each rotated about the normal by a random angle: an isotropic BRDF gives the same
+  // values up to float rounding.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const auto direction = [&] {
+    const double z = 0.05 + 0.95 * u(rng), phi = 2.0 * kPi * u(rng), r = std::sqrt(1.0 - z * z);
+    return glm::dvec3(r * std::cos(phi), r * std::sin(phi), z);
+  };
+  std::vector<glm::dvec3> wi, wo, wiRotated, woRotated;
+  for (int i = 0; i < 256; ++i) {
+    wi.push_back(direction());
+    wo.push_back(direction());
+    const double a = 2.0 * kPi * u(rng), c = std::cos(a), s = std::sin(a);
+    const auto rotate = [&](glm::dvec3 v) { return glm::dvec3(c * v.x - s * v.y, s * v.x + c * v.y, v.z); };
+    wiRotated.push_back(rotate(wi.back()));
+    woRotated.push_back(rotate(wo.back()));
+  }
+  const auto f = evaluator.evaluate(wi, wo), g = evaluator.evaluate(wiRotated, woRotated);
+  double scale = 0.0;
+  for (const auto& v : f) scale = std::max({scale, v.x, v.y, v.z});
+  for (std::size_t i = 0; i < f.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(f[i][c] - g[i][c]) > 1e-3 * std::max(std::abs(f[i][c]), 1e-3 * scale)) return true;
+  return false;
+}
+}  // namespace
+
 std::shared_ptr<const MerlTableData> tabulateBrdfTable(const GpuServices& services, const Scene& scene) {
   // One table per BRDF source and parameter values, for the life of the process.
   static std::mutex mutex;
@@ -127,14 +159,16 @@ std::shared_ptr<const MerlTableData> tabulateBrdfTable(const GpuServices& servic
   if (auto it = cache.find(key); it != cache.end()) return it->second;
   const BrdfEvaluator evaluator(services, scene);
   std::vector<glm::dvec3> wi, wo;
-  auto table = std::make_shared<const MerlTableData>(
-      buildHalfVectorTable([&](std::span<const HalfVectorTablePoint> points, std::span<double> weights) {
+  const int azimuths = isAnisotropic(evaluator) ? kAnisotropicAzimuths : 1;
+  auto table = std::make_shared<const MerlTableData>(buildHalfVectorTable(
+      [&](std::span<const HalfVectorTablePoint> points, std::span<double> weights) {
         wi.resize(points.size());
         wo.resize(points.size());
         for (std::size_t i = 0; i < points.size(); ++i) wi[i] = points[i].wi, wo[i] = points[i].wo;
         const std::vector<glm::dvec3> f = evaluator.evaluate(wi, wo);
         for (std::size_t i = 0; i < points.size(); ++i) weights[i] = (f[i].x + f[i].y + f[i].z) / 3.0;
-      }));
+      },
+      azimuths));
   cache.emplace(std::move(key), table);
   return table;
 }

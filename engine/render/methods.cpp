@@ -47,7 +47,7 @@ TechniqueData makeEnvHier(const EnvImage& image) {
                   {"ENV_HIER_BITS_X", u(uint32_t(std::countr_zero(hier.finestWidth)))},
                   {"ENV_HIER_BITS_Y", u(uint32_t(std::countr_zero(hier.finestHeight)))},
                   {"ENV_HIER_ONE_AXIS_NODES", u(hier.oneAxisNodes)},
-                  {"ENV_HIER_QUAD_CHILD_OFFSET", "(" + std::to_string(hier.quadChildOffset) + ")"},
+                  {"ENV_HIER_QUAD_CHILD_OFFSET", std::string("(").append(std::to_string(hier.quadChildOffset)).append(")")},
                   {"ENV_HIER_LEAF_START", u(hier.leafStart)},
                   {"ENV_HIER_GUIDE_SIZE", u(hier.guideSize)}};
   return data;
@@ -270,17 +270,25 @@ std::string describeRegistry() {
   for (const auto& q : sequenceRegistry())
     s << "  " << q.name << std::string(12 - std::min<size_t>(11, q.name.size()), ' ') << q.description
       << "\n";
-  s << "BRDFs (--brdf NAME or --brdf FILE) and parameters (--param NAME=VALUE):\n";
-  for (const auto& b : brdfRegistry()) {
-    s << "  " << b.name << std::string(12 - std::min<size_t>(11, b.name.size()), ' ') << b.description
-      << "; best sampler: " << b.bestSampler << "\n";
-    for (const auto& p : b.params)
-      s << "      " << p.name << " ("
-        << (p.type == ParamType::Color  ? "color r,g,b"
-            : p.type == ParamType::Bool ? "bool"
-                                        : "float")
-        << " in [" << p.min << ", " << p.max << "], default " << formatValue(p, p.defaultValue)
-        << "): " << p.description << "\n";
+  s << "BRDFs (--brdf NAME, a .brdf / .bparam file, or a MERL .binary file) and parameters (--param "
+       "NAME=VALUE):\n";
+  for (const auto& b : brdfRegistry()) s << describeBrdf(b);
+  return s.str();
+}
+
+std::string describeBrdf(const BrdfInfo& b) {
+  std::ostringstream s;
+  s << "  " << b.name << std::string(12 - std::min<size_t>(11, b.name.size()), ' ') << b.description
+    << "; best sampler: " << b.bestSampler << "\n";
+  for (const auto& p : b.params) {
+    s << "      " << p.name << " ("
+      << (p.type == ParamType::Color  ? "color r,g,b"
+          : p.type == ParamType::Bool ? "bool"
+                                      : "float");
+    if (p.type != ParamType::Bool) s << " in [" << p.min << ", " << p.max << "]";
+    s << ", default " << formatValue(p, p.defaultValue) << ")";
+    if (!p.description.empty()) s << ": " << p.description;
+    s << "\n";
   }
   return s.str();
 }

@@ -120,8 +120,9 @@ const BrdfTechniqueInfo& findBrdfTechnique(const std::string& name,
 const SequenceInfo& findSequence(const std::string& name);
 const MethodInfo& findMethod(const std::string& name);
 
-// Human-readable registry (for --list-methods).
+// Human-readable registry (for --list-methods), and one BRDF with its parameters.
 std::string describeRegistry();
+std::string describeBrdf(const BrdfInfo& brdf);
 
 // Fills defaults, parses "r,g,b" / "x" / "0|1|true|false" strings, range-checks; throws on unknown names.
 ParamValues resolveParams(const BrdfInfo& brdf,

@@ -91,7 +91,8 @@ LoadedBrdf loadBrdfArgument(const std::string& nameOrPath) {
         continue;
       }
       auto value = saved.decl.defaultValue;
-      for (double& v : value) v = std::clamp(v, it->decl.min, it->decl.max);
+      for (int c = 0; c < (it->decl.type == ParamType::Color ? 3 : 1); ++c)
+        value[std::size_t(c)] = std::clamp(value[std::size_t(c)], it->decl.min, it->decl.max);
       if (value != saved.decl.defaultValue)
         warn(nameOrPath + ":" + std::to_string(saved.line) + ": the saved value of '" + saved.decl.name +
              "' is outside its range in " + source + " and is clamped");

@@ -165,7 +165,8 @@ double MerlThetaHSampler::pdf(glm::dvec3 wi, glm::dvec3 wo) const {
 // ---- merl-table
 // ------------------------------------------------------------------------------------------------
 
-MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights) {
+MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights, int azimuths) {
+  if (azimuths < 1) throw Error("buildHalfVectorTable: at least one view azimuth is needed");
   constexpr int kRows = kMerlTableThetaBins, kCols = kMerlTablePhiBins, kSub = kTableSubPoints;
   // The grid points, shared by all slices: kSub + 1 per cell and axis, edges included (neighbouring cells
   // share their edge points), all shifted by kMerlTableGridOffset of a grid step so that none lies on a MERL
@@ -209,18 +210,30 @@ MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights) {
     queries.clear();
     queryPoint.clear();
     queryFactor.clear();
-    for (int a = 0; a < kRowPoints; ++a) {
-      const RowPoint& rp = rowPoints[std::size_t(a)];
-      for (int b = 0; b < kColumnPoints; ++b) {
-        const glm::dvec2 cs = columnPoints[std::size_t(b)];
-        const glm::dvec3 h(rp.sinThetaH * cs.x, rp.sinThetaH * cs.y, rp.cosThetaH);
-        for (const glm::dvec3& wo : wos) {
-          const double woDotH = glm::dot(wo, h);
-          const glm::dvec3 wi = 2.0 * woDotH * h - wo;
-          if (!(wi.z > 0.0) || !(rp.jacobian > 0.0)) continue;  // f = 0 and cos clamps to 0, or no area
-          queries.push_back({wi, wo, rp.thetaH, rp.sinThetaH, rp.cosThetaH, cs});
-          queryPoint.push_back(std::size_t(a) * kColumnPoints + std::size_t(b));
-          queryFactor.push_back(wi.z * rp.jacobian * 4.0 * std::abs(woDotH));
+    // For an anisotropic BRDF the same (u_theta, u_phi) is evaluated with the whole configuration rotated
+    // about the normal by each of `azimuths` view azimuths (phi_h stays relative to phi_o), and the largest
+    // value is kept, so the table bounds f cos / pdf whatever the view's azimuth.
+    for (int k = 0; k < azimuths; ++k) {
+      const double phiO = kTwoPi * k / azimuths;
+      const glm::dvec2 rot(std::cos(phiO), std::sin(phiO));
+      const auto rotate = [&](glm::dvec3 v) {
+        return glm::dvec3(rot.x * v.x - rot.y * v.y, rot.y * v.x + rot.x * v.y, v.z);
+      };
+      for (int a = 0; a < kRowPoints; ++a) {
+        const RowPoint& rp = rowPoints[std::size_t(a)];
+        for (int b = 0; b < kColumnPoints; ++b) {
+          const glm::dvec2 c0 = columnPoints[std::size_t(b)];
+          const glm::dvec2 cs(rot.x * c0.x - rot.y * c0.y, rot.y * c0.x + rot.x * c0.y);  // phi_o + phi_h
+          const glm::dvec3 h(rp.sinThetaH * cs.x, rp.sinThetaH * cs.y, rp.cosThetaH);
+          for (const glm::dvec3& edge : wos) {
+            const glm::dvec3 wo = rotate(edge);
+            const double woDotH = glm::dot(wo, h);
+            const glm::dvec3 wi = 2.0 * woDotH * h - wo;
+            if (!(wi.z > 0.0) || !(rp.jacobian > 0.0)) continue;  // f = 0 and cos clamps to 0, or no area
+            queries.push_back({wi, wo, rp.thetaH, rp.sinThetaH, rp.cosThetaH, cs});
+            queryPoint.push_back(std::size_t(a) * kColumnPoints + std::size_t(b));
+            queryFactor.push_back(wi.z * rp.jacobian * 4.0 * std::abs(woDotH));
+          }
         }
       }
     }

@@ -96,7 +96,11 @@ MerlTableData buildMerlTable(const MerlBrdf& brdf);
 // The same tables for any BRDF whose sampling weight w(f(wi, wo)) (e.g. the mean of R, G, B) `weights`
 // computes: it receives one batch of grid points per slice (wi above the horizon, wo in the xz plane, and
 // the half vector's angles) and fills one weight per point. Negative and non-finite weights count as 0.
-// brdf-tab (engine/render/brdf_table.cpp) evaluates them on the GPU with the BRDF's compiled part.
+// brdf-tab (engine/render/brdf_tabulation.cpp) evaluates them on the GPU with the BRDF's compiled part.
+// `azimuths` > 1 is for anisotropic BRDFs: every grid point is also evaluated with wo (and the half vector)
+// rotated about the normal to each of that many view azimuths, and a cell keeps its largest weight over them;
+// sampling stays exact for any view, and f cos / pdf stays bounded at every azimuth instead of only at
+// phi_o = 0, at the cost of a wider table.
 struct HalfVectorTablePoint {
   glm::dvec3 wi, wo;
   double thetaH, sinThetaH, cosThetaH;
@@ -104,7 +108,7 @@ struct HalfVectorTablePoint {
 };
 using HalfVectorSliceWeights =
     std::function<void(std::span<const HalfVectorTablePoint> points, std::span<double> weights)>;
-MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights);
+MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights, int azimuths = 1);
 
 // Twin of the GLSL part: slice of wo; row i = largest with marginal[i] <= u.y, column j = largest with
 // conditional_i[j] <= u.x (searches in float, zero-width bins never chosen); t offsets as in merl-thetah;

@@ -125,7 +125,7 @@ expect_error "merl name without file" "read from a file" render --brdf merl --ou
 expect_error "merl technique on ggx" "does not apply" render --brdf ggx --method brdf --brdf-sampler merl-table
 expect_error "ggx technique on merl" "does not apply" render --brdf "$tmp/lambert.binary" --method brdf --brdf-sampler ggx-vndf
 expect_error "merl params" "has no parameter" render --brdf "$tmp/lambert.binary" --param roughness=0.1
-expect_error "merl-synth of a file" "built-in BRDF" merl-synth --brdf "$tmp/lambert.binary" --out "$tmp/c.binary"
+expect_error "merl-synth of a file" "not a MERL file" merl-synth --brdf "$tmp/lambert.binary" --out "$tmp/c.binary"
 expect_error "merl-synth extension" "must end in .binary" merl-synth --out "$tmp/c.bin"
 expect_error "merl-synth fraction" "--invalid-fraction" merl-synth --invalid-fraction 2 --out "$tmp/c.binary"
 warning=$("$iblx" merl-synth --brdf lambert --seed 3 --out "$tmp/seed.binary" 2>&1 >/dev/null)
@@ -136,6 +136,25 @@ else
 fi
 expect_error "merl file is a directory" "directory" render --brdf "$tmp/dir.binary" --out "$tmp/b.png"
 [ ! -e "$tmp/b.png" ] && [ ! -e "$tmp/c.binary" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: output written despite a bad MERL input"; }
+
+# BRDF Explorer files: a good one renders with every sampler that applies, can be saved as a .bparam that
+# renders in turn; each kind of bad file names its line.
+printf 'analytic\n::begin parameters\nfloat n 1 100 20\n::end parameters\n::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) {\n  vec3 R = reflect(-L, N);\n  return vec3(0.2) + vec3(0.3) * pow(max(dot(R, V), 0.0), n);\n}\n::end shader\n' > "$tmp/shiny.brdf"
+expect_ok "brdf file render" render --brdf "$tmp/shiny.brdf" --param n=30 --size 8x8 --spp 2 --passes 1 --out "$tmp/s.png" --save-bparam "$tmp/shiny30.bparam"
+grep -q "^float n 1 100 30$" "$tmp/shiny30.bparam" && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: --save-bparam: $(cat "$tmp/shiny30.bparam")"; }
+expect_ok "bparam render" render --brdf "$tmp/shiny30.bparam" --method brdf --size 8x8 --spp 2 --passes 1 --out "$tmp/s.png"
+printf 'analytic\n::begin parameters\nvec3 c 1 1 1\n::end parameters\n' > "$tmp/badtype.brdf"
+printf 'analytic\n::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) {\n  return oops;\n}\n::end shader\n' > "$tmp/badglsl.brdf"
+printf 'analytic\n::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return L; }\n' > "$tmp/open.brdf"
+printf 'bparam %s\n' "$tmp/none.brdf" > "$tmp/dangling.bparam"
+expect_error "brdf file missing" "none.brdf: no such file" render --brdf "$tmp/none.brdf" --out "$tmp/b.png"
+expect_error "brdf parameter type" "badtype.brdf:3: unknown parameter type 'vec3'" render --brdf "$tmp/badtype.brdf" --out "$tmp/b.png"
+expect_error "brdf glsl error" "badglsl.brdf:4" render --brdf "$tmp/badglsl.brdf" --size 8x8 --passes 1 --out "$tmp/b.png"
+expect_error "brdf open section" "open.brdf:2: section 'shader' is never closed" render --brdf "$tmp/open.brdf" --out "$tmp/b.png"
+expect_error "bparam target missing" "none.brdf: no such file" render --brdf "$tmp/dangling.bparam" --out "$tmp/b.png"
+expect_error "brdf isfunc missing" "does not apply" render --brdf "$tmp/shiny.brdf" --method brdf --brdf-sampler isfunc --out "$tmp/b.png"
+expect_error "save-bparam of a built-in" "--save-bparam: BRDF 'ggx' is built in" render --save-bparam "$tmp/g.bparam" --out "$tmp/b.png"
+[ ! -e "$tmp/b.png" ] && [ ! -e "$tmp/g.bparam" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: output written despite a bad .brdf input"; }
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

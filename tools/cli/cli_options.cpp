@@ -111,7 +111,9 @@ void addSceneFlags(ArgParser& p, RenderSpec& s) {
   p.value("--env-rotation", "DEG", "rotation of the environment about +Y", [&](const std::string& v) {
     s.scene.envRotationDeg = parseDouble("--env-rotation", v, -1e6, 1e6);
   });
-  p.value("--brdf", "NAME|FILE", "built-in BRDF (lambert | ggx, default ggx) or a MERL .binary file",
+  p.value("--brdf", "NAME|FILE",
+          "built-in BRDF (lambert | ggx, default ggx), a BRDF Explorer .brdf / .bparam file, or a MERL .binary "
+          "file",
           [&](const std::string& v) { s.scene.brdf = v; });
   addParamFlag(p, s.scene.params);
   p.value("--object", "NAME", "sphere (default)", [&](const std::string& v) { s.scene.object = v; });

@@ -24,6 +24,7 @@ struct RenderSpec {
   std::filesystem::path referenceFile;  // --reference-file: a ground truth written by `iblx reference`
   bool json = false;
   bool listMethods = false;
+  std::filesystem::path saveBparam;  // render: write the BRDF's parameter values as a .bparam
   std::string device;
   bool validation = false;
 };

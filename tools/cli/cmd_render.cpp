@@ -1,6 +1,7 @@
 // `iblx render`: progressive render of one scene with one method; writes the image, prints speed (and error).
 #include "engine/core/error.h"
 #include "engine/core/log.h"
+#include "engine/io/brdf_file.h"
 #include "engine/io/image_write.h"
 #include "engine/render/metrics.h"
 #include "engine/render/reference.h"
@@ -22,14 +23,31 @@ int cmdRender(const Args& args) {
   addMethodFlags(parser, spec);
   addRunFlags(parser, spec);
   addDeviceFlags(parser, spec);
+  parser.value("--save-bparam", "FILE",
+               "also write the BRDF's parameter values (defaults, .bparam and --param) as a BRDF Explorer .bparam "
+               "file; the BRDF must come from a file",
+               [&](const std::string& v) { spec.saveBparam = v; });
   if (parser.parseOrShowHelp(args)) return 0;
   if (spec.listMethods) {
     std::fputs(describeRegistry().c_str(), stdout);
+    if (spec.scene.brdf != SceneSpec{}.brdf && !findBrdfForArgument(spec.scene.brdf)) {
+      std::printf("--brdf %s:\n", spec.scene.brdf.c_str());
+      std::fputs(describeBrdf(*loadBrdfArgument(spec.scene.brdf).info).c_str(), stdout);
+    }
     return 0;
   }
   // Everything a user can get wrong is checked before the map is loaded and anything is rendered.
   LoadedBrdf brdf = loadBrdfArgument(spec.scene.brdf);
-  resolveParams(*brdf.info, spec.scene.params);
+  const ParamValues params = resolveParams(*brdf.info, spec.scene.params);
+  if (!spec.saveBparam.empty()) {
+    if (brdf.file.empty())
+      throw Error("--save-bparam: BRDF '" + brdf.info->name +
+                  "' is built in; a .bparam names a .brdf or .binary file");
+    if (spec.saveBparam.extension() != ".bparam")
+      throw Error("--save-bparam " + spec.saveBparam.string() + ": the file name must end in .bparam");
+    writeBparam(spec.saveBparam, std::filesystem::weakly_canonical(brdf.file), brdf.info->params, params);
+    std::printf("wrote %s\n", spec.saveBparam.string().c_str());
+  }
   const ResolvedMethod method = resolveMethod(spec.method, *brdf.info);
   checkImagePath("--out", spec.out);
   if (!spec.timeBudgetSeconds && uint64_t(spec.passes) * spec.samplesPerPass > 0xffffffffull)
