@@ -21,10 +21,11 @@ struct BrdfEvaluator::State {
   std::unique_ptr<ComputeKernel> kernel;
 };
 
-BrdfEvaluator::BrdfEvaluator(const GpuServices& services, const Scene& scene)
+BrdfEvaluator::BrdfEvaluator(const GpuServices& services, const Scene& scene, bool unguarded)
     : state_(std::make_unique<State>(State{services.context, uploadScene(services.context, scene), nullptr})) {
   KernelParts parts = brdfKernelParts("brdf_eval.comp", *scene.brdf);
   parts.defines = brdfBindingDefines(state_->gpu.brdfData.size());
+  if (unguarded) parts.defines.emplace_back("IBLX_UNGUARDED_BRDF", "1");
   const auto spirv = compileKernel(services.compiler, parts, "brdf eval " + scene.brdf->name);
   const auto set3 = state_->gpu.brdfSet();
   KernelLayout layout{{0, 2, 0, uint32_t(set3.size())}, sizeof(uint32_t)};

@@ -20,7 +20,9 @@ namespace iblx {
 // within the device's dispatch and buffer limits. Compiles and uploads once; call evaluate() many times.
 class BrdfEvaluator {
  public:
-  BrdfEvaluator(const GpuServices& gpu, const Scene& scene);
+  // `unguarded`: a .brdf file's values as written, without the generated part's clamp of negative and
+  // non-finite values to 0 (to test the file itself).
+  BrdfEvaluator(const GpuServices& gpu, const Scene& scene, bool unguarded = false);
   ~BrdfEvaluator();
   std::vector<glm::dvec3> evaluate(std::span<const glm::dvec3> wi, std::span<const glm::dvec3> wo) const;
 

@@ -134,7 +134,7 @@ const VulkanContext& gpuContext() {
 ShaderCompiler& gpuCompiler() {
   static ShaderCompiler compiler = [] {
     ShaderCompiler c;
-    for (const char* probe : {"env_sampler_probe.comp", "brdf_sampler_probe.comp"})
+    for (const char* probe : {"env_sampler_probe.comp", "brdf_sampler_probe.comp", "analytic_brdf_probe.comp"})
       c.addSource(std::string("probe/") + probe,
                   readFile(std::string(IBLX_TEST_SOURCE_DIR) + "/gpu/probe/" + probe));
     return c;
@@ -192,6 +192,56 @@ std::vector<glm::dvec3> BrdfTechniqueProbe::evalCos(std::span<const glm::dvec3> 
   std::vector<glm::dvec3> values(d.size());
   for (size_t i = 0; i < d.size(); ++i) values[i] = {out[2 * i].x, out[2 * i].y, out[2 * i].z};
   return values;
+}
+
+}  // namespace iblx::test
+
+namespace iblx::test {
+
+struct AnalyticBrdfProbe::Impl : ProbeRunner {
+  using ProbeRunner::ProbeRunner;
+  bool hasSampler = false;
+};
+
+AnalyticBrdfProbe::AnalyticBrdfProbe(const std::string& file,
+                                     const std::vector<std::pair<std::string, std::string>>& params,
+                                     glm::dvec3 wo) {
+  Scene scene = probeScene(EnvImage{2, 1, std::vector<float>(6, 1.0f)}, file, params);
+  const bool sampler = scene.brdf->hasSampleHook;
+  const std::string evalPart = scene.brdf->evalPart;
+  TechniqueData defines;
+  if (sampler) defines.defines.emplace_back("PROBE_HAS_ISFUNC", "1");
+  impl_ = std::make_unique<Impl>(std::move(scene), "probe/analytic_brdf_probe.comp",
+                                 std::vector<std::string>{evalPart}, defines, TechniqueData{}, wo);
+  impl_->hasSampler = sampler;
+}
+AnalyticBrdfProbe::~AnalyticBrdfProbe() = default;
+bool AnalyticBrdfProbe::hasSampler() const { return impl_->hasSampler; }
+
+std::vector<IsFuncSample> AnalyticBrdfProbe::sample(std::span<const glm::dvec2> u) {
+  std::vector<gpu::vec4> input(u.size());
+  for (size_t i = 0; i < u.size(); ++i) input[i] = {toGpuU(u[i].x), toGpuU(u[i].y), 0, 0};
+  const auto out = impl_->run(input, 0);
+  std::vector<IsFuncSample> samples(u.size());
+  for (size_t i = 0; i < u.size(); ++i)
+    samples[i] = {{out[2 * i].x, out[2 * i].y, out[2 * i].z},
+                  out[2 * i].w,
+                  {out[2 * i + 1].x, out[2 * i + 1].y, out[2 * i + 1].z}};
+  return samples;
+}
+
+std::vector<glm::dvec3> AnalyticBrdfProbe::brdf(std::span<const glm::dvec3> wi) {
+  const auto out = impl_->directionsMode(wi, 1);
+  std::vector<glm::dvec3> f(wi.size());
+  for (size_t i = 0; i < wi.size(); ++i) f[i] = {out[2 * i].x, out[2 * i].y, out[2 * i].z};
+  return f;
+}
+
+std::vector<double> AnalyticBrdfProbe::pdf(std::span<const glm::dvec3> wi) {
+  const auto out = impl_->directionsMode(wi, 2);
+  std::vector<double> p(wi.size());
+  for (size_t i = 0; i < wi.size(); ++i) p[i] = out[2 * i].x;
+  return p;
 }
 
 }  // namespace iblx::test

@@ -53,4 +53,25 @@ class BrdfTechniqueProbe {
   std::unique_ptr<Impl> impl_;
 };
 
+// A .brdf file's own functions as written, without iblx's guards (tests/gpu/probe/analytic_brdf_probe.comp).
+struct IsFuncSample {
+  glm::dvec3 wi;
+  double pdf = 0.0;
+  glm::dvec3 weight;  // sampleBRDF's return value
+};
+class AnalyticBrdfProbe {
+ public:
+  AnalyticBrdfProbe(const std::string& file, const std::vector<std::pair<std::string, std::string>>& params,
+                    glm::dvec3 wo);
+  ~AnalyticBrdfProbe();
+  bool hasSampler() const;
+  std::vector<IsFuncSample> sample(std::span<const glm::dvec2> u);   // sampleBRDF
+  std::vector<glm::dvec3> brdf(std::span<const glm::dvec3> wi);      // BRDF(wi, wo)
+  std::vector<double> pdf(std::span<const glm::dvec3> wi);           // pdfBRDF(wi, wo)
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 }  // namespace iblx::test
