@@ -112,7 +112,7 @@ double estimateLobeWidth(const GpuServices& services, const Scene& scene) {
 
 namespace {
 // View azimuths whose envelope brdf-tab takes for an anisotropic BRDF (buildHalfVectorTable).
-constexpr int kAnisotropicAzimuths = 8;
+constexpr int kAnisotropicAzimuths = 16;
 
 bool isAnisotropic(const BrdfEvaluator& evaluator) {
   // The same random pairs, each rotated about the normal by a random angle: an isotropic BRDF gives the same
@@ -160,7 +160,8 @@ std::shared_ptr<const MerlTableData> tabulateBrdfTable(const GpuServices& servic
   if (auto it = cache.find(key); it != cache.end()) return it->second;
   const BrdfEvaluator evaluator(services, scene);
   std::vector<glm::dvec3> wi, wo;
-  const int azimuths = isAnisotropic(evaluator) ? kAnisotropicAzimuths : 1;
+  HalfVectorTableOptions options;
+  if (isAnisotropic(evaluator)) options = {true, kAnisotropicAzimuths};
   auto table = std::make_shared<const MerlTableData>(buildHalfVectorTable(
       [&](std::span<const HalfVectorTablePoint> points, std::span<double> weights) {
         wi.resize(points.size());
@@ -169,7 +170,7 @@ std::shared_ptr<const MerlTableData> tabulateBrdfTable(const GpuServices& servic
         const std::vector<glm::dvec3> f = evaluator.evaluate(wi, wo);
         for (std::size_t i = 0; i < points.size(); ++i) weights[i] = (f[i].x + f[i].y + f[i].z) / 3.0;
       },
-      azimuths));
+      options));
   cache.emplace(std::move(key), table);
   return table;
 }

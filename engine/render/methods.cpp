@@ -70,8 +70,10 @@ TechniqueData makeMerlThetaH(const Scene& scene, const GpuServices&) {
 }
 
 TechniqueData makeBrdfTab(const Scene& scene, const GpuServices& gpu) {
+  const auto table = tabulateBrdfTable(gpu, scene);
   TechniqueData data;
-  data.add("brdf-tab slices", std::span<const float>(tabulateBrdfTable(gpu, scene)->tables));
+  data.add("brdf-tab slices", std::span<const float>(table->tables));
+  if (table->absolutePhi) data.defines.emplace_back("HALF_VECTOR_TABLE_ABSOLUTE_PHI", "1");
   return data;
 }
 

@@ -165,7 +165,8 @@ double MerlThetaHSampler::pdf(glm::dvec3 wi, glm::dvec3 wo) const {
 // ---- merl-table
 // ------------------------------------------------------------------------------------------------
 
-MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights, int azimuths) {
+MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights, const HalfVectorTableOptions& options) {
+  const int azimuths = options.absolutePhi ? options.viewAzimuths : 1;
   if (azimuths < 1) throw Error("buildHalfVectorTable: at least one view azimuth is needed");
   constexpr int kRows = kMerlTableThetaBins, kCols = kMerlTablePhiBins, kSub = kTableSubPoints;
   // The grid points, shared by all slices: kSub + 1 per cell and axis, edges included (neighbouring cells
@@ -191,6 +192,7 @@ MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights, int az
   }
 
   MerlTableData data;
+  data.absolutePhi = options.absolutePhi;
   data.tables.resize(std::size_t(kMerlTableSlices) * kMerlTableSliceFloats);
   std::vector<double> cells(std::size_t(kRows) * kCols), rowWeights(kRows);
   std::vector<double> points(std::size_t(kRowPoints) * kColumnPoints);
@@ -210,9 +212,8 @@ MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights, int az
     queries.clear();
     queryPoint.clear();
     queryFactor.clear();
-    // For an anisotropic BRDF the same (u_theta, u_phi) is evaluated with the whole configuration rotated
-    // about the normal by each of `azimuths` view azimuths (phi_h stays relative to phi_o), and the largest
-    // value is kept, so the table bounds f cos / pdf whatever the view's azimuth.
+    // absolutePhi: the same (u_theta, u_phi) with the view rotated about the normal to each azimuth, h fixed
+    // (u_phi is h's own azimuth); the largest weight is kept (see merl_sampling.h).
     for (int k = 0; k < azimuths; ++k) {
       const double phiO = kTwoPi * k / azimuths;
       const glm::dvec2 rot(std::cos(phiO), std::sin(phiO));
@@ -222,8 +223,7 @@ MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights, int az
       for (int a = 0; a < kRowPoints; ++a) {
         const RowPoint& rp = rowPoints[std::size_t(a)];
         for (int b = 0; b < kColumnPoints; ++b) {
-          const glm::dvec2 c0 = columnPoints[std::size_t(b)];
-          const glm::dvec2 cs(rot.x * c0.x - rot.y * c0.y, rot.y * c0.x + rot.x * c0.y);  // phi_o + phi_h
+          const glm::dvec2 cs = columnPoints[std::size_t(b)];  // phi_h (relative to phi_o = 0 unless absolute)
           const glm::dvec3 h(rp.sinThetaH * cs.x, rp.sinThetaH * cs.y, rp.cosThetaH);
           for (const glm::dvec3& edge : wos) {
             const glm::dvec3 wo = rotate(edge);
@@ -326,7 +326,7 @@ BrdfSample MerlTableSampler::sample(glm::dvec2 u, glm::dvec3 wo) const {
   const float pdfU = rowProb * colProb * float(kRows) * float(kCols);
   // u_theta = (i + t.y) / rows; phi_h = phi_o + 2 pi (j + t.x) / columns.
   const double uTheta = (double(i) + double(ty)) / kRows;
-  const double phiH = azimuthOf(wo) + kTwoPi * (double(j) + double(tx)) / kCols;
+  const double phiH = (data_.absolutePhi ? 0.0 : azimuthOf(wo)) + kTwoPi * (double(j) + double(tx)) / kCols;
   return reflectedSample(wo, uTheta, phiH, pdfU);
 }
 
@@ -337,7 +337,7 @@ double MerlTableSampler::pdf(glm::dvec3 wi, glm::dvec3 wo) const {
   if (!half) return 0.0;
   const HalfVectorParams& p = *half;
   // u_phi = fract((phi_h - phi_o) / (2 pi)); h = +z has no azimuth, and any column gives it pdf 0 anyway.
-  const double turns = (std::atan2(p.h.y, p.h.x) - azimuthOf(wo)) / kTwoPi;
+  const double turns = (std::atan2(p.h.y, p.h.x) - (data_.absolutePhi ? 0.0 : azimuthOf(wo))) / kTwoPi;
   const double uPhi = turns - std::floor(turns);
   const int i = merlCellIndex(p.uTheta * kRows, kRows), j = merlCellIndex(uPhi * kCols, kCols);
   const float* marginal = data_.tables.data() + std::size_t(sliceOf(wo)) * kMerlTableSliceFloats;

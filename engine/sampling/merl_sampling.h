@@ -90,17 +90,22 @@ inline constexpr int kMerlTableSliceFloats =
     (kMerlTableThetaBins + 1) + kMerlTableThetaBins * (kMerlTablePhiBins + 1);
 struct MerlTableData {
   std::vector<float> tables;  // kMerlTableSlices * kMerlTableSliceFloats, slice after slice
+  // u_phi is phi_h itself instead of phi_h - phi_o (brdf-tab for anisotropic BRDFs, buildHalfVectorTable);
+  // the GLSL part then needs HALF_VECTOR_TABLE_ABSOLUTE_PHI defined.
+  bool absolutePhi = false;
 };
 MerlTableData buildMerlTable(const MerlBrdf& brdf);
 
 // The same tables for any BRDF whose sampling weight w(f(wi, wo)) (e.g. the mean of R, G, B) `weights`
-// computes: it receives one batch of grid points per slice (wi above the horizon, wo in the xz plane, and
-// the half vector's angles) and fills one weight per point. Negative and non-finite weights count as 0.
-// brdf-tab (engine/render/brdf_tabulation.cpp) evaluates them on the GPU with the BRDF's compiled part.
-// `azimuths` > 1 is for anisotropic BRDFs: every grid point is also evaluated with wo (and the half vector)
-// rotated about the normal to each of that many view azimuths, and a cell keeps its largest weight over them;
-// sampling stays exact for any view, and f cos / pdf stays bounded at every azimuth instead of only at
-// phi_o = 0, at the cost of a wider table.
+// computes: it receives one batch of grid points per slice (wi above the horizon, and the half vector's
+// angles) and fills one weight per point. Negative and non-finite weights count as 0. brdf-tab
+// (engine/render/brdf_tabulation.cpp) evaluates them on the GPU with the BRDF's compiled part.
+//
+// Anisotropic BRDFs (options.absolutePhi): an anisotropic lobe sits at a fixed azimuth of the tangent frame,
+// so a table over phi_h - phi_o, built for one view azimuth, puts it in the wrong cells for every other view
+// (f cos / pdf reached 150 for Ward 0.05 x 0.3). These tables are over phi_h itself, and each grid point takes
+// the largest weight over `viewAzimuths` view azimuths spread over [0, 2 pi) (and both slice edges): for
+// microfacet-like BRDFs, whose lobe is fixed in h, the weight varies smoothly with the view's azimuth.
 struct HalfVectorTablePoint {
   glm::dvec3 wi, wo;
   double thetaH, sinThetaH, cosThetaH;
@@ -108,12 +113,17 @@ struct HalfVectorTablePoint {
 };
 using HalfVectorSliceWeights =
     std::function<void(std::span<const HalfVectorTablePoint> points, std::span<double> weights)>;
-MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights, int azimuths = 1);
+struct HalfVectorTableOptions {
+  bool absolutePhi = false;
+  int viewAzimuths = 1;  // with absolutePhi: the view azimuths the envelope is taken over
+};
+MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights, const HalfVectorTableOptions& options = {});
 
 // Twin of the GLSL part: slice of wo; row i = largest with marginal[i] <= u.y, column j = largest with
 // conditional_i[j] <= u.x (searches in float, zero-width bins never chosen); t offsets as in merl-thetah;
 // u_theta = (i + t.y) / ThetaBins; u_phi = (j + t.x) / PhiBins; phi_h = phi_o + 2 pi u_phi with
-// phi_o = atan2(wo.y, wo.x) (0 when wo.xy = 0); p(u) = P_row P_col ThetaBins PhiBins.
+// phi_o = atan2(wo.y, wo.x) (0 when wo.xy = 0, and always 0 for absolutePhi tables); p(u) = P_row P_col
+// ThetaBins PhiBins.
 class MerlTableSampler {
  public:
   explicit MerlTableSampler(MerlTableData data);

@@ -15,6 +15,16 @@ uint merlSliceBase(vec3 wo) {
 
 float merlAzimuth(vec3 w) { return (w.x == 0.0 && w.y == 0.0) ? 0.0 : atan(w.y, w.x); }
 
+// The azimuth u_phi is measured from: the view's, or the tangent's for tables over phi_h itself (brdf-tab on
+// an anisotropic BRDF, whose lobe is fixed in the tangent frame).
+float tableAzimuthOrigin(vec3 wo) {
+#ifdef HALF_VECTOR_TABLE_ABSOLUTE_PHI
+  return 0.0;
+#else
+  return merlAzimuth(wo);
+#endif
+}
+
 uint merlRowBase(uint slice, int row) { return slice + uint(kMerlRows + 1 + row * (kMerlColumns + 1)); }
 
 // Largest i in [0, n) with table[base + i] <= u (table[base + n] = 1 > u). n is a constant: the loop unrolls.
@@ -42,7 +52,7 @@ vec3 brdfSample(vec2 u, vec3 wo, out float pdf) {
   float tx = columnProb > 0.0 ? clamp((u.x - c0) / columnProb, 0.0, kOneMinusEpsilon) : 0.5;
   float uTheta = (float(row) + ty) / float(kMerlRows);
   float uPhi = (float(column) + tx) / float(kMerlColumns);
-  vec3 h = merlHalfVector(uTheta, merlAzimuth(wo) + kTwoPi * uPhi);
+  vec3 h = merlHalfVector(uTheta, tableAzimuthOrigin(wo) + kTwoPi * uPhi);
   float woDotH = dot(wo, h);
   vec3 wi = 2.0 * woDotH * h - wo;
   float pdfU = rowProb * columnProb * float(kMerlRows * kMerlColumns);
@@ -56,7 +66,7 @@ float brdfPdf(vec3 wi, vec3 wo) {
   uint slice = merlSliceBase(wo);
   float sinThetaH;
   float uTheta = merlUTheta(h, sinThetaH);
-  float uPhi = fract((merlAzimuth(h) - merlAzimuth(wo)) / kTwoPi);
+  float uPhi = fract((merlAzimuth(h) - tableAzimuthOrigin(wo)) / kTwoPi);
   int row = clamp(int(uTheta * float(kMerlRows)), 0, kMerlRows - 1);
   int column = clamp(int(uPhi * float(kMerlColumns)), 0, kMerlColumns - 1);
   uint rowBase = merlRowBase(slice, row);
