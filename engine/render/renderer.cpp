@@ -25,7 +25,8 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
       method_(method),
       gpu_(uploadScene(context, scene)),
       timestamps_(context),
-      seed_(seed) {
+      seed_(seed),
+      params_(scene.params) {
   TechniqueData envData = method.envTechnique ? method.envTechnique->build(scene.env) : TechniqueData{};
   for (size_t i = 0; i < envData.buffers.size(); ++i)
     envBuffers_.push_back(Buffer::fromData(context, envData.buffers[i], envData.names[i]));
@@ -46,6 +47,23 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   kernel_->bindBuffers(2, env);
   kernel_->bindBuffers(3, brdfSet);
   setupSeconds_ = since(created_);
+}
+
+void Renderer::setParams(const ParamValues& values) {
+  for (const ParamDecl& p : scene_.brdf->params) {
+    const auto it = values.find(p.name);
+    if (it == values.end()) throw Error("setParams: no value for parameter '" + p.name + "'");
+    for (int c = 0; c < (p.type == ParamType::Color ? 3 : 1); ++c)
+      if (!(it->second[std::size_t(c)] >= p.min && it->second[std::size_t(c)] <= p.max))
+        throw Error("setParams: '" + p.name + "' out of range [" + std::to_string(p.min) + ", " +
+                    std::to_string(p.max) + "]");
+  }
+  if (values.size() != scene_.brdf->params.size())
+    throw Error("setParams: a value for a parameter BRDF '" + scene_.brdf->name + "' does not have");
+  const std::vector<float> packed = packParams(*scene_.brdf, values);
+  gpu_.brdfParams.write(packed.data(), packed.size() * sizeof(float));
+  params_ = values;
+  restart(seed_);
 }
 
 void Renderer::restart(uint32_t seed) {

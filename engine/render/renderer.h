@@ -29,6 +29,13 @@ class Renderer {
   PassTiming runPass(uint32_t samplesPerPass);
   void restart(uint32_t seed);  // drops everything accumulated
 
+  // New BRDF parameter values (complete, as resolveParams returns them; range-checked): rewrites the parameter
+  // block and restarts accumulation, without recompiling (the viewer's sliders, --param sweeps). The BRDF
+  // technique's tables stay those of the values the renderer was made with: still exact pdfs, so still
+  // unbiased, though brdf-tab may fit the new lobe less well until a new renderer rebuilds them.
+  void setParams(const ParamValues& values);
+  const ParamValues& params() const { return params_; }
+
   uint64_t samplesPerPixel() const { return samplesPerPixel_; }
   std::vector<float> meanRgb() const;      // width*height*3
   std::vector<float> varianceRgb() const;  // per-pixel sample variance of one estimate, width*height*3
@@ -46,6 +53,7 @@ class Renderer {
   TimestampPair timestamps_;
   uint64_t samplesPerPixel_ = 0;
   uint32_t seed_ = 1;
+  ParamValues params_;
   double setupSeconds_ = 0.0;
 };
 
