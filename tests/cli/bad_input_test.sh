@@ -147,6 +147,8 @@ printf 'analytic\n::begin parameters\nvec3 c 1 1 1\n::end parameters\n' > "$tmp/
 printf 'analytic\n::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) {\n  return oops;\n}\n::end shader\n' > "$tmp/badglsl.brdf"
 printf 'analytic\n::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return L; }\n' > "$tmp/open.brdf"
 printf 'bparam %s\n' "$tmp/none.brdf" > "$tmp/dangling.bparam"
+expect_ok "merl-synth of a .brdf" merl-synth --brdf "$tmp/shiny.brdf" --param n=10 --out "$tmp/shiny.binary"
+[ "$(stat -c %s "$tmp/shiny.binary" 2>/dev/null)" = 34992012 ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: merl-synth of a .brdf: file size"; }
 expect_error "brdf file missing" "none.brdf: no such file" render --brdf "$tmp/none.brdf" --out "$tmp/b.png"
 expect_error "brdf parameter type" "badtype.brdf:3: unknown parameter type 'vec3'" render --brdf "$tmp/badtype.brdf" --out "$tmp/b.png"
 expect_error "brdf glsl error" "badglsl.brdf:4" render --brdf "$tmp/badglsl.brdf" --size 8x8 --passes 1 --out "$tmp/b.png"
