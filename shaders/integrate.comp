@@ -3,6 +3,7 @@
 // Non-finite estimates are replaced by 0 and counted in stats.nonFiniteSamples, which must stay 0.
 // Assembled with one part per role by engine/render/kernel_assembly.cpp.
 #include "lib/frame_resources.glsl"
+#include "lib/hash.glsl"
 #include "lib/latlong.glsl"
 #include "lib/pixel_shading.glsl"
 
@@ -24,7 +25,9 @@ void main() {
   uint nonFinite = 0u;
   for (uint k = 0u; k < frame.samplesPerPass; ++k) {
     vec2 u = sequenceSample(pixel, frame.sampleOffset + k, frame.seed);
-    vec3 x = estimateRadiance(u, s);
+    // Padding dimensions: a hash of the sample's identity, independent of every sequence's 2D point.
+    uvec4 padding = pcg4d(uvec4(pixel, frame.sampleOffset + k, frame.seed ^ 0x9e3779b9u));
+    vec3 x = estimateRadiance(u, vec2(uintToUnitFloat(padding.x), uintToUnitFloat(padding.y)), s);
     if (any(isnan(x)) || any(isinf(x))) {
       x = vec3(0.0);
       ++nonFinite;

@@ -45,6 +45,8 @@ KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method, co
   k.parts.push_back(scene.brdf->evalPart);
   if (method.brdfTechnique) k.parts.push_back(method.brdfTechnique->part);
   k.parts.push_back(strategyPart(method.method->strategy));
+  if (method.method->strategy == Strategy::Ris)
+    k.defines.emplace_back("RIS_CANDIDATES", std::to_string(method.risCandidates) + "u");
   if (!scene.brdf->evalSource.empty()) k.sources.emplace_back(scene.brdf->evalPart, scene.brdf->evalSource);
   return k;
 }

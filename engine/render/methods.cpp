@@ -165,6 +165,7 @@ const MethodInfo kMethods[] = {
     {"env-hier", "env technique 'env-hier' alone", Strategy::SingleEnv, "env-hier"},
     {"brdf", "the BRDF technique alone (--brdf-sampler)", Strategy::SingleBrdf, ""},
     {"mis", "one-sample MIS of --env-sampler and --brdf-sampler", Strategy::Mis, ""},
+    {"ris", "--ris-candidates from --env-sampler resampled by f cos (Talbot 2005)", Strategy::Ris, ""},
 };
 
 template <typename T>
@@ -211,6 +212,8 @@ std::string strategyPart(Strategy strategy) {
       return "strategy/single_brdf.glsl";
     case Strategy::Mis:
       return "strategy/mis.glsl";
+    case Strategy::Ris:
+      return "strategy/ris.glsl";
   }
   return {};
 }

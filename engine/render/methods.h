@@ -92,13 +92,13 @@ struct SequenceInfo {
 };
 
 // ---- methods (what --method selects) ----------------------------------------------------------------------
-enum class Strategy { SingleEnv, SingleBrdf, Mis };
+enum class Strategy { SingleEnv, SingleBrdf, Mis, Ris };
 
 struct MethodInfo {
   std::string name;
   std::string description;
   Strategy strategy;
-  std::string envTechnique;  // fixed env technique for SingleEnv methods; MIS takes --env-sampler
+  std::string envTechnique;  // fixed env technique for SingleEnv methods; MIS and RIS take --env-sampler
 };
 
 std::span<const BrdfInfo> brdfRegistry();

@@ -150,6 +150,8 @@ std::string ResolvedMethod::label() const {
       << misEnvFraction << ")";
   else if (method->strategy == Strategy::SingleBrdf)
     s << "(" << brdfTechnique->name << ")";
+  else if (method->strategy == Strategy::Ris)
+    s << "(" << envTechnique->name << ", M=" << risCandidates << ")";
   s << "/" << sequence->name;
   return s.str();
 }
@@ -162,16 +164,20 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
     throw Error("unknown --mis-heuristic '" + spec.misHeuristic + "'; valid: balance, power");
   if (spec.misEnvFraction && !(*spec.misEnvFraction >= 0.0 && *spec.misEnvFraction <= 1.0))
     throw Error("--mis-split must be in [0, 1] (the fraction of samples given to the env technique)");
+  if (spec.risCandidates && !(*spec.risCandidates >= 1 && *spec.risCandidates <= kMaxRisCandidates))
+    throw Error("--ris-candidates must be in [1, " + std::to_string(kMaxRisCandidates) + "]");
   r.misPower = spec.misHeuristic == "power";
   r.misEnvFraction = float(spec.misEnvFraction.value_or(0.5));
-  const bool isMis = r.method->strategy == Strategy::Mis;
+  r.risCandidates = uint32_t(spec.risCandidates.value_or(8));
+  const bool isMis = r.method->strategy == Strategy::Mis, isRis = r.method->strategy == Strategy::Ris;
   const bool needsEnv = r.method->strategy != Strategy::SingleBrdf;
-  const bool needsBrdf = r.method->strategy != Strategy::SingleEnv;
+  const bool needsBrdf = r.method->strategy == Strategy::SingleBrdf || isMis;
   // Flags that the chosen method does not use are reported, so a typo'd command line cannot mislead.
   auto ignored = [&](bool given, const char* flag) {
     if (given) warn(std::string(flag) + " is ignored by --method " + r.method->name);
   };
-  ignored(!spec.envSampler.empty() && !isMis, "--env-sampler");
+  ignored(!spec.envSampler.empty() && !isMis && !isRis, "--env-sampler");
+  ignored(spec.risCandidates.has_value() && !isRis, "--ris-candidates");
   ignored(!spec.brdfSampler.empty() && !needsBrdf, "--brdf-sampler");
   ignored(spec.misEnvFraction.has_value() && !isMis, "--mis-split");
   ignored(!spec.misHeuristic.empty() && !isMis, "--mis-heuristic");

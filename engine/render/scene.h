@@ -29,6 +29,8 @@ struct SceneSpec {
 };
 
 // Empty / unset fields take their defaults; a field set for a method that does not use it is reported.
+inline constexpr int kMaxRisCandidates = 64;  // ris: the candidate loop unrolls
+
 struct MethodSpec {
   std::string method = "mis";
   std::string envSampler;   // mis: default env-cdf
@@ -36,6 +38,7 @@ struct MethodSpec {
   std::string sequence = "random";
   std::optional<double> misEnvFraction;  // mis: default 0.5
   std::string misHeuristic;              // mis: balance (default) | power
+  std::optional<int> risCandidates;      // ris: default 8
 };
 
 struct MerlThetaHData;
@@ -89,6 +92,7 @@ struct ResolvedMethod {
   const SequenceInfo* sequence = nullptr;
   float misEnvFraction = 0.5f;
   bool misPower = false;
+  uint32_t risCandidates = 8;
   std::string label() const;  // e.g. "mis(env-cdf+ggx-vndf, balance 0.5)/sobol"
 };
 

@@ -2,6 +2,8 @@
 #ifndef IBLX_INTERFACE_STRATEGY
 #define IBLX_INTERFACE_STRATEGY
 #include "lib/shading.glsl"
-// One Monte Carlo estimate of the integral of DESIGN §1 at the shading point s.
-vec3 estimateRadiance(vec2 u, Shading s);
+// One Monte Carlo estimate of the integral of DESIGN §1 at the shading point s. u is the sequence's 2D point
+// (stratified for sobol); uPadding two more uniform numbers, independent of u (a hash; strategies that need
+// more than one 2D point, such as ris, use it; the compiler drops it elsewhere).
+vec3 estimateRadiance(vec2 u, vec2 uPadding, Shading s);
 #endif

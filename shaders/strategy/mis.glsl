@@ -8,7 +8,7 @@ float misWeightTimesInvPdf(float chosen, float other, bool power) {
   return power ? 1.0 / (chosen * (1.0 + r * r)) : 1.0 / (chosen + other);
 }
 
-vec3 estimateRadiance(vec2 u, Shading s) {
+vec3 estimateRadiance(vec2 u, vec2 uPadding, Shading s) {
   float c = frame.strategy.x;
   bool power = frame.strategy.y > 0.5;
   bool envChosen = u.x < c;

@@ -1,5 +1,5 @@
 // Strategy "single technique, environment": Lo ~ L(wi) f(wi, wo) cos(theta_i) / p_env(wi).
-vec3 estimateRadiance(vec2 u, Shading s) {
+vec3 estimateRadiance(vec2 u, vec2 uPadding, Shading s) {
   float pdf;
   vec3 radiance;
   vec3 wi = envSample(u, s.n, pdf, radiance);

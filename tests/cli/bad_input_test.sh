@@ -58,6 +58,7 @@ expect_error "negative size" "--size" render --size -4x8
 expect_error "bad sequence" "unknown --seq 'halton'" render --seq halton
 expect_error "bad heuristic" "--mis-heuristic" render --mis-heuristic maximum
 expect_error "bad split" "--mis-split" render --mis-split 1.5
+expect_error "ris candidates" "--ris-candidates" render --method ris --ris-candidates 65
 expect_error "inapplicable technique" "does not apply to BRDF 'lambert'" render --brdf lambert --method brdf --brdf-sampler ggx-vndf
 expect_error "unknown env sampler" "unknown --env-sampler" render --method mis --env-sampler nope
 expect_error "bad output format" "unsupported image format" render --out "$tmp/x.jpg"

@@ -22,6 +22,8 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
     } else if (m.strategy == Strategy::SingleBrdf) {
       for (const auto& t : brdfTechniqueRegistry())
         if (t.appliesTo(brdf)) specs.push_back((spec.brdfSampler = t.name, spec));
+    } else if (m.strategy == Strategy::Ris) {
+      for (const auto& e : envTechniqueRegistry()) specs.push_back((spec.envSampler = e.name, spec));
     } else {
       // Every env technique with every BRDF technique that applies (balance), and with the BRDF's best
       // sampler also under the power heuristic.

@@ -124,7 +124,7 @@ void addSceneFlags(ArgParser& p, RenderSpec& s) {
 void addMethodFlags(ArgParser& p, RenderSpec& s) {
   p.value("--method", "NAME", "sampling method (default mis; see --list-methods)",
           [&](const std::string& v) { s.method.method = v; });
-  p.value("--env-sampler", "NAME", "env technique used by mis (default env-cdf)",
+  p.value("--env-sampler", "NAME", "env technique used by mis and ris (default env-cdf)",
           [&](const std::string& v) { s.method.envSampler = v; });
   p.value("--brdf-sampler", "NAME", "BRDF technique used by brdf and mis (default: the BRDF's best)",
           [&](const std::string& v) { s.method.brdfSampler = v; });
@@ -134,6 +134,9 @@ void addMethodFlags(ArgParser& p, RenderSpec& s) {
           [&](const std::string& v) { s.method.misHeuristic = v; });
   p.value("--mis-split", "F", "fraction of MIS samples given to the env technique (default 0.5)",
           [&](const std::string& v) { s.method.misEnvFraction = parseDouble("--mis-split", v, 0.0, 1.0); });
+  p.value("--ris-candidates", "M", "candidates per sample of ris (1-64, default 8)", [&](const std::string& v) {
+    s.method.risCandidates = int(parseUint("--ris-candidates", v, 1, kMaxRisCandidates));
+  });
   p.toggle("--list-methods", "print the registry (methods, techniques, sequences, BRDFs) and exit",
            [&] { s.listMethods = true; });
 }

@@ -1,0 +1,43 @@
+// Strategy "ris": resampled importance sampling (Talbot, Cline & Egbert 2005, "Importance Resampling for Global
+// Illumination", eq. 2-3) as a product sampler: RIS_CANDIDATES = M candidates x_k from the env technique,
+// resampled by f cos, i.e. target p^ = p_env mean(f) cos and weights w_k = p^(x_k) / p_env(x_k) = mean(f) cos.
+// One candidate y is kept with probability w_y / sum(w), and
+//   Lo ~ L(y) f(y) cos(y) / p^(y) * sum(w) / M = (L(y) / p_env(y)) (f(y) / mean(f(y))) sum(w) / M.
+// For large M the kept y is distributed like p_env f cos (the product of the map and the lobe).
+// Unbiased whenever each candidate is marginally distributed by p_env (E = (1/M) sum_k E[L f cos / p_env]), so
+// the candidates can share one sequence point: x_k comes from u_k = fract(u + k g), g the R2 lattice generator
+// (Roberts 2018), which keeps them stratified against each other. The choice inverts the cumulative weights
+// with uPadding.x, independent of u, after all weights are known (a streaming reservoir with one remapped
+// uniform would lose its precision over many candidates).
+const vec2 kRisLattice = vec2(0.7548776662466927, 0.5698402909980532);  // (1/phi2, 1/phi2^2), phi2^3 = phi2 + 1
+
+vec3 estimateRadiance(vec2 u, vec2 uPadding, Shading s) {
+  const uint candidates = RIS_CANDIDATES;  // fixed by the method: the loops unroll
+  vec3 shade[RIS_CANDIDATES];              // L / p_env * f / mean(f): the estimate of candidate k, before sum(w)/M
+  float weight[RIS_CANDIDATES];
+  float weightSum = 0.0;
+  for (uint k = 0u; k < candidates; ++k) {
+    vec2 uk = min(fract(u + float(k) * kRisLattice), vec2(kOneMinusEpsilon));
+    float pdf;
+    vec3 radiance;
+    vec3 wi = envSample(uk, s.n, pdf, radiance);
+    vec3 wiLocal = toLocal(s, wi);
+    bool valid = pdf > 0.0 && wiLocal.z > 0.0;
+    vec3 f = valid ? brdfEval(wiLocal, s.woLocal) : vec3(0.0);
+    float meanF = (f.r + f.g + f.b) / 3.0;
+    weight[k] = meanF > 0.0 ? meanF * wiLocal.z : 0.0;
+    shade[k] = weight[k] > 0.0 ? radiance / pdf * (f / meanF) : vec3(0.0);
+    weightSum += weight[k];
+  }
+  // y = the first k whose cumulative weight exceeds xi sum(w); the last candidate takes the float remainder.
+  float threshold = uPadding.x * weightSum, cumulative = 0.0;
+  vec3 chosen = vec3(0.0);
+  bool done = false;
+  for (uint k = 0u; k < candidates; ++k) {
+    cumulative += weight[k];
+    bool take = !done && weight[k] > 0.0 && (threshold < cumulative || k == candidates - 1u);
+    chosen = take ? shade[k] : chosen;
+    done = done || take;
+  }
+  return chosen * (weightSum / float(candidates));
+}
