@@ -6,16 +6,19 @@
 // For large M the kept y is distributed like p_env f cos (the product of the map and the lobe).
 // Unbiased whenever each candidate is marginally distributed by p_env (E = (1/M) sum_k E[L f cos / p_env]), so
 // the candidates can share one sequence point: x_k comes from u_k = fract(u + k g), g the R2 lattice generator
-// (Roberts 2018), which keeps them stratified against each other. The choice inverts the cumulative weights
-// with uPadding.x, independent of u, after all weights are known (a streaming reservoir with one remapped
-// uniform would lose its precision over many candidates).
+// (Roberts 2018), which keeps them stratified against each other. The choice is a streaming weighted
+// reservoir (Chao 1982): candidate k replaces the kept one with probability w_k / sum_{j<=k} w_j, each decision
+// with its own uniform hashed from uPadding (independent of u), so no per-candidate arrays are needed.
+#include "lib/hash.glsl"
+
 const vec2 kRisLattice = vec2(0.7548776662466927, 0.5698402909980532);  // (1/phi2, 1/phi2^2), phi2^3 = phi2 + 1
 
 vec3 estimateRadiance(vec2 u, vec2 uPadding, Shading s) {
-  const uint candidates = RIS_CANDIDATES;  // fixed by the method: the loops unroll
-  vec3 shade[RIS_CANDIDATES];              // L / p_env * f / mean(f): the estimate of candidate k, before sum(w)/M
-  float weight[RIS_CANDIDATES];
+  const uint candidates = RIS_CANDIDATES;  // fixed by the method: the loop unrolls
+  uvec2 key = uvec2(floatBitsToUint(uPadding.x), floatBitsToUint(uPadding.y));
+  uvec4 decisions = uvec4(0u);
   float weightSum = 0.0;
+  vec3 chosen = vec3(0.0);  // L / p_env * f / mean(f) of the kept candidate
   for (uint k = 0u; k < candidates; ++k) {
     vec2 uk = min(fract(u + float(k) * kRisLattice), vec2(kOneMinusEpsilon));
     float pdf;
@@ -25,19 +28,12 @@ vec3 estimateRadiance(vec2 u, vec2 uPadding, Shading s) {
     bool valid = pdf > 0.0 && wiLocal.z > 0.0;
     vec3 f = valid ? brdfEval(wiLocal, s.woLocal) : vec3(0.0);
     float meanF = (f.r + f.g + f.b) / 3.0;
-    weight[k] = meanF > 0.0 ? meanF * wiLocal.z : 0.0;
-    shade[k] = weight[k] > 0.0 ? radiance / pdf * (f / meanF) : vec3(0.0);
-    weightSum += weight[k];
-  }
-  // y = the first k whose cumulative weight exceeds xi sum(w); the last candidate takes the float remainder.
-  float threshold = uPadding.x * weightSum, cumulative = 0.0;
-  vec3 chosen = vec3(0.0);
-  bool done = false;
-  for (uint k = 0u; k < candidates; ++k) {
-    cumulative += weight[k];
-    bool take = !done && weight[k] > 0.0 && (threshold < cumulative || k == candidates - 1u);
-    chosen = take ? shade[k] : chosen;
-    done = done || take;
+    float weight = meanF > 0.0 ? meanF * wiLocal.z : 0.0;
+    weightSum += weight;
+    if ((k & 3u) == 0u) decisions = pcg4d(uvec4(key, k, 0x52495321u));  // four decisions per hash
+    float r = uintToUnitFloat(decisions[k & 3u]);
+    bool take = weight > 0.0 && r * weightSum < weight;
+    chosen = take ? radiance / pdf * (f / meanF) : chosen;
   }
   return chosen * (weightSum / float(candidates));
 }
