@@ -2,7 +2,8 @@
 // 2-point Gauss-Legendre quadrature on the texel's area-preserving parameterisation (texelToDirection), so each
 // point's weight is the texel's exact solid angle / point count. Texels whose centre lies within the fine-zone
 // cone around the mirror direction get frame.quadrature.y subdivisions per axis, texels the horizon may cross at
-// least frame.strategy.w, the others frame.quadrature.x.
+// least frame.strategy.w, the few brightest texels (energy mean(L) * solid angle >= frame.strategy.x, such as a
+// sun's) at least frame.strategy.y, the others frame.quadrature.x.
 // Each dispatch adds the rows [rowBegin, rowBegin + quadrature.w) with Kahan-compensated sums in accum
 // (mean = sum, meanSquare = compensation), so long references are split into short dispatches.
 #include "lib/frame_resources.glsl"
@@ -50,6 +51,8 @@ void main() {
   float fineZoneCos = frame.quadrature.z;
   float horizonBand = frame.strategy.z;  // |n . centre| below this: the horizon may cross the texel
   int horizonFine = int(frame.strategy.w);
+  float brightEnergy = frame.strategy.x;
+  int brightFine = int(frame.strategy.y);
   precise vec3 sum = accum[index].mean.rgb;
   precise vec3 compensation = accum[index].meanSquare.rgb;
   if (frame.rowBegin == 0u) sum = compensation = vec3(0.0);
@@ -64,6 +67,10 @@ void main() {
       if (cosCentre <= -horizonBand) continue;  // wholly below the horizon (coherent between neighbouring pixels)
       int k = dot(centre, mirror) >= fineZoneCos ? fine : coarse;
       k = cosCentre < horizonBand ? max(k, horizonFine) : k;
+      // A sun holds most of the integral in a few texels, where f cos (a lobe's tail, MERL's piecewise-constant
+      // bins) is not smooth enough for 2x2 points; the reference must be far more accurate there than anywhere.
+      float energy = (radiance.r + radiance.g + radiance.b) / 3.0 * texelSolidAngle(texel);
+      k = energy >= brightEnergy ? max(k, brightFine) : k;
       // k = 0: the midpoint rule (texels small against every feature of f cos); else Gauss on k x k sub-cells.
       vec3 integral;
       if (k == 0) {

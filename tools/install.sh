@@ -6,7 +6,8 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake ninja-build pkg-config
           libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
-          glslang-dev glslang-tools spirv-tools libglm-dev libopenexr-dev libstb-dev doctest-dev)
+          glslang-dev glslang-tools spirv-tools libglm-dev libopenexr-dev libstb-dev libtinyobjloader-dev
+          doctest-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

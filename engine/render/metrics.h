@@ -2,7 +2,7 @@
 // the mean signed error with its standard error (for unbiasedness z-tests).
 #pragma once
 
-#include "engine/render/gbuffer.h"
+#include "engine/geometry/gbuffer.h"
 
 #include <span>
 

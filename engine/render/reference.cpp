@@ -2,12 +2,15 @@
 #include "engine/render/reference.h"
 
 #include "engine/render/kernel_assembly.h"
+#include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/sphere_mapping.h"
 #include "engine/vk/compute_kernel.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <limits>
 
 namespace iblx {
 
@@ -59,7 +62,29 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   params.envWidth = uint32_t(W);
   params.envHeight = uint32_t(H);
   params.envRotation = {float(std::cos(rotation)), float(std::sin(rotation)), 0, 0};
-  params.strategy = {0, 0, float(horizonBand), float(horizonFine)};
+  // The brightest texels: at most kBrightTexels (each sub-cell is a loop iteration under lavapipe's cap), each
+  // with at least 32 times the mean texel energy.
+  constexpr std::size_t kBrightTexels = 16;
+  std::vector<double> energies;
+  double totalEnergy = 0.0;
+  const std::vector<float> solidAngles = rowSolidAngles(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const std::size_t i = 3 * scene.env.index(x, y);
+      const double e = (double(scene.env.rgb[i]) + scene.env.rgb[i + 1] + scene.env.rgb[i + 2]) / 3.0 *
+                       solidAngles[std::size_t(y)];
+      energies.push_back(e);
+      totalEnergy += e;
+    }
+  double brightEnergy = 32.0 * totalEnergy / double(energies.size());
+  if (energies.size() > kBrightTexels) {  // strictly above the (kBrightTexels + 1)-th brightest
+    std::nth_element(energies.begin(), energies.begin() + kBrightTexels, energies.end(), std::greater<>());
+    brightEnergy = std::max(brightEnergy, std::nextafter(energies[kBrightTexels], HUGE_VAL) * (1.0 + 1e-6));
+  }
+  if (!(brightEnergy > 0.0)) brightEnergy = std::numeric_limits<double>::max();
+  const int brightFine = std::min(16, std::max(1, options.maxFineSubdivisions));
+  params.strategy = {float(std::min(brightEnergy, double(std::numeric_limits<float>::max()))), float(brightFine),
+                     float(horizonBand), float(horizonFine)};
   params.quadrature = {float(coarse), float(fine), float(fineZoneCos), float(rowsPerDispatch)};
   for (int row = 0; row < H; row += rowsPerDispatch) {
     params.rowBegin = uint32_t(row);

@@ -1,6 +1,7 @@
 // Scene loading, method resolution (with the checks a user needs to hear about) and GPU upload.
 #include "engine/render/scene.h"
 
+#include "engine/core/assets.h"
 #include "engine/core/error.h"
 #include "engine/core/log.h"
 #include "engine/io/brdf_file.h"
@@ -17,8 +18,7 @@
 namespace iblx {
 
 std::filesystem::path defaultEnvPath() {
-  if (const char* dir = std::getenv("IBLX_ASSET_DIR")) return std::filesystem::path(dir) / "default_sky.exr";
-  return std::filesystem::path(IBLX_SOURCE_DIR) / "assets" / "default_sky.exr";
+  return assetPath("default_sky.exr");
 }
 
 MeasuredBrdf::MeasuredBrdf(MerlBrdf b) : brdf(std::move(b)) {}
@@ -128,7 +128,7 @@ Scene makeScene(EnvImage env, const SceneSpec& spec, LoadedBrdf brdf) {
   scene.params = resolveParams(*scene.brdf, spec.params);
   scene.measured = std::move(brdf.measured);
   scene.brdfFile = std::move(brdf.file);
-  scene.gbuffer = makeGBuffer(spec.object, spec.width, spec.height);
+  scene.gbuffer = makeGBuffer(spec.object, spec.camera, spec.width, spec.height);
   return scene;
 }
 

@@ -2,9 +2,9 @@
 // plus their GPU copies.
 #pragma once
 
+#include "engine/geometry/gbuffer.h"
 #include "engine/io/env_image.h"
 #include "engine/io/merl.h"
-#include "engine/render/gbuffer.h"
 #include "engine/render/methods.h"
 #include "engine/vk/buffer.h"
 
@@ -24,7 +24,8 @@ struct SceneSpec {
   double envRotationDeg = 0.0;
   std::string brdf = "ggx";
   std::vector<std::pair<std::string, std::string>> params;
-  std::string object = "sphere";
+  std::string object = "sphere";  // sphere | plane | teapot | an .obj file (engine/geometry/gbuffer.h)
+  CameraSpec camera;              // --orbit, --zoom
   int width = 256, height = 256;
 };
 

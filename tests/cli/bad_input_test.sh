@@ -159,5 +159,37 @@ expect_error "brdf isfunc missing" "does not apply" render --brdf "$tmp/shiny.br
 expect_error "save-bparam of a built-in" "--save-bparam: BRDF 'ggx' is built in" render --save-bparam "$tmp/g.bparam" --out "$tmp/b.png"
 [ ! -e "$tmp/b.png" ] && [ ! -e "$tmp/g.bparam" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: output written despite a bad .brdf input"; }
 
+# Objects and the camera: a good teapot, plane and OBJ render; each kind of bad --object, --orbit, --zoom and
+# OBJ file gives its message.
+expect_ok "teapot render" render --object teapot --size 16x16 --spp 4 --passes 1 --out "$tmp/teapot.png"
+[ -s "$tmp/teapot.png" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: teapot render wrote no image"; }
+expect_ok "grazing plane render" render --object plane --orbit 30,80 --zoom 2 --size 16x16 --spp 4 --passes 1 --out "$tmp/plane.png"
+expect_ok "make-teapot" make-teapot --subdivisions 3 --out "$tmp/coarse.obj"
+grep -q "^f " "$tmp/coarse.obj" && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: make-teapot wrote no faces"; }
+expect_ok "obj render" render --object "$tmp/coarse.obj" --orbit -30,20 --size 16x16 --spp 4 --passes 1 --out "$tmp/coarse.png"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n' > "$tmp/badface.obj"
+printf 'v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n' > "$tmp/nan.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n' > "$tmp/nofaces.obj"
+printf 'v 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\n' > "$tmp/point.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n' > "$tmp/range.obj"
+expect_error "unknown object" "unknown --object 'cube'; valid: sphere, plane, teapot" render --object cube --out "$tmp/o.png"
+expect_error "missing obj" "$tmp/none.obj: no such file" render --object "$tmp/none.obj" --out "$tmp/o.png"
+expect_error "obj parse error" "badface.obj:4: bad 'f' line" render --object "$tmp/badface.obj" --out "$tmp/o.png"
+expect_error "obj non-finite" "nan.obj:2: coordinate 'nan' is not finite" render --object "$tmp/nan.obj" --out "$tmp/o.png"
+expect_error "obj without faces" "nofaces.obj: no faces" render --object "$tmp/nofaces.obj" --out "$tmp/o.png"
+expect_error "degenerate obj" "point.obj: all vertices are at one point" render --object "$tmp/point.obj" --out "$tmp/o.png"
+expect_error "obj index range" "range.obj: face 1 refers to vertex 7" reference --object "$tmp/range.obj" --out "$tmp/o.exr"
+expect_error "orbit without comma" "--orbit 30: expected AZ,EL" render --orbit 30 --out "$tmp/o.png"
+expect_error "orbit three values" "expected AZ,EL" render --orbit 1,2,3 --out "$tmp/o.png"
+expect_error "orbit not a number" "not a number" render --orbit north,10 --out "$tmp/o.png"
+expect_error "orbit elevation" "out of range [-90, 90]" render --orbit 0,95 --out "$tmp/o.png"
+expect_error "zoom zero" "--zoom 0: must be > 0" render --zoom 0 --out "$tmp/o.png"
+expect_error "zoom negative" "out of range" render --zoom -2 --out "$tmp/o.png"
+expect_error "zoom not a number" "not a number" bench --zoom big
+expect_error "make-teapot extension" "must end in .obj" make-teapot --out "$tmp/teapot.txt"
+expect_error "make-teapot subdivisions" "--subdivisions 0" make-teapot --subdivisions 0 --out "$tmp/t.obj"
+expect_error "make-teapot patch file" "none.txt: no such file" make-teapot --patches "$tmp/none.txt" --out "$tmp/t.obj"
+[ ! -e "$tmp/o.png" ] && [ ! -e "$tmp/o.exr" ] && [ ! -e "$tmp/t.obj" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: output written despite a bad object or camera"; }
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

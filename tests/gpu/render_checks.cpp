@@ -42,11 +42,14 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
 }
 
 Scene sceneWith(EnvImage env, const std::string& brdf,
-                std::vector<std::pair<std::string, std::string>> params, int size) {
+                std::vector<std::pair<std::string, std::string>> params, int size, const std::string& object,
+                const CameraSpec& camera) {
   SceneSpec spec;
   spec.brdf = brdf;
   spec.params = std::move(params);
   spec.width = spec.height = size;
+  spec.object = object;
+  spec.camera = camera;
   return makeScene(std::move(env), spec);
 }
 
@@ -91,7 +94,8 @@ void checkWhiteFurnace(const Scene& scene, double albedo, int passes, double sig
       std::vector<double> variances;
       for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i)
         if (scene.gbuffer.pixels[i].normal.w != 0.0f) variances.push_back(var[3 * i]);
-      std::nth_element(variances.begin(), variances.begin() + std::ptrdiff_t(variances.size() / 2), variances.end());
+      std::nth_element(variances.begin(), variances.begin() + std::ptrdiff_t(variances.size() / 2),
+                       variances.end());
       const double medianVariance = variances[variances.size() / 2];
       int failures = 0;
       for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i) {

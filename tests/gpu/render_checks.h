@@ -18,9 +18,11 @@ namespace iblx::test {
 // (8 candidates).
 std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& sequence);
 
-// A square scene of the sphere; `brdf` is a built-in name or a file (e.g. a MERL .binary).
+// A square scene of `object` (default the sphere) seen by `camera`; `brdf` is a built-in name or a file (e.g.
+// a MERL .binary).
 Scene sceneWith(EnvImage env, const std::string& brdf,
-                std::vector<std::pair<std::string, std::string>> params, int size);
+                std::vector<std::pair<std::string, std::string>> params, int size,
+                const std::string& object = "sphere", const CameraSpec& camera = {});
 
 struct ZTest {
   double z[3] = {0, 0, 0};

@@ -116,7 +116,22 @@ void addSceneFlags(ArgParser& p, RenderSpec& s) {
           "file",
           [&](const std::string& v) { s.scene.brdf = v; });
   addParamFlag(p, s.scene.params);
-  p.value("--object", "NAME", "sphere (default)", [&](const std::string& v) { s.scene.object = v; });
+  p.value("--object", "NAME|FILE", "sphere (default) | plane | teapot | an .obj file",
+          [&](const std::string& v) { s.scene.object = v; });
+  p.value("--orbit", "AZ,EL",
+          "camera orbit in degrees: azimuth about +Y, then elevation towards +Y in [-90, 90] (default 0,0)",
+          [&](const std::string& v) {
+            const auto comma = v.find(',');
+            if (comma == std::string::npos || v.find(',', comma + 1) != std::string::npos)
+              throw Error("--orbit " + v + ": expected AZ,EL in degrees, e.g. 30,20");
+            s.scene.camera.azimuthDeg = parseDouble("--orbit azimuth", v.substr(0, comma), -1e6, 1e6);
+            s.scene.camera.elevationDeg = parseDouble("--orbit elevation", v.substr(comma + 1), -90, 90);
+          });
+  p.value("--zoom", "F", "camera zoom > 0: the image half-height covers 1/F world units (default 1)",
+          [&](const std::string& v) {
+            s.scene.camera.zoom = parseDouble("--zoom", v, 0, 1e6);
+            if (!(s.scene.camera.zoom > 0)) throw Error("--zoom " + v + ": must be > 0");
+          });
   p.value("--size", "WxH", "image size (default 256x256)",
           [&](const std::string& v) { parseSize("--size", v, s.scene.width, s.scene.height); });
 }

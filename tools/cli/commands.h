@@ -12,6 +12,7 @@ int cmdReference(const Args& args);
 int cmdBench(const Args& args);
 int cmdDevices(const Args& args);
 int cmdMakeSky(const Args& args);
+int cmdMakeTeapot(const Args& args);
 int cmdMerlSynth(const Args& args);
 
 }  // namespace iblx::cli

@@ -18,6 +18,7 @@ constexpr const char* kUsage =
     "  bench       samples per second of every method on one scene\n"
     "  devices     list the Vulkan devices and whether iblx can use them\n"
     "  make-sky    write the procedural sky used as the default environment map\n"
+    "  make-teapot tessellate the Utah teapot's Bezier patches into an .obj (assets/teapot.obj)\n"
     "  merl-synth  tabulate a BRDF into a MERL .binary file (synthetic measured materials)\n";
 
 }  // namespace
@@ -36,6 +37,7 @@ int main(int argc, char** argv) {
     if (command == "bench") return cmdBench(args);
     if (command == "devices") return cmdDevices(args);
     if (command == "make-sky") return cmdMakeSky(args);
+    if (command == "make-teapot") return cmdMakeTeapot(args);
     if (command == "merl-synth") return cmdMerlSynth(args);
     std::fprintf(stderr, "iblx: unknown command '%s'\n%s", command.c_str(), kUsage);
     return 2;
