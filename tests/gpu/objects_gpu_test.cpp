@@ -71,17 +71,7 @@ TEST_CASE("objects: no NaN or Inf for any method on the plane at grazing orbits 
     const Scene scene = sceneWith(sunAndZeroHalf(64, 32), c.brdf, c.params, 32, c.object, c.camera);
     INFO(c.name << ": " << scene.gbuffer.objectPixelCount() << " object pixels");
     CHECK(scene.gbuffer.objectPixelCount() >= 32);
-    for (const char* sequence : {"random", "sobol"})
-      for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {
-        const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
-        INFO(c.name << ": " << method.label());
-        Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 29);
-        renderer.runPass(32);
-        CHECK(renderer.nonFiniteSamples() == 0);
-        int bad = 0;
-        for (float v : renderer.meanRgb()) bad += !std::isfinite(v) || v < 0.0f;
-        CHECK(bad == 0);
-      }
+    checkFiniteForEveryMethod(scene, c.name, 29);
   }
   checkNoNewValidationErrors();
 }

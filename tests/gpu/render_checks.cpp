@@ -78,6 +78,20 @@ ZTest zTest(const Scene& scene, const Renderer& renderer, const std::vector<floa
   return t;
 }
 
+void checkFiniteForEveryMethod(const Scene& scene, const std::string& name, uint32_t seed) {
+  for (const char* sequence : {"random", "sobol"})
+    for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {
+      const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+      INFO(name << ": " << method.label());
+      Renderer renderer(gpuContext(), gpuCompiler(), scene, method, seed);
+      renderer.runPass(32);
+      CHECK(renderer.nonFiniteSamples() == 0);
+      int bad = 0;
+      for (float v : renderer.meanRgb()) bad += !std::isfinite(v) || v < 0.0f;
+      CHECK(bad == 0);
+    }
+}
+
 void checkWhiteFurnace(const Scene& scene, double albedo, int passes, double sigmas) {
   for (const char* sequence : {"random", "sobol"})
     for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {

@@ -47,6 +47,10 @@ void checkWhiteFurnace(const Scene& scene, double albedo, int passes, double sig
 void checkChi2AgainstPdf(BrdfTechniqueProbe& probe, std::span<const glm::dvec3> directions, int testCount,
                          const std::string& label);
 
+// Renders every method the registry offers for the scene's BRDF (both sequences, one pass of 32 spp) and checks
+// that no estimate was NaN or Inf and that every pixel's mean is finite and non-negative.
+void checkFiniteForEveryMethod(const Scene& scene, const std::string& name, uint32_t seed);
+
 // Computes the scene's reference and checks every method the registry offers for its BRDF (both sequences,
 // 8 x 64 spp) against it: |z| < zBound per channel (see zTest) and no NaN/Inf estimate. `name` labels
 // failures.
