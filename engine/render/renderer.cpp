@@ -3,6 +3,7 @@
 
 #include "engine/core/error.h"
 #include "engine/render/kernel_assembly.h"
+#include "engine/sampling/mis_compensation.h"
 #include "engine/sampling/sphere_mapping.h"
 
 #include <chrono>
@@ -27,7 +28,10 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
       timestamps_(context),
       seed_(seed),
       params_(scene.params) {
-  TechniqueData envData = method.envTechnique ? method.envTechnique->build(scene.env) : TechniqueData{};
+  // MIS compensation changes only the density the env technique samples; radiance still comes from scene.env.
+  TechniqueData envData = !method.envTechnique        ? TechniqueData{}
+                          : method.misCompensation ? method.envTechnique->build(misCompensated(scene.env))
+                                                   : method.envTechnique->build(scene.env);
   for (size_t i = 0; i < envData.buffers.size(); ++i)
     envBuffers_.push_back(Buffer::fromData(context, envData.buffers[i], envData.names[i]));
   TechniqueData brdfData = method.brdfTechnique && method.brdfTechnique->build

@@ -147,7 +147,7 @@ std::string ResolvedMethod::label() const {
   s << method->name;
   if (method->strategy == Strategy::Mis)
     s << "(" << envTechnique->name << "+" << brdfTechnique->name << ", " << (misPower ? "power " : "balance ")
-      << misEnvFraction << ")";
+      << misEnvFraction << (misCompensation ? ", compensated" : "") << ")";
   else if (method->strategy == Strategy::SingleBrdf)
     s << "(" << brdfTechnique->name << ")";
   else if (method->strategy == Strategy::Ris)
@@ -178,6 +178,8 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
   };
   ignored(!spec.envSampler.empty() && !isMis && !isRis, "--env-sampler");
   ignored(spec.risCandidates.has_value() && !isRis, "--ris-candidates");
+  ignored(spec.misCompensation && !isMis, "--mis-compensation");
+  r.misCompensation = spec.misCompensation && isMis;
   ignored(!spec.brdfSampler.empty() && !needsBrdf, "--brdf-sampler");
   ignored(spec.misEnvFraction.has_value() && !isMis, "--mis-split");
   ignored(!spec.misHeuristic.empty() && !isMis, "--mis-heuristic");

@@ -40,6 +40,7 @@ struct MethodSpec {
   std::optional<double> misEnvFraction;  // mis: default 0.5
   std::string misHeuristic;              // mis: balance (default) | power
   std::optional<int> risCandidates;      // ris: default 8
+  bool misCompensation = false;          // mis: the env technique samples max(p - mean(p), 0)
 };
 
 struct MerlThetaHData;
@@ -94,6 +95,7 @@ struct ResolvedMethod {
   float misEnvFraction = 0.5f;
   bool misPower = false;
   uint32_t risCandidates = 8;
+  bool misCompensation = false;
   std::string label() const;  // e.g. "mis(env-cdf+ggx-vndf, balance 0.5)/sobol"
 };
 

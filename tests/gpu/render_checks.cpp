@@ -34,7 +34,15 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
           spec.brdfSampler = t.name;
           spec.misHeuristic = "balance";
           specs.push_back(spec);
-          if (t.name == brdf.bestSampler) specs.push_back((spec.misHeuristic = "power", spec));
+          if (t.name == brdf.bestSampler) {
+            specs.push_back((spec.misHeuristic = "power", spec));
+            if (e.name == "env-cdf" || e.name == "env-hier") {  // the table-based ones, compensated
+              MethodSpec compensated = spec;
+              compensated.misHeuristic = "balance";
+              compensated.misCompensation = true;
+              specs.push_back(compensated);
+            }
+          }
         }
     }
   }

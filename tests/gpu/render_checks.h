@@ -14,8 +14,8 @@ namespace iblx::test {
 
 // Every (method, technique) combination the registry offers for a BRDF: single env techniques, every
 // applicable BRDF technique alone, MIS of every env technique with every applicable BRDF technique
-// (balance heuristic; the BRDF's best sampler also with the power heuristic), and RIS over every env technique
-// (8 candidates).
+// (balance heuristic; the BRDF's best sampler also with the power heuristic, and with MIS compensation for the
+// table-based env techniques), and RIS over every env technique (8 candidates).
 std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& sequence);
 
 // A square scene of `object` (default the sphere) seen by `camera`; `brdf` is a built-in name or a file (e.g.

@@ -149,6 +149,10 @@ void addMethodFlags(ArgParser& p, RenderSpec& s) {
           [&](const std::string& v) { s.method.misHeuristic = v; });
   p.value("--mis-split", "F", "fraction of MIS samples given to the env technique (default 0.5)",
           [&](const std::string& v) { s.method.misEnvFraction = parseDouble("--mis-split", v, 0.0, 1.0); });
+  p.toggle("--mis-compensation",
+           "mis: the env technique samples max(p - mean(p), 0) (Karlik et al. 2019), leaving flat regions to the "
+           "BRDF technique",
+           [&] { s.method.misCompensation = true; });
   p.value("--ris-candidates", "M", "candidates per sample of ris (1-64, default 8)", [&](const std::string& v) {
     s.method.risCandidates = int(parseUint("--ris-candidates", v, 1, kMaxRisCandidates));
   });
