@@ -1,4 +1,5 @@
-// BRDF parameter declarations and values: what a built-in BRDF declares in the registry and what a .brdf file's
+// BRDF parameter declarations and values: what a built-in BRDF declares in the registry and what a .brdf
+// file's
 // `::begin parameters` section declares, set from `--param`, .bparam files and (later) the viewer's sliders.
 #pragma once
 

@@ -30,7 +30,8 @@ std::vector<std::string> tokens(const std::string& line) {
 
 bool isIdentifier(const std::string& s) {
   if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
-  return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+  return std::all_of(s.begin(), s.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
 }
 
 class Parser {
@@ -67,8 +68,8 @@ class Parser {
       if (p.decl.min > p.decl.max) fail(line, "minimum " + t[2] + " is above maximum " + t[3]);
       const double d = p.decl.defaultValue[0];
       if (d < p.decl.min || d > p.decl.max) {
-        warn(name_ + ":" + std::to_string(line) + ": default " + t[4] + " of '" + t[1] +
-             "' is outside [" + t[2] + ", " + t[3] + "]; the range is widened to include it");
+        warn(name_ + ":" + std::to_string(line) + ": default " + t[4] + " of '" + t[1] + "' is outside [" +
+             t[2] + ", " + t[3] + "]; the range is widened to include it");
         p.decl.min = std::min(p.decl.min, d);
         p.decl.max = std::max(p.decl.max, d);
       }
@@ -122,9 +123,8 @@ class Parser {
           file_.kind = BrdfFile::Kind::Analytic;
         } else if (t[0] == "bparam") {
           file_.kind = BrdfFile::Kind::Bparam;
-          const std::string source = trim(line.substr(line.find_first_of(" \t") == std::string::npos
-                                                          ? line.size()
-                                                          : line.find_first_of(" \t")));
+          const std::string source = trim(line.substr(
+              line.find_first_of(" \t") == std::string::npos ? line.size() : line.find_first_of(" \t")));
           if (source.empty()) fail(lineNo, "'bparam' must be followed by the path of the BRDF file");
           file_.bparamSource = resolveSource(source);
         } else {
@@ -169,8 +169,9 @@ class Parser {
     if (!section.empty())
       fail(sectionLine, "section '" + section + "' is never closed (expected '::end " + section + "')");
     if (file_.kind == BrdfFile::Kind::Analytic && !sawShader)
-      fail(1, "no '::begin shader' section: a .brdf file must define vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, "
-              "vec3 Y)");
+      fail(1,
+           "no '::begin shader' section: a .brdf file must define vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, "
+           "vec3 Y)");
     if (file_.kind == BrdfFile::Kind::Bparam && (!file_.shader.empty() || !file_.isFunc.empty()))
       warn(name_ + ": a .bparam file's shader and isFunc sections are ignored; the BRDF comes from " +
            file_.bparamSource.string());
@@ -198,7 +199,8 @@ std::string formatNumber(double v) {
 
 }  // namespace
 
-BrdfFile parseBrdfText(std::string_view text, const std::string& displayName, const std::filesystem::path& folder) {
+BrdfFile parseBrdfText(std::string_view text, const std::string& displayName,
+                       const std::filesystem::path& folder) {
   return Parser(displayName, folder).parse(text);
 }
 

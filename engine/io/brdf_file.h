@@ -16,8 +16,8 @@
 
 namespace iblx {
 
-// The kept lines of a GLSL section (untrimmed, as BRDF Explorer keeps them) with their 1-based line numbers in
-// the file, so compile errors can name the file's own lines.
+// The kept lines of a GLSL section (untrimmed, as BRDF Explorer keeps them) with their 1-based line numbers
+// in the file, so compile errors can name the file's own lines.
 struct BrdfFileSection {
   std::vector<std::string> lines;
   std::vector<int> lineNumbers;

@@ -18,17 +18,18 @@ namespace {
 const std::set<std::string>& glslReservedWords() {
   static const std::set<std::string> words = {
       "attribute", "const", "uniform", "varying", "buffer", "shared", "coherent", "volatile", "restrict",
-      "readonly", "writeonly", "atomic_uint", "layout", "centroid", "flat", "smooth", "noperspective", "patch",
-      "sample", "invariant", "precise", "break", "continue", "do", "for", "while", "switch", "case", "default",
-      "if", "else", "subroutine", "in", "out", "inout", "int", "void", "bool", "true", "false", "float", "double",
-      "discard", "return", "vec2", "vec3", "vec4", "ivec2", "ivec3", "ivec4", "bvec2", "bvec3", "bvec4", "uint",
-      "uvec2", "uvec3", "uvec4", "dvec2", "dvec3", "dvec4", "mat2", "mat3", "mat4", "mat2x2", "mat2x3",
-      "mat2x4", "mat3x2", "mat3x3", "mat3x4", "mat4x2", "mat4x3", "mat4x4", "dmat2", "dmat3", "dmat4", "lowp",
-      "mediump", "highp", "precision", "struct", "common", "partition", "active", "asm", "class", "union",
-      "enum", "typedef", "template", "this", "resource", "goto", "inline", "noinline", "public", "static",
-      "extern", "external", "interface", "long", "short", "half", "fixed", "unsigned", "superp", "input",
-      "output", "hvec2", "hvec3", "hvec4", "fvec2", "fvec3", "fvec4", "filter", "sizeof", "cast", "namespace",
-      "using", "sampler2D", "sampler3D", "samplerCube", "image2D", "texture", "main",
+      "readonly", "writeonly", "atomic_uint", "layout", "centroid", "flat", "smooth", "noperspective",
+      "patch", "sample", "invariant", "precise", "break", "continue", "do", "for", "while", "switch", "case",
+      "default", "if", "else", "subroutine", "in", "out", "inout", "int", "void", "bool", "true", "false",
+      "float", "double", "discard", "return", "vec2", "vec3", "vec4", "ivec2", "ivec3", "ivec4", "bvec2",
+      "bvec3", "bvec4", "uint", "uvec2", "uvec3", "uvec4", "dvec2", "dvec3", "dvec4", "mat2", "mat3", "mat4",
+      "mat2x2", "mat2x3", "mat2x4", "mat3x2", "mat3x3", "mat3x4", "mat4x2", "mat4x3", "mat4x4", "dmat2",
+      "dmat3", "dmat4", "lowp", "mediump", "highp", "precision", "struct", "common", "partition", "active",
+      "asm", "class", "union", "enum", "typedef", "template", "this", "resource", "goto", "inline",
+      "noinline", "public", "static", "extern", "external", "interface", "long", "short", "half", "fixed",
+      "unsigned", "superp", "input", "output", "hvec2", "hvec3", "hvec4", "fvec2", "fvec3", "fvec4", "filter",
+      "sizeof", "cast", "namespace", "using", "sampler2D", "sampler3D", "samplerCube", "image2D", "texture",
+      "main",
       // GLSL built-in functions a parameter would shadow
       "radians", "degrees", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh",
       "acosh", "atanh", "pow", "exp", "log", "exp2", "log2", "sqrt", "inversesqrt", "abs", "sign", "floor",
@@ -44,10 +45,10 @@ const std::set<std::string>& glslReservedWords() {
 // Type names that can start a top-level function or variable declaration in a snippet.
 bool isTypeName(const std::string& t) {
   static const std::set<std::string> types = {
-      "void",  "float", "int",   "uint",  "bool",  "double", "vec2",  "vec3",  "vec4",  "ivec2", "ivec3",
-      "ivec4", "uvec2", "uvec3", "uvec4", "bvec2", "bvec3",  "bvec4", "mat2",  "mat3",  "mat4",  "dvec2",
-      "dvec3", "dvec4", "mat2x2", "mat2x3", "mat2x4", "mat3x2", "mat3x3", "mat3x4", "mat4x2", "mat4x3",
-      "mat4x4"};
+      "void",   "float",  "int",    "uint",   "bool",   "double", "vec2",   "vec3",   "vec4",
+      "ivec2",  "ivec3",  "ivec4",  "uvec2",  "uvec3",  "uvec4",  "bvec2",  "bvec3",  "bvec4",
+      "mat2",   "mat3",   "mat4",   "dvec2",  "dvec3",  "dvec4",  "mat2x2", "mat2x3", "mat2x4",
+      "mat3x2", "mat3x3", "mat3x4", "mat4x2", "mat4x3", "mat4x4"};
   return types.count(t) != 0;
 }
 
@@ -110,7 +111,9 @@ TopLevelNames topLevelNames(const std::string& s, const std::vector<Token>& toke
       if (c == ')') parens = std::max(0, parens - 1);
       continue;
     }
-    if (depth != 0 || parens != 0 || !isTypeName(text(t)) || k + 2 >= tokens.size() || !tokens[k + 1].identifier) continue;
+    if (depth != 0 || parens != 0 || !isTypeName(text(t)) || k + 2 >= tokens.size() ||
+        !tokens[k + 1].identifier)
+      continue;
     const std::string name = text(tokens[k + 1]);
     const char next = s[tokens[k + 2].begin];
     if (next == '(')
@@ -133,7 +136,8 @@ std::string quoted(const std::string& s) {
 void appendSection(std::ostringstream& out, const std::vector<std::string>& lines,
                    const std::vector<int>& numbers, const std::string& file) {
   for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (i == 0 || numbers[i] != numbers[i - 1] + 1) out << "#line " << numbers[i] << " " << quoted(file) << "\n";
+    if (i == 0 || numbers[i] != numbers[i - 1] + 1)
+      out << "#line " << numbers[i] << " " << quoted(file) << "\n";
     out << lines[i] << "\n";
   }
 }
@@ -209,7 +213,8 @@ std::string analyticBrdfSource(const BrdfFile& file, const std::string& partPath
     << "vec3 brdfEval(vec3 wi, vec3 wo) {\n"
     << "  if (wi.z <= 0.0 || wo.z <= 0.0) return vec3(0.0);\n"
     << "  vec3 f = BRDF(wi, wo, vec3(0.0, 0.0, 1.0), vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0));\n"
-    << "#ifdef IBLX_UNGUARDED_BRDF\n  return f;  // tests of the file itself (BrdfEvaluator's unguarded mode)\n#endif\n"
+    << "#ifdef IBLX_UNGUARDED_BRDF\n  return f;  // tests of the file itself (BrdfEvaluator's unguarded "
+       "mode)\n#endif\n"
     << "  // A negative or non-finite value counts as 0 (ordered compares are false for NaN).\n"
     << "  return vec3(f.x >= 0.0 && f.x <= 3.0e38 ? f.x : 0.0, f.y >= 0.0 && f.y <= 3.0e38 ? f.y : 0.0,\n"
     << "              f.z >= 0.0 && f.z <= 3.0e38 ? f.z : 0.0);\n"
@@ -232,12 +237,14 @@ std::shared_ptr<const BrdfInfo> makeAnalyticBrdf(const BrdfFile& file) {
   for (const auto& l : file.isFunc.lines) all += l + "\n";
   const TopLevelNames names = topLevelNames(all, tokenize(all));
   if (!names.functions.count("BRDF"))
-    throw Error(file.displayName + ":" + std::to_string(file.shader.lineNumbers.empty() ? 1 : file.shader.lineNumbers[0]) +
+    throw Error(file.displayName + ":" +
+                std::to_string(file.shader.lineNumbers.empty() ? 1 : file.shader.lineNumbers[0]) +
                 ": the shader section defines no 'vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)'");
   const bool sample = names.functions.count("sampleBRDF") != 0, pdf = names.functions.count("pdfBRDF") != 0;
   if (sample && !pdf)
-    warn(file.displayName + ": its isFunc defines sampleBRDF but no pdfBRDF(L, V, N, X, Y); iblx needs both "
-                            "to use it (MIS evaluates the density of any direction), so it samples with brdf-tab");
+    warn(file.displayName +
+         ": its isFunc defines sampleBRDF but no pdfBRDF(L, V, N, X, Y); iblx needs both "
+         "to use it (MIS evaluates the density of any direction), so it samples with brdf-tab");
   info->hasSampleHook = sample && pdf;
 
   const std::string stem = std::filesystem::path(file.displayName).stem().string();

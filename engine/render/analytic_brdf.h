@@ -9,11 +9,11 @@
 // - compile errors name the .brdf file and its own line numbers (#line directives).
 // The isFunc contract (an iblx decision; BRDF Explorer never called the hook): `vec3 sampleBRDF(float u,
 // float v, vec3 N, vec3 X, vec3 Y, out vec3 wi, out float pdf)` draws wi towards the light with its exact
-// solid-angle density pdf (0: no sample) and returns the weight f(wi, V) (N.wi) / pdf, which iblx does not use
-// (it recomputes f cos / pdf, so a wrong return value cannot bias an image; the library's tests check it).
-// The view direction, missing from the signature, is the global `vec3 iblxV`. For MIS the section must also
-// define `float pdfBRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)`, the density of any L; iblx uses the hook
-// only when both exist.
+// solid-angle density pdf (0: no sample) and returns the weight f(wi, V) (N.wi) / pdf, which iblx does not
+// use (it recomputes f cos / pdf, so a wrong return value cannot bias an image; the library's tests check
+// it). The view direction, missing from the signature, is the global `vec3 iblxV`. For MIS the section must
+// also define `float pdfBRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)`, the density of any L; iblx uses the
+// hook only when both exist.
 #pragma once
 
 #include "engine/io/brdf_file.h"

@@ -22,7 +22,8 @@ struct BrdfEvaluator::State {
 };
 
 BrdfEvaluator::BrdfEvaluator(const GpuServices& services, const Scene& scene, bool unguarded)
-    : state_(std::make_unique<State>(State{services.context, uploadScene(services.context, scene), nullptr})) {
+    : state_(
+          std::make_unique<State>(State{services.context, uploadScene(services.context, scene), nullptr})) {
   KernelParts parts = brdfKernelParts("brdf_eval.comp", *scene.brdf);
   parts.defines = brdfBindingDefines(state_->gpu.brdfData.size());
   if (unguarded) parts.defines.emplace_back("IBLX_UNGUARDED_BRDF", "1");

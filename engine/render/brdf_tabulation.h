@@ -34,10 +34,11 @@ std::vector<glm::dvec3> evaluateBrdf(const VulkanContext& context, ShaderCompile
                                      const Scene& scene, std::span<const glm::dvec3> wi,
                                      std::span<const glm::dvec3> wo);
 
-// Angular width (radians) of the narrowest lobe of the scene's BRDF, measured on the GPU: the full width at half
-// maximum of f cos along great circles through the mirror direction (in and across the plane of incidence, for
-// views at 0 and 60 degrees), at 0.05 degree steps. 0 when f cos has no peak (a maximum below 4 times its mean
-// along the circle). The reference refines its quadrature around lobes narrower than its texels.
+// Angular width (radians) of the narrowest lobe of the scene's BRDF, measured on the GPU: the full width at
+// half maximum of f cos along great circles through the mirror direction (in and across the plane of
+// incidence, for views at 0 and 60 degrees), at 0.05 degree steps. 0 when f cos has no peak (a maximum below
+// 4 times its mean along the circle). The reference refines its quadrature around lobes narrower than its
+// texels.
 double estimateLobeWidth(const GpuServices& gpu, const Scene& scene);
 
 // brdf-tab's tables: the half-vector tables of merl-table (engine/sampling/merl_sampling.h) with the sampling

@@ -25,7 +25,8 @@ KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf) {
   return k;
 }
 
-std::vector<uint32_t> compileKernel(ShaderCompiler& compiler, const KernelParts& parts, const std::string& name) {
+std::vector<uint32_t> compileKernel(ShaderCompiler& compiler, const KernelParts& parts,
+                                    const std::string& name) {
   for (const auto& [path, text] : parts.sources) compiler.addSource(path, text);
   return compiler.compile(assemblePrelude(parts), name);
 }

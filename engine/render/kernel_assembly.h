@@ -23,7 +23,8 @@ std::string assemblePrelude(const KernelParts& parts);
 // The parts of every kernel that evaluates `brdf`: its part and, for a generated BRDF, that part's source.
 KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf);
 // Registers parts.sources with the compiler and compiles the assembled prelude.
-std::vector<uint32_t> compileKernel(ShaderCompiler& compiler, const KernelParts& parts, const std::string& name);
+std::vector<uint32_t> compileKernel(ShaderCompiler& compiler, const KernelParts& parts,
+                                    const std::string& name);
 
 // The integrator for a scene and method, and the reference kernel for a scene. Set 3 holds the parameter
 // block (binding 0), the BRDF's `brdfDataBuffers` buffers (from BRDF_DATA_BINDING = 1) and the BRDF

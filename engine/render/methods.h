@@ -16,9 +16,9 @@
 
 namespace iblx {
 
-struct Scene;            // engine/render/scene.h
-class VulkanContext;     // engine/vk/context.h
-class ShaderCompiler;    // engine/vk/shader_compiler.h
+struct Scene;          // engine/render/scene.h
+class VulkanContext;   // engine/vk/context.h
+class ShaderCompiler;  // engine/vk/shader_compiler.h
 
 // What a builder that needs the GPU gets (brdf-tab tabulates the compiled BRDF; the reference measures a
 // .brdf file's lobe).
@@ -76,7 +76,7 @@ struct EnvTechniqueInfo {
 struct BrdfTechniqueInfo {
   std::string name;
   std::string description;
-  std::string part;        // implements interfaces/brdf_sampler.glsl
+  std::string part;         // implements interfaces/brdf_sampler.glsl
   std::string appliesText;  // for --list-methods, e.g. "any BRDF", "ggx"
   // Whether it can sample a BRDF; null = every BRDF.
   std::function<bool(const BrdfInfo&)> applies;

@@ -18,8 +18,7 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
                                 const ReferenceOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   SceneGpu gpu = uploadScene(context, scene);
-  const auto spirv =
-      compileKernel(compiler, referenceParts(scene), "reference " + scene.brdf->name);
+  const auto spirv = compileKernel(compiler, referenceParts(scene), "reference " + scene.brdf->name);
   const auto brdfSet = gpu.brdfSet();
   ComputeKernel kernel(context, spirv, sceneKernelLayout(0, uint32_t(brdfSet.size() - 1)), "reference");
   kernel.bindBuffers(0, gpu.frameSet());
@@ -62,8 +61,8 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   params.envWidth = uint32_t(W);
   params.envHeight = uint32_t(H);
   params.envRotation = {float(std::cos(rotation)), float(std::sin(rotation)), 0, 0};
-  // The brightest texels: at most kBrightTexels (each sub-cell is a loop iteration under lavapipe's cap), each
-  // with at least 32 times the mean texel energy.
+  // The brightest texels: at most kBrightTexels (each sub-cell is a loop iteration under lavapipe's cap),
+  // each with at least 32 times the mean texel energy.
   constexpr std::size_t kBrightTexels = 16;
   std::vector<double> energies;
   double totalEnergy = 0.0;
@@ -83,8 +82,8 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   }
   if (!(brightEnergy > 0.0)) brightEnergy = std::numeric_limits<double>::max();
   const int brightFine = std::min(16, std::max(1, options.maxFineSubdivisions));
-  params.strategy = {float(std::min(brightEnergy, double(std::numeric_limits<float>::max()))), float(brightFine),
-                     float(horizonBand), float(horizonFine)};
+  params.strategy = {float(std::min(brightEnergy, double(std::numeric_limits<float>::max()))),
+                     float(brightFine), float(horizonBand), float(horizonFine)};
   params.quadrature = {float(coarse), float(fine), float(fineZoneCos), float(rowsPerDispatch)};
   for (int row = 0; row < H; row += rowsPerDispatch) {
     params.rowBegin = uint32_t(row);

@@ -29,7 +29,7 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
       seed_(seed),
       params_(scene.params) {
   // MIS compensation changes only the density the env technique samples; radiance still comes from scene.env.
-  TechniqueData envData = !method.envTechnique        ? TechniqueData{}
+  TechniqueData envData = !method.envTechnique     ? TechniqueData{}
                           : method.misCompensation ? method.envTechnique->build(misCompensated(scene.env))
                                                    : method.envTechnique->build(scene.env);
   for (size_t i = 0; i < envData.buffers.size(); ++i)

@@ -29,10 +29,10 @@ class Renderer {
   PassTiming runPass(uint32_t samplesPerPass);
   void restart(uint32_t seed);  // drops everything accumulated
 
-  // New BRDF parameter values (complete, as resolveParams returns them; range-checked): rewrites the parameter
-  // block and restarts accumulation, without recompiling (the viewer's sliders, --param sweeps). The BRDF
-  // technique's tables stay those of the values the renderer was made with: still exact pdfs, so still
-  // unbiased, though brdf-tab may fit the new lobe less well until a new renderer rebuilds them.
+  // New BRDF parameter values (complete, as resolveParams returns them; range-checked): rewrites the
+  // parameter block and restarts accumulation, without recompiling (the viewer's sliders, --param sweeps).
+  // The BRDF technique's tables stay those of the values the renderer was made with: still exact pdfs, so
+  // still unbiased, though brdf-tab may fit the new lobe less well until a new renderer rebuilds them.
   void setParams(const ParamValues& values);
   const ParamValues& params() const { return params_; }
 

@@ -58,7 +58,8 @@ double MeasuredBrdf::lobeWidth() const {
 LoadedBrdf loadBrdfArgument(const std::string& nameOrPath) {
   if (const BrdfInfo* registered = findBrdfForArgument(nameOrPath)) {
     LoadedBrdf loaded;
-    loaded.info = std::shared_ptr<const BrdfInfo>(std::shared_ptr<const BrdfInfo>(), registered);  // not owned
+    loaded.info =
+        std::shared_ptr<const BrdfInfo>(std::shared_ptr<const BrdfInfo>(), registered);  // not owned
     if (!registered->fileExtension.empty()) {  // MERL, the one registry BRDF read from a file
       if (!std::filesystem::exists(nameOrPath)) throw Error("--brdf " + nameOrPath + ": no such file");
       loaded.measured = std::make_shared<const MeasuredBrdf>(loadMerl(nameOrPath));
@@ -86,8 +87,8 @@ LoadedBrdf loadBrdfArgument(const std::string& nameOrPath) {
         continue;
       }
       if (it->decl.type != saved.decl.type) {
-        warn(nameOrPath + ":" + std::to_string(saved.line) + ": '" + saved.decl.name + "' has another type in " +
-             source + "; its saved value is ignored");
+        warn(nameOrPath + ":" + std::to_string(saved.line) + ": '" + saved.decl.name +
+             "' has another type in " + source + "; its saved value is ignored");
         continue;
       }
       auto value = saved.decl.defaultValue;

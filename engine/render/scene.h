@@ -66,8 +66,8 @@ class MeasuredBrdf {
 };
 
 // A --brdf argument resolved: a registry BRDF, or one made from a .brdf file (engine/render/analytic_brdf.h),
-// with the material of a MERL file. A .bparam file resolves to the BRDF it names, with its saved values as the
-// parameters' defaults (BRDF Explorer copies them by name) and its own file name as the BRDF's name.
+// with the material of a MERL file. A .bparam file resolves to the BRDF it names, with its saved values as
+// the parameters' defaults (BRDF Explorer copies them by name) and its own file name as the BRDF's name.
 struct LoadedBrdf {
   std::shared_ptr<const BrdfInfo> info;
   std::shared_ptr<const MeasuredBrdf> measured;  // set for the MERL BRDF

@@ -274,7 +274,8 @@ EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize) {
         const uint32_t x0 = splitX ? 2 * x : x, y0 = splitY ? 2 * y : y;
         auto node = [&](uint32_t cx, uint32_t cy) { return data.nodes[fine.offset + cy * fine.width + cx]; };
         const float q00 = node(x0, y0), q10 = splitX ? node(x0 + 1, y0) : 0.0f;
-        const float q01 = splitY ? node(x0, y0 + 1) : 0.0f, q11 = splitX && splitY ? node(x0 + 1, y0 + 1) : 0.0f;
+        const float q01 = splitY ? node(x0, y0 + 1) : 0.0f,
+                    q11 = splitX && splitY ? node(x0 + 1, y0 + 1) : 0.0f;
         // The same float operations as texelProbability, so sample() and pdf() multiply identical shares.
         float* shares = &gpu.shares[4 * (coarse.offset + mortonIndex(x, y, coarse.width, coarse.height))];
         shares[0] = splitX ? columnShare(q00 + q01, q10 + q11) : 1.0f;
@@ -285,7 +286,8 @@ EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize) {
 
   // The guide: walk the tree in double, tracking each node's rectangle in u, down to the nodes still as large
   // as a guide cell; every cell records the deepest node that contains it (parents are marked first).
-  gpu.guideSize = guideSize != 0 ? guideSize : std::min<uint32_t>(256u, std::max(finest.width, finest.height));
+  gpu.guideSize =
+      guideSize != 0 ? guideSize : std::min<uint32_t>(256u, std::max(finest.width, finest.height));
   if (!std::has_single_bit(gpu.guideSize)) throw Error("env-hier: the guide size must be a power of two");
   const uint32_t cells = gpu.guideSize;
   const double cellsD = double(cells);

@@ -52,10 +52,10 @@ static_assert(sizeof(EnvHierStart) == 32, "EnvHierStart is a std430 vec4 + uvec4
 //   node g splitting one axis (g < oneAxisNodes = 2^a - 1): children 2g + 1 + c, c = cx + cy;
 //   node g splitting both:                                children 4g + quadChildOffset + cx + 2 cy,
 //                                                          quadChildOffset = 3 - 2^(a+1).
-// shares[4g .. 4g+3] holds interior node g's split: (pLeft, pTop of the left column, pTop of the right column,
-// 0), computed from its children q as texelProbability does (1 along an axis that does not split), so a step
-// of the descent is one load and no division for the shares; nodes >= leafStart are the finest level (the
-// texels), which need no record.
+// shares[4g .. 4g+3] holds interior node g's split: (pLeft, pTop of the left column, pTop of the right
+// column, 0), computed from its children q as texelProbability does (1 along an axis that does not split), so
+// a step of the descent is one load and no division for the shares; nodes >= leafStart are the finest level
+// (the texels), which need no record.
 //
 // The guide (guideSize^2 cells over u, row-major) lets the descent skip the levels every u of a cell shares:
 // on the default map most samples start within two levels of their texel (EnvHierStart).

@@ -165,7 +165,8 @@ double MerlThetaHSampler::pdf(glm::dvec3 wi, glm::dvec3 wo) const {
 // ---- merl-table
 // ------------------------------------------------------------------------------------------------
 
-MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights, const HalfVectorTableOptions& options) {
+MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights,
+                                   const HalfVectorTableOptions& options) {
   const int azimuths = options.absolutePhi ? options.viewAzimuths : 1;
   if (azimuths < 1) throw Error("buildHalfVectorTable: at least one view azimuth is needed");
   constexpr int kRows = kMerlTableThetaBins, kCols = kMerlTablePhiBins, kSub = kTableSubPoints;
@@ -223,7 +224,8 @@ MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights, const 
       for (int a = 0; a < kRowPoints; ++a) {
         const RowPoint& rp = rowPoints[std::size_t(a)];
         for (int b = 0; b < kColumnPoints; ++b) {
-          const glm::dvec2 cs = columnPoints[std::size_t(b)];  // phi_h (relative to phi_o = 0 unless absolute)
+          const glm::dvec2 cs =
+              columnPoints[std::size_t(b)];  // phi_h (relative to phi_o = 0 unless absolute)
           const glm::dvec3 h(rp.sinThetaH * cs.x, rp.sinThetaH * cs.y, rp.cosThetaH);
           for (const glm::dvec3& edge : wos) {
             const glm::dvec3 wo = rotate(edge);

@@ -1,7 +1,7 @@
 // Importance sampling of MERL materials: builders (double) and float-exact CPU twins of the BRDF techniques
 // `merl-thetah` (shaders/brdf_sampler/merl_thetah.glsl) and `merl-table`
-// (shaders/brdf_sampler/half_vector_table.glsl, which also serves `brdf-tab` for any BRDF). Both sample a half vector h around the normal in the
-// square-root-warped parameterisation of MERL's theta_h,
+// (shaders/brdf_sampler/half_vector_table.glsl, which also serves `brdf-tab` for any BRDF). Both sample a
+// half vector h around the normal in the square-root-warped parameterisation of MERL's theta_h,
 //   u_theta = sqrt(theta_h / (pi/2)),  u_phi = phi_h / (2 pi),
 // and reflect: wi = 2 (wo.h) h - wo. Densities (sampling_sota.md §3.3, Mitsuba 3 measured.cpp):
 //   p(h) = p(u) / (2 pi^2 u_theta sin(theta_h))      [d omega_h = sin theta_h d theta_h d phi_h]
@@ -103,9 +103,9 @@ MerlTableData buildMerlTable(const MerlBrdf& brdf);
 //
 // Anisotropic BRDFs (options.absolutePhi): an anisotropic lobe sits at a fixed azimuth of the tangent frame,
 // so a table over phi_h - phi_o, built for one view azimuth, puts it in the wrong cells for every other view
-// (f cos / pdf reached 150 for Ward 0.05 x 0.3). These tables are over phi_h itself, and each grid point takes
-// the largest weight over `viewAzimuths` view azimuths spread over [0, 2 pi) (and both slice edges): for
-// microfacet-like BRDFs, whose lobe is fixed in h, the weight varies smoothly with the view's azimuth.
+// (f cos / pdf reached 150 for Ward 0.05 x 0.3). These tables are over phi_h itself, and each grid point
+// takes the largest weight over `viewAzimuths` view azimuths spread over [0, 2 pi) (and both slice edges):
+// for microfacet-like BRDFs, whose lobe is fixed in h, the weight varies smoothly with the view's azimuth.
 struct HalfVectorTablePoint {
   glm::dvec3 wi, wo;
   double thetaH, sinThetaH, cosThetaH;
@@ -117,7 +117,8 @@ struct HalfVectorTableOptions {
   bool absolutePhi = false;
   int viewAzimuths = 1;  // with absolutePhi: the view azimuths the envelope is taken over
 };
-MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights, const HalfVectorTableOptions& options = {});
+MerlTableData buildHalfVectorTable(const HalfVectorSliceWeights& weights,
+                                   const HalfVectorTableOptions& options = {});
 
 // Twin of the GLSL part: slice of wo; row i = largest with marginal[i] <= u.y, column j = largest with
 // conditional_i[j] <= u.x (searches in float, zero-width bins never chosen); t offsets as in merl-thetah;

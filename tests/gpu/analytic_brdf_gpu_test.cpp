@@ -1,7 +1,7 @@
-// BRDF Explorer .brdf files on the GPU (engine/render/analytic_brdf.h): a GGX file evaluates like the built-in
-// ggx, names the snippet shares with the kernels or GLSL compile, compile errors name the file's own lines,
-// brdf-tab passes chi-square and converges to the reference, the isFunc hook, .bparam files, and the guard
-// against negative and non-finite values.
+// BRDF Explorer .brdf files on the GPU (engine/render/analytic_brdf.h): a GGX file evaluates like the
+// built-in ggx, names the snippet shares with the kernels or GLSL compile, compile errors name the file's own
+// lines, brdf-tab passes chi-square and converges to the reference, the isFunc hook, .bparam files, and the
+// guard against negative and non-finite values.
 #include "engine/io/brdf_file.h"
 #include "engine/render/analytic_brdf.h"
 #include "engine/render/brdf_tabulation.h"
@@ -112,7 +112,8 @@ TEST_CASE("analytic brdf: a GGX .brdf evaluates like the built-in ggx") {
   for (const char* roughness : {"0.05", "0.5"}) {
     CAPTURE(roughness);
     const Scene file = sceneWith(constantEnv(2, 1, 1.0f), path.string(), {{"roughness", roughness}}, 1);
-    const Scene builtin = sceneWith(constantEnv(2, 1, 1.0f), "ggx", {{"roughness", roughness}, {"metallic", "1"}}, 1);
+    const Scene builtin =
+        sceneWith(constantEnv(2, 1, 1.0f), "ggx", {{"roughness", roughness}, {"metallic", "1"}}, 1);
     CHECK(file.brdf->name == "ggx_metal");
     CHECK(file.brdf->bestSampler == "brdf-tab");
     const auto a = evaluateBrdf(gpuContext(), gpuCompiler(), file, wi, wo);
@@ -128,10 +129,11 @@ TEST_CASE("analytic brdf: a GGX .brdf evaluates like the built-in ggx") {
 TEST_CASE("analytic brdf: GLSL errors and reserved names name the file's own line") {
   ScratchDir dir;
   // Line 9 holds the error; comment and blank lines before it are dropped by the parser but still counted.
-  const auto bad = writeFile(dir, "typo.brdf",
-                             "analytic\n::begin parameters\nfloat n 1 10 2\n::end parameters\n\n::begin shader\n"
-                             "# a comment\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) {\n"
-                             "  return vec3(undeclaredThing * n);\n}\n::end shader\n");
+  const auto bad =
+      writeFile(dir, "typo.brdf",
+                "analytic\n::begin parameters\nfloat n 1 10 2\n::end parameters\n\n::begin shader\n"
+                "# a comment\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) {\n"
+                "  return vec3(undeclaredThing * n);\n}\n::end shader\n");
   const Scene scene = sceneWith(constantEnv(2, 1, 1.0f), bad.string(), {}, 1);
   const std::string message = errorMessage([&] {
     const glm::dvec3 z(0.0, 0.0, 1.0);
@@ -140,22 +142,26 @@ TEST_CASE("analytic brdf: GLSL errors and reserved names name the file's own lin
   CHECK_MESSAGE(contains(message, "typo.brdf:9"), message);
   CHECK_MESSAGE(contains(message, "undeclaredThing"), message);
 
-  const auto reserved = writeFile(dir, "reserved.brdf",
-                                  "analytic\n::begin parameters\nfloat smoothstep 0 1 0\n::end parameters\n"
-                                  "::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return "
-                                  "vec3(0); }\n::end shader\n");
-  CHECK(contains(errorMessage([&] { loadBrdfArgument(reserved.string()); }), "reserved.brdf:3: parameter name "
-                                                                             "'smoothstep' is reserved"));
+  const auto reserved =
+      writeFile(dir, "reserved.brdf",
+                "analytic\n::begin parameters\nfloat smoothstep 0 1 0\n::end parameters\n"
+                "::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return "
+                "vec3(0); }\n::end shader\n");
+  CHECK(contains(errorMessage([&] { loadBrdfArgument(reserved.string()); }),
+                 "reserved.brdf:3: parameter name "
+                 "'smoothstep' is reserved"));
   const auto noBrdf = writeFile(dir, "nobrdf.brdf",
                                 "analytic\n::begin shader\nvec3 brdf(vec3 L) { return L; }\n::end shader\n");
-  CHECK(contains(errorMessage([&] { loadBrdfArgument(noBrdf.string()); }), "nobrdf.brdf:3: the shader section "
-                                                                           "defines no 'vec3 BRDF"));
+  CHECK(contains(errorMessage([&] { loadBrdfArgument(noBrdf.string()); }),
+                 "nobrdf.brdf:3: the shader section "
+                 "defines no 'vec3 BRDF"));
 }
 
 TEST_CASE("analytic brdf: renaming keeps member calls and entry points") {
   std::vector<std::string> renamed;
   const std::string out = renameBuiltinRedefinitions(
-      "float sqr(float x) { return x * x; }\nconst float PI = 3.14;\nfloat D(float alpha, vec3 h) { return alpha; }\n"
+      "float sqr(float x) { return x * x; }\nconst float PI = 3.14;\nfloat D(float alpha, vec3 h) { return "
+      "alpha; }\n"
       "vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { float a[2]; return vec3(sqr(PI) + a.length()); }",
       &renamed);
   // Function parameters are not globals: `alpha` may also be a BRDF parameter used elsewhere (regression).
@@ -247,10 +253,11 @@ TEST_CASE("analytic brdf: a .bparam sets the defaults of the file it names") {
 
 TEST_CASE("analytic brdf: negative and non-finite values count as 0, and a render stays finite") {
   ScratchDir dir;
-  const auto path = writeFile(dir, "broken.brdf",
-                              "analytic\n::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) {\n"
-                              "  float zero = dot(L, N) * 0.0;\n"
-                              "  return vec3(zero / zero, -1.0, 1.0 / zero);\n}\n::end shader\n");
+  const auto path =
+      writeFile(dir, "broken.brdf",
+                "analytic\n::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) {\n"
+                "  float zero = dot(L, N) * 0.0;\n"
+                "  return vec3(zero / zero, -1.0, 1.0 / zero);\n}\n::end shader\n");
   const Scene scene = sceneWith(smoothSky(16, 8), path.string(), {}, 16);
   const glm::dvec3 z(0.0, 0.0, 1.0);
   const auto f = evaluateBrdf(gpuContext(), gpuCompiler(), scene, std::span(&z, 1), std::span(&z, 1));

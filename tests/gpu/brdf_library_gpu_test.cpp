@@ -1,6 +1,7 @@
-// The project's BRDF library (assets/brdf/*.brdf): every file loads, compiles and renders NaN-free; each model
-// is reciprocal, non-negative and finite as written; the energy-conserving ones have albedo <= 1 under the white
-// furnace; every isFunc samples exactly the density its pdfBRDF gives (chi-square) and returns f cos / pdf.
+// The project's BRDF library (assets/brdf/*.brdf): every file loads, compiles and renders NaN-free; each
+// model is reciprocal, non-negative and finite as written; the energy-conserving ones have albedo <= 1 under
+// the white furnace; every isFunc samples exactly the density its pdfBRDF gives (chi-square) and returns f
+// cos / pdf.
 #include "engine/render/brdf_tabulation.h"
 #include "engine/render/reference.h"
 #include "tests/gpu/gpu_fixture.h"
@@ -38,7 +39,8 @@ const LibraryBrdf kLibrary[] = {
     {"cook_torrance.brdf", true, {{"kd", "0.3,0.3,0.3"}, {"ks", "0.7,0.7,0.7"}, {"f0", "1"}, {"m", "0.5"}}},
     {"ggx.brdf", true, {{"f0", "1,1,1"}, {"alpha", "0.5"}}},
     {"ashikhmin_shirley.brdf", true, {{"Rd", "1,1,1"}, {"Rs", "0.5,0.5,0.5"}, {"nu", "10"}, {"nv", "10"}}},
-    // The qualitative model exceeds 1 slightly (1.014) near sigma = 0.2 with albedo 1; it holds for sigma >= 0.4.
+    // The qualitative model exceeds 1 slightly (1.014) near sigma = 0.2 with albedo 1; it holds for sigma >=
+    // 0.4.
     {"oren_nayar.brdf", true, {{"albedo", "1,1,1"}, {"sigma", "1.5"}}},
     // Burley's diffuse retro-reflection is not energy conserving (albedo up to 1.6 with baseColor 1).
     {"disney.brdf", false, {}},
@@ -49,7 +51,8 @@ std::filesystem::path libraryPath(const std::string& file) {
 }
 
 glm::dvec3 viewAt(double thetaDegrees, double phiDegrees) {
-  const double t = thetaDegrees * 3.14159265358979323846 / 180.0, p = phiDegrees * 3.14159265358979323846 / 180.0;
+  const double t = thetaDegrees * 3.14159265358979323846 / 180.0,
+               p = phiDegrees * 3.14159265358979323846 / 180.0;
   return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
 }
 
@@ -66,8 +69,8 @@ TEST_CASE("brdf library: the test table lists every shipped file") {
 }
 
 TEST_CASE("brdf library: every file loads, compiles and renders NaN-free") {
-  // A sun 1e6 times the sky next to an exactly-zero half, grazing pixels at the rim; the default sampler under
-  // MIS, brdf-tab alone and the file's own sampler alone.
+  // A sun 1e6 times the sky next to an exactly-zero half, grazing pixels at the rim; the default sampler
+  // under MIS, brdf-tab alone and the file's own sampler alone.
   for (const auto& b : kLibrary) {
     CAPTURE(b.file);
     const Scene scene = sceneWith(sunAndZeroHalf(32, 16), libraryPath(b.file).string(), {}, 16);
@@ -145,9 +148,8 @@ TEST_CASE("brdf library: albedo <= 1 under the white furnace where the model con
 TEST_CASE("brdf library: every isFunc samples its pdfBRDF (chi-square) and returns f cos / pdf") {
   int testCount = 0;
   for (const auto& lib : kLibrary)
-    testCount += sceneWith(constantEnv(2, 1, 1.0f), libraryPath(lib.file).string(), {}, 1).brdf->hasSampleHook
-                     ? 3
-                     : 0;
+    testCount +=
+        sceneWith(constantEnv(2, 1, 1.0f), libraryPath(lib.file).string(), {}, 1).brdf->hasSampleHook ? 3 : 0;
   REQUIRE(testCount > 0);
   for (const auto& lib : kLibrary) {
     const std::string path = libraryPath(lib.file).string();

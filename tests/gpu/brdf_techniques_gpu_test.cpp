@@ -115,7 +115,8 @@ TEST_CASE("brdf-tab: f cos / pdf stays bounded for Lambert at every view") {
   for (const double view : {0.0, 30.0, 60.0, 80.0, 89.0, 89.9}) {
     CAPTURE(view);
     const double t = view * 3.14159265358979323846 / 180.0;
-    BrdfTechniqueProbe probe("brdf-tab", "lambert", {{"albedo", "0.7"}}, {std::sin(t) * 0.6, std::sin(t) * 0.8, std::cos(t)});
+    BrdfTechniqueProbe probe("brdf-tab", "lambert", {{"albedo", "0.7"}},
+                             {std::sin(t) * 0.6, std::sin(t) * 0.8, std::cos(t)});
     double worst = 0.0, mean = 0.0;
     const auto samples = probe.sample(uniformPoints(200000, 9));
     for (const auto& s : samples) {

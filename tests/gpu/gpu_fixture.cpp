@@ -134,7 +134,8 @@ const VulkanContext& gpuContext() {
 ShaderCompiler& gpuCompiler() {
   static ShaderCompiler compiler = [] {
     ShaderCompiler c;
-    for (const char* probe : {"env_sampler_probe.comp", "brdf_sampler_probe.comp", "analytic_brdf_probe.comp"})
+    for (const char* probe :
+         {"env_sampler_probe.comp", "brdf_sampler_probe.comp", "analytic_brdf_probe.comp"})
       c.addSource(std::string("probe/") + probe,
                   readFile(std::string(IBLX_TEST_SOURCE_DIR) + "/gpu/probe/" + probe));
     return c;
@@ -216,7 +217,9 @@ AnalyticBrdfProbe::AnalyticBrdfProbe(const std::string& file,
   impl_->hasSampler = sampler;
 }
 AnalyticBrdfProbe::~AnalyticBrdfProbe() = default;
-bool AnalyticBrdfProbe::hasSampler() const { return impl_->hasSampler; }
+bool AnalyticBrdfProbe::hasSampler() const {
+  return impl_->hasSampler;
+}
 
 std::vector<IsFuncSample> AnalyticBrdfProbe::sample(std::span<const glm::dvec2> u) {
   std::vector<gpu::vec4> input(u.size());

@@ -65,9 +65,9 @@ class AnalyticBrdfProbe {
                     glm::dvec3 wo);
   ~AnalyticBrdfProbe();
   bool hasSampler() const;
-  std::vector<IsFuncSample> sample(std::span<const glm::dvec2> u);   // sampleBRDF
-  std::vector<glm::dvec3> brdf(std::span<const glm::dvec3> wi);      // BRDF(wi, wo)
-  std::vector<double> pdf(std::span<const glm::dvec3> wi);           // pdfBRDF(wi, wo)
+  std::vector<IsFuncSample> sample(std::span<const glm::dvec2> u);  // sampleBRDF
+  std::vector<glm::dvec3> brdf(std::span<const glm::dvec3> wi);     // BRDF(wi, wo)
+  std::vector<double> pdf(std::span<const glm::dvec3> wi);          // pdfBRDF(wi, wo)
 
  private:
   struct Impl;

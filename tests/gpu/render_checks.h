@@ -14,8 +14,8 @@ namespace iblx::test {
 
 // Every (method, technique) combination the registry offers for a BRDF: single env techniques, every
 // applicable BRDF technique alone, MIS of every env technique with every applicable BRDF technique
-// (balance heuristic; the BRDF's best sampler also with the power heuristic, and with MIS compensation for the
-// table-based env techniques), and RIS over every env technique (8 candidates).
+// (balance heuristic; the BRDF's best sampler also with the power heuristic, and with MIS compensation for
+// the table-based env techniques), and RIS over every env technique (8 candidates).
 std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& sequence);
 
 // A square scene of `object` (default the sphere) seen by `camera`; `brdf` is a built-in name or a file (e.g.
@@ -47,8 +47,8 @@ void checkWhiteFurnace(const Scene& scene, double albedo, int passes, double sig
 void checkChi2AgainstPdf(BrdfTechniqueProbe& probe, std::span<const glm::dvec3> directions, int testCount,
                          const std::string& label);
 
-// Renders every method the registry offers for the scene's BRDF (both sequences, one pass of 32 spp) and checks
-// that no estimate was NaN or Inf and that every pixel's mean is finite and non-negative.
+// Renders every method the registry offers for the scene's BRDF (both sequences, one pass of 32 spp) and
+// checks that no estimate was NaN or Inf and that every pixel's mean is finite and non-negative.
 void checkFiniteForEveryMethod(const Scene& scene, const std::string& name, uint32_t seed);
 
 // Computes the scene's reference and checks every method the registry offers for its BRDF (both sequences,

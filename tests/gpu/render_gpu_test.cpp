@@ -212,7 +212,8 @@ TEST_CASE("ris: one candidate is the env technique's own estimator; more candida
     b.runPass(16);
     const auto x = a.meanRgb(), y = b.meanRgb();
     double worst = 0.0;
-    for (std::size_t i = 0; i < x.size(); ++i) worst = std::max(worst, std::abs(double(x[i]) - y[i]) / (y[i] + 1e-3));
+    for (std::size_t i = 0; i < x.size(); ++i)
+      worst = std::max(worst, std::abs(double(x[i]) - y[i]) / (y[i] + 1e-3));
     CHECK(worst < 1e-4);
   }
   // M = 32 against the reference (z-test), on a 1e6 sun with a zero half. Regression: a first version took

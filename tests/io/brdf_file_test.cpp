@@ -79,8 +79,9 @@ TEST_CASE("brdf file: Windows line endings and comments before the header") {
 }
 
 TEST_CASE("brdf file: each class of malformed file names its line") {
-  const std::string shader = "::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return vec3(0); }\n"
-                             "::end shader\n";
+  const std::string shader =
+      "::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return vec3(0); }\n"
+      "::end shader\n";
   struct Case {
     std::string text, expected;
   };
@@ -103,8 +104,10 @@ TEST_CASE("brdf file: each class of malformed file names its line") {
        "bad.brdf:3: parameter name '2x' is not a valid GLSL identifier"},
       {"analytic\n::begin parameters\nfloat a 0 1 0\n\nfloat a 0 1 0\n::end parameters\n" + shader,
        "bad.brdf:5: parameter 'a' is declared twice (first on line 3)"},
-      {"analytic\n::begin parameters\n::begin shader\n", "bad.brdf:3: '::begin shader' inside section 'parameters'"},
-      {"analytic\n::begin parameters\n::end shader\n", "bad.brdf:3: '::end shader' closes section 'parameters'"},
+      {"analytic\n::begin parameters\n::begin shader\n",
+       "bad.brdf:3: '::begin shader' inside section 'parameters'"},
+      {"analytic\n::begin parameters\n::end shader\n",
+       "bad.brdf:3: '::end shader' closes section 'parameters'"},
       {"analytic\n::end shader\n", "bad.brdf:2: '::end shader' without a matching ::begin"},
       {"analytic\n::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return L; }\n",
        "bad.brdf:2: section 'shader' is never closed"},
@@ -123,7 +126,8 @@ TEST_CASE("brdf file: each class of malformed file names its line") {
 TEST_CASE("brdf file: warnings for what BRDF Explorer tolerates") {
   WarningCapture warnings;
   const BrdfFile f = parseBrdfText(
-      "analytic\n::begin notes\nanything goes\n::end notes\n::begin parameters\nfloat n 0 1 5\n::end parameters\n"
+      "analytic\n::begin notes\nanything goes\n::end notes\n::begin parameters\nfloat n 0 1 5\n::end "
+      "parameters\n"
       "::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return vec3(n); }\n::end shader\n",
       "tolerated.brdf");
   REQUIRE(warnings.messages.size() == 2);
@@ -135,7 +139,8 @@ TEST_CASE("brdf file: warnings for what BRDF Explorer tolerates") {
 
 TEST_CASE("brdf file: unreadable files") {
   ScratchDir dir;
-  CHECK(contains(errorMessage([&] { readBrdfFile(dir.file("missing.brdf")); }), "missing.brdf: no such file"));
+  CHECK(
+      contains(errorMessage([&] { readBrdfFile(dir.file("missing.brdf")); }), "missing.brdf: no such file"));
   std::filesystem::create_directory(dir.file("folder.brdf"));
   CHECK(contains(errorMessage([&] { readBrdfFile(dir.file("folder.brdf")); }), "is a directory"));
   writeBytes(dir.file("binary.brdf"), {'a', 0, 'b'});
@@ -152,9 +157,8 @@ TEST_CASE("brdf file: .bparam round trip") {
   std::vector<ParamDecl> decls;
   for (const auto& p : model.params) decls.push_back(p.decl);
   // Values that need all 9 digits (float 0.1 is not 0.1) and a bool off.
-  ParamValues values{{"alpha", {double(0.123456789f), 0, 0}},
-                     {"useFresnel", {0.0, 0, 0}},
-                     {"Kd", {double(0.1f), 0.5, 1.0}}};
+  ParamValues values{
+      {"alpha", {double(0.123456789f), 0, 0}}, {"useFresnel", {0.0, 0, 0}}, {"Kd", {double(0.1f), 0.5, 1.0}}};
   writeBparam(dir.file("saved.bparam"), "model.brdf", decls, values);
   const BrdfFile saved = readBrdfFile(dir.file("saved.bparam"));
   CHECK(saved.kind == BrdfFile::Kind::Bparam);

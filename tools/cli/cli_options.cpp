@@ -111,10 +111,11 @@ void addSceneFlags(ArgParser& p, RenderSpec& s) {
   p.value("--env-rotation", "DEG", "rotation of the environment about +Y", [&](const std::string& v) {
     s.scene.envRotationDeg = parseDouble("--env-rotation", v, -1e6, 1e6);
   });
-  p.value("--brdf", "NAME|FILE",
-          "built-in BRDF (lambert | ggx, default ggx), a BRDF Explorer .brdf / .bparam file, or a MERL .binary "
-          "file",
-          [&](const std::string& v) { s.scene.brdf = v; });
+  p.value(
+      "--brdf", "NAME|FILE",
+      "built-in BRDF (lambert | ggx, default ggx), a BRDF Explorer .brdf / .bparam file, or a MERL .binary "
+      "file",
+      [&](const std::string& v) { s.scene.brdf = v; });
   addParamFlag(p, s.scene.params);
   p.value("--object", "NAME|FILE", "sphere (default) | plane | teapot | an .obj file",
           [&](const std::string& v) { s.scene.object = v; });
@@ -149,13 +150,15 @@ void addMethodFlags(ArgParser& p, RenderSpec& s) {
           [&](const std::string& v) { s.method.misHeuristic = v; });
   p.value("--mis-split", "F", "fraction of MIS samples given to the env technique (default 0.5)",
           [&](const std::string& v) { s.method.misEnvFraction = parseDouble("--mis-split", v, 0.0, 1.0); });
-  p.toggle("--mis-compensation",
-           "mis: the env technique samples max(p - mean(p), 0) (Karlik et al. 2019), leaving flat regions to the "
-           "BRDF technique",
-           [&] { s.method.misCompensation = true; });
-  p.value("--ris-candidates", "M", "candidates per sample of ris (1-64, default 8)", [&](const std::string& v) {
-    s.method.risCandidates = int(parseUint("--ris-candidates", v, 1, kMaxRisCandidates));
-  });
+  p.toggle(
+      "--mis-compensation",
+      "mis: the env technique samples max(p - mean(p), 0) (Karlik et al. 2019), leaving flat regions to the "
+      "BRDF technique",
+      [&] { s.method.misCompensation = true; });
+  p.value("--ris-candidates", "M", "candidates per sample of ris (1-64, default 8)",
+          [&](const std::string& v) {
+            s.method.risCandidates = int(parseUint("--ris-candidates", v, 1, kMaxRisCandidates));
+          });
   p.toggle("--list-methods", "print the registry (methods, techniques, sequences, BRDFs) and exit",
            [&] { s.listMethods = true; });
 }

@@ -46,7 +46,8 @@ int cmdMerlSynth(const Args& args) {
     throw Error("--out " + out + ": directory " + outDir.string() + " does not exist");
   LoadedBrdf loaded = loadBrdfArgument(spec.scene.brdf);
   if (loaded.measured)
-    throw Error("--brdf " + spec.scene.brdf + ": merl-synth tabulates a built-in BRDF or a .brdf file, not a MERL file");
+    throw Error("--brdf " + spec.scene.brdf +
+                ": merl-synth tabulates a built-in BRDF or a .brdf file, not a MERL file");
   const std::string brdfName = loaded.info->name;
 
   const auto start = std::chrono::steady_clock::now();

@@ -23,10 +23,11 @@ int cmdRender(const Args& args) {
   addMethodFlags(parser, spec);
   addRunFlags(parser, spec);
   addDeviceFlags(parser, spec);
-  parser.value("--save-bparam", "FILE",
-               "also write the BRDF's parameter values (defaults, .bparam and --param) as a BRDF Explorer .bparam "
-               "file; the BRDF must come from a file",
-               [&](const std::string& v) { spec.saveBparam = v; });
+  parser.value(
+      "--save-bparam", "FILE",
+      "also write the BRDF's parameter values (defaults, .bparam and --param) as a BRDF Explorer .bparam "
+      "file; the BRDF must come from a file",
+      [&](const std::string& v) { spec.saveBparam = v; });
   if (parser.parseOrShowHelp(args)) return 0;
   if (spec.listMethods) {
     std::fputs(describeRegistry().c_str(), stdout);
