@@ -25,8 +25,8 @@ cases=(
   "disney rough=0.3|disney.brdf|--param roughness=0.3"
   "oren-nayar|oren_nayar.brdf|"
 )
-median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
-field() { sed -E "s/.*\"$1\": ([^,}]+).*/\1/"; }
+# shellcheck source=tools/bench_common.sh
+source "$(dirname "$0")/bench_common.sh"
 
 printf '%-32s %-44s %14s %12s %10s\n' "BRDF" "method" "MSE x spp" "Msamples/s" "setup s"
 for c in "${cases[@]}"; do

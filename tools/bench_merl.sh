@@ -24,8 +24,8 @@ methods=(
   "mis --env-sampler env-cdf --brdf-sampler merl-thetah"
   "mis --env-sampler env-cdf --brdf-sampler merl-table"
 )
-median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
-field() { sed -E "s/.*\"$1\": ([^,}]+).*/\1/"; }
+# shellcheck source=tools/bench_common.sh
+source "$(dirname "$0")/bench_common.sh"
 
 for material in glossy diffuse; do
   brdf="$work/$material.binary"

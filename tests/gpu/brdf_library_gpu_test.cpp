@@ -50,11 +50,6 @@ std::filesystem::path libraryPath(const std::string& file) {
   return std::filesystem::path(IBLX_TEST_SOURCE_DIR) / ".." / "assets" / "brdf" / file;
 }
 
-glm::dvec3 viewAt(double thetaDegrees, double phiDegrees) {
-  const double t = thetaDegrees * 3.14159265358979323846 / 180.0,
-               p = phiDegrees * 3.14159265358979323846 / 180.0;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
 
 }  // namespace
 

@@ -14,11 +14,6 @@ using namespace iblx::test;
 
 namespace {
 
-glm::dvec3 viewAt(double thetaDegrees) {
-  const double t = thetaDegrees * 3.14159265358979323846 / 180.0;
-  return {std::sin(t), 0.0, std::cos(t)};
-}
-
 struct BrdfCase {
   std::string technique, brdf;
   std::vector<std::pair<std::string, std::string>> params;

@@ -41,11 +41,6 @@ std::filesystem::path synthesize(const std::string& name, const std::string& brd
   return made[name] = path;
 }
 
-glm::dvec3 viewAt(double thetaDegrees, double phiDegrees = 0.0) {
-  const double t = thetaDegrees * kPiD / 180.0, p = phiDegrees * kPiD / 180.0;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
-
 glm::dvec3 hemisphere(glm::dvec2 u) {
   const double z = u.x, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = 2.0 * kPiD * u.y;
   return {r * std::cos(phi), r * std::sin(phi), z};

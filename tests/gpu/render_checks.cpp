@@ -49,6 +49,11 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
   return specs;
 }
 
+glm::dvec3 viewAt(double thetaDegrees, double phiDegrees) {
+  const double t = thetaDegrees * 3.14159265358979323846 / 180.0, p = phiDegrees * 3.14159265358979323846 / 180.0;
+  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
+}
+
 Scene sceneWith(EnvImage env, const std::string& brdf,
                 std::vector<std::pair<std::string, std::string>> params, int size, const std::string& object,
                 const CameraSpec& camera) {

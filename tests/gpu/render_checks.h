@@ -18,6 +18,9 @@ namespace iblx::test {
 // the table-based env techniques), and RIS over every env technique (8 candidates).
 std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& sequence);
 
+// The unit view direction at polar angle theta and azimuth phi (degrees) in the local shading frame (n = +z).
+glm::dvec3 viewAt(double thetaDegrees, double phiDegrees = 0.0);
+
 // A square scene of `object` (default the sphere) seen by `camera`; `brdf` is a built-in name or a file (e.g.
 // a MERL .binary).
 Scene sceneWith(EnvImage env, const std::string& brdf,
