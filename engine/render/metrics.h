@@ -5,6 +5,7 @@
 #include "engine/geometry/gbuffer.h"
 
 #include <span>
+#include <vector>
 
 namespace iblx {
 
@@ -17,5 +18,22 @@ struct ErrorMetrics {
 
 ErrorMetrics compareToReference(const GBuffer& gbuffer, std::span<const float> estimate,
                                 std::span<const float> reference);
+
+// Per-pixel squared error relative to the reference, (x - r)^2 / (r^2 + 0.01) averaged over the channels, for
+// heat maps; NaN for background pixels.
+std::vector<double> relativeSquaredErrorPerPixel(const GBuffer& gbuffer, std::span<const float> estimate,
+                                                 std::span<const float> reference);
+
+// Unbiasedness z-test (DESIGN §5) of the image-mean signed error per channel: the sum over object pixels of
+// (x_p - r_p) divided by its standard deviation sqrt(sum var_p / N), pixels being independent and var_p the
+// measured per-pixel variance of one sample's estimate. A zero-variance image must match to float rounding.
+struct MeanErrorZTest {
+  double z[3] = {0, 0, 0};
+  double meanError[3] = {0, 0, 0};
+  double standardError[3] = {0, 0, 0};
+  double maxAbsZ() const;
+};
+MeanErrorZTest zTestMeanError(const GBuffer& gbuffer, std::span<const float> mean, std::span<const float> variance,
+                              double samplesPerPixel, std::span<const float> reference);
 
 }  // namespace iblx

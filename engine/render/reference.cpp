@@ -1,10 +1,19 @@
 // Reference convolution driver: quadrature choice, row chunking, progress.
 #include "engine/render/reference.h"
 
+#include "engine/core/cache_dir.h"
+#include "engine/core/error.h"
+#include "engine/core/hash.h"
+#include "engine/core/log.h"
+#include "engine/io/env_image.h"
+#include "engine/io/image_write.h"
+
 #include "engine/render/kernel_assembly.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/sphere_mapping.h"
 #include "engine/vk/compute_kernel.h"
+
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -104,6 +113,54 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   }
   image.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return image;
+}
+
+std::uint64_t referenceKey(const Scene& scene, const ReferenceOptions& options) {
+  // Bump when the reference's algorithm changes, so stale cached images are not reused.
+  constexpr std::string_view kAlgorithmVersion = "iblx-reference-1";
+  ContentHash hash;
+  hash.add(kAlgorithmVersion);
+  const int sizes[] = {scene.env.width, scene.env.height, scene.gbuffer.width, scene.gbuffer.height,
+                       options.coarseSubdivisions, options.maxFineSubdivisions, int(options.allowMidpoint)};
+  hash.add(std::span<const int>(sizes));
+  hash.add(std::span<const float>(scene.env.rgb));
+  hash.addBytes(&scene.envRotationDeg, sizeof scene.envRotationDeg);
+  hash.add(scene.brdf->name).add(scene.brdf->evalPart).add(scene.brdf->evalSource);
+  for (const auto& [name, value] : scene.params) hash.add(name).add(std::span<const double>(value));
+  if (scene.measured) hash.add(std::span<const float>(scene.measured->brdf.rgb));
+  hash.add(std::span<const gpu::GPixel>(scene.gbuffer.pixels));
+  return hash.value();
+}
+
+ReferenceImage cachedReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                               const std::filesystem::path& cacheDir, const ReferenceOptions& options,
+                               bool* fromCache) {
+  if (fromCache) *fromCache = false;
+  if (cacheDir.empty()) return computeReference(context, compiler, scene, options);
+  const auto path = cacheDir / "references" / (hexKey(referenceKey(scene, options)) + ".exr");
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec)) {
+    try {
+      EnvImage image = loadRgbImage(path);
+      if (image.width == scene.gbuffer.width && image.height == scene.gbuffer.height) {
+        if (fromCache) *fromCache = true;
+        return {image.width, image.height, std::move(image.rgb), 0.0, 0};
+      }
+    } catch (const Error& e) {
+      warn("ignoring the cached reference " + path.string() + ": " + e.what());
+    }
+  }
+  ReferenceImage reference = computeReference(context, compiler, scene, options);
+  try {
+    std::filesystem::create_directories(path.parent_path());
+    // Written under a temporary name and renamed, so a concurrent reader never sees half a file.
+    const auto temporary = path.string() + ".tmp" + std::to_string(::getpid());
+    writeExr(temporary, reference.width, reference.height, reference.rgb);
+    std::filesystem::rename(temporary, path);
+  } catch (const std::exception& e) {
+    warn("cannot store the reference in the cache " + cacheDir.string() + ": " + e.what());
+  }
+  return reference;
 }
 
 }  // namespace iblx

@@ -6,6 +6,8 @@
 #include "engine/render/scene.h"
 #include "engine/vk/shader_compiler.h"
 
+#include <cstdint>
+#include <filesystem>
 #include <functional>
 
 namespace iblx {
@@ -27,5 +29,17 @@ struct ReferenceImage {
 
 ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                 const ReferenceOptions& options = {});
+
+// The cache key of a scene's reference: a hash of everything the image depends on (the environment's texels
+// and rotation, the BRDF's code, parameters and measured data, the G-buffer, which covers object, camera and
+// size, the quadrature options) and of the reference algorithm's version.
+std::uint64_t referenceKey(const Scene& scene, const ReferenceOptions& options = {});
+
+// computeReference through an on-disk cache: `cacheDir`/references/<key>.exr is read when present (seconds
+// = 0, fromCache set), else the reference is computed and stored there (a cache that cannot be written only
+// warns). An empty cacheDir computes without caching.
+ReferenceImage cachedReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                               const std::filesystem::path& cacheDir, const ReferenceOptions& options = {},
+                               bool* fromCache = nullptr);
 
 }  // namespace iblx

@@ -1,6 +1,7 @@
 // glslang front end: an Includer over the embedded sources, SPIR-V generation, and the on-disk cache.
 #include "engine/vk/shader_compiler.h"
 
+#include "engine/core/cache_dir.h"
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
 #include "engine/core/log.h"
@@ -47,21 +48,6 @@ class EmbeddedIncluder : public glslang::TShader::Includer {
   const std::map<std::string, std::string>& sources_;
 };
 
-std::filesystem::path defaultCacheDir() {
-  if (const char* dir = std::getenv("IBLX_CACHE_DIR")) return dir;
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
-    return std::filesystem::path(xdg) / "iblx";
-  if (const char* home = std::getenv("HOME"); home && *home)
-    return std::filesystem::path(home) / ".cache" / "iblx";
-  return {};
-}
-
-std::string hex(uint64_t v) {
-  char buffer[17];
-  std::snprintf(buffer, sizeof buffer, "%016llx", static_cast<unsigned long long>(v));
-  return buffer;
-}
-
 }  // namespace
 
 ShaderCompiler::ShaderCompiler(std::filesystem::path cacheDir) {
@@ -81,7 +67,7 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& prelude, const 
   hash.add(prelude).add(glslang::GetGlslVersionString()).add("spv1.5-vk1.2");
   for (const auto& [path, text] : sources_) hash.add(path).add(text);
   const std::filesystem::path cacheFile =
-      cacheDir_.empty() ? std::filesystem::path() : cacheDir_ / "spirv" / (hex(hash.value()) + ".spv");
+      cacheDir_.empty() ? std::filesystem::path() : cacheDir_ / "spirv" / (hexKey(hash.value()) + ".spv");
 
   if (!cacheFile.empty()) {
     std::ifstream in(cacheFile, std::ios::binary);

@@ -66,29 +66,9 @@ Scene sceneWith(EnvImage env, const std::string& brdf,
   return makeScene(std::move(env), spec);
 }
 
-ZTest zTest(const Scene& scene, const Renderer& renderer, const std::vector<float>& reference) {
-  const auto mean = renderer.meanRgb();
-  const auto var = renderer.varianceRgb();
-  const double n = double(renderer.samplesPerPixel());
-  ZTest t;
-  double count = 0;
-  double sum[3] = {0, 0, 0}, varSum[3] = {0, 0, 0};
-  for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i) {
-    if (scene.gbuffer.pixels[i].normal.w == 0.0f) continue;
-    ++count;
-    for (int c = 0; c < 3; ++c) {
-      sum[c] += double(mean[3 * i + c]) - reference[3 * i + c];
-      varSum[c] += var[3 * i + c] / n;
-    }
-  }
-  for (int c = 0; c < 3; ++c) {
-    t.meanError[c] = sum[c] / count;
-    t.standardError[c] = std::sqrt(varSum[c]) / count;
-    // A zero-variance estimator must match to float rounding of the reference.
-    t.z[c] = t.standardError[c] > 0 ? t.meanError[c] / t.standardError[c]
-                                    : (std::abs(t.meanError[c]) < 1e-5 ? 0.0 : 1e9);
-  }
-  return t;
+MeanErrorZTest zTest(const Scene& scene, const Renderer& renderer, const std::vector<float>& reference) {
+  return zTestMeanError(scene.gbuffer, renderer.meanRgb(), renderer.varianceRgb(),
+                        double(renderer.samplesPerPixel()), reference);
 }
 
 void checkFiniteForEveryMethod(const Scene& scene, const std::string& name, uint32_t seed) {
@@ -160,7 +140,7 @@ void checkConvergesToReference(const Scene& scene, const std::string& name, doub
       INFO(name << ": " << method.label());
       Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 17);
       for (int pass = 0; pass < 8; ++pass) renderer.runPass(64);
-      const ZTest t = zTest(scene, renderer, ref.rgb);
+      const MeanErrorZTest t = zTest(scene, renderer, ref.rgb);
       for (int ch = 0; ch < 3; ++ch) {
         INFO("channel " << ch << ": mean error " << t.meanError[ch] << ", standard error "
                         << t.standardError[ch]);

@@ -2,6 +2,7 @@
 // the z-test of a render's mean signed error against a reference.
 #pragma once
 
+#include "engine/render/metrics.h"
 #include "engine/render/renderer.h"
 #include "engine/render/scene.h"
 #include "tests/gpu/gpu_fixture.h"
@@ -27,16 +28,8 @@ Scene sceneWith(EnvImage env, const std::string& brdf,
                 std::vector<std::pair<std::string, std::string>> params, int size,
                 const std::string& object = "sphere", const CameraSpec& camera = {});
 
-struct ZTest {
-  double z[3] = {0, 0, 0};
-  double meanError[3] = {0, 0, 0};
-  double standardError[3] = {0, 0, 0};
-};
-
-// z of the image-mean signed error per channel: sum over pixels of (x_p - r_p), divided by its standard
-// deviation sqrt(sum var_p / N) (pixels are independent; the variance is the measured per-pixel sample
-// variance).
-ZTest zTest(const Scene& scene, const Renderer& renderer, const std::vector<float>& reference);
+// The engine's z-test (engine/render/metrics.h) of a renderer's current image.
+MeanErrorZTest zTest(const Scene& scene, const Renderer& renderer, const std::vector<float>& reference);
 
 // White furnace (constant environment 1): renders every method the registry offers for the scene's BRDF with
 // both sequences, `passes` x 64 spp each, and checks that every object pixel's mean is within `sigmas`

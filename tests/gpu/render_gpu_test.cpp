@@ -225,7 +225,7 @@ TEST_CASE("ris: one candidate is the env technique's own estimator; more candida
   ris.risCandidates = 32;
   Renderer r(gpuContext(), gpuCompiler(), hard, resolveMethod(ris, *hard.brdf), 3);
   for (int pass = 0; pass < 8; ++pass) r.runPass(32);
-  const ZTest z = zTest(hard, r, ref.rgb);
+  const MeanErrorZTest z = zTest(hard, r, ref.rgb);
   for (int c = 0; c < 3; ++c) CHECK(std::abs(z.z[c]) < 5.5);
   CHECK(r.nonFiniteSamples() == 0);
   checkNoNewValidationErrors();

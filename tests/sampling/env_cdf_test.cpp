@@ -110,8 +110,8 @@ TEST_CASE("env-cdf: every guide cell holds exactly the bins of its u range, at a
   // marginal's guide and of every row's; sizes just above a power of two (the guide then has fewer cells per
   // bin).
   auto envs = test::samplerTestEnvs();
-  envs.push_back({"sun-zero-17x9", test::sunAndZeroHalf(17, 9)});
-  envs.push_back({"smooth-33x17", test::smoothSky(33, 17)});
+  envs.push_back({"sun-zero-17x9", sunAndZeroHalf(17, 9)});
+  envs.push_back({"smooth-33x17", smoothSky(33, 17)});
   for (const auto& env : envs) {
     CAPTURE(env.name);
     const EnvCdfData d = buildEnvCdf(env.image);
@@ -160,7 +160,7 @@ TEST_CASE("env-cdf: 1e6 sun with a zero half") {
 
 TEST_CASE("env-cdf: rejects invalid images") {
   test::checkBuildRejectsInvalidImages(buildEnvCdf);
-  EnvCdfData bad = buildEnvCdf(test::constantEnv(8, 4, 1.0f));
+  EnvCdfData bad = buildEnvCdf(constantEnv(8, 4, 1.0f));
   bad.marginalCdf.pop_back();
   CHECK_THROWS_AS(EnvCdfSampler{bad}, Error);
 }

@@ -65,7 +65,7 @@ TEST_CASE("env-hier: hand-worked 4x2 table") {
 
 TEST_CASE("env-hier: hand-worked 3x1 table with padding") {
   // Weights {1, 2, 3}, Omega = 4 pi / 3 each; finest level 4x1 = {4pi/3, 8pi/3, 4pi, 0 (padding)}.
-  const EnvImage img = test::makeEnv(3, 1, [](int x, int, double, double) {
+  const EnvImage img = makeEnv(3, 1, [](int x, int, double, double) {
     const double v = x + 1.0;
     return std::array<double, 3>{v, v, v};
   });
@@ -141,10 +141,10 @@ TEST_CASE("env-hier: 1e6 sun with a zero half") {
 
 TEST_CASE("env-hier: rejects invalid images") {
   test::checkBuildRejectsInvalidImages(buildEnvHier);
-  EnvHierData bad = buildEnvHier(test::constantEnv(8, 4, 1.0f));
+  EnvHierData bad = buildEnvHier(constantEnv(8, 4, 1.0f));
   bad.nodes.pop_back();
   CHECK_THROWS_AS(EnvHierSampler{bad}, Error);
-  bad = buildEnvHier(test::constantEnv(8, 4, 1.0f));
+  bad = buildEnvHier(constantEnv(8, 4, 1.0f));
   bad.levels.erase(bad.levels.begin() + 1);
   CHECK_THROWS_AS(EnvHierSampler{bad}, Error);
 }
@@ -154,7 +154,7 @@ TEST_CASE("env-hier: the guide only skips levels (same warp as the descent from 
   std::vector<test::NamedEnv> envs = test::samplerTestEnvs();
   for (const auto& [w, h] : {std::pair{8, 32}, std::pair{3, 13}, std::pair{1, 1}, std::pair{16, 1}})
     envs.push_back({std::to_string(w) + "x" + std::to_string(h) + " random",
-                    test::makeEnv(w, h, [](int x, int y, double, double) {
+                    makeEnv(w, h, [](int x, int y, double, double) {
                       const double v = 0.1 + double((x * 7919 + y * 104729) % 97);
                       return std::array<double, 3>{v, v, v};
                     })});

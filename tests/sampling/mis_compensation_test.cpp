@@ -15,7 +15,7 @@ using namespace iblx;
 
 TEST_CASE("mis compensation: weights are max(m - mean, 0) and a constant map is left alone") {
   // Rows of 1, 2, 3, 4 (W = 8, H = 4): mean over the sphere = sum m Omega / 4 pi.
-  const EnvImage img = test::makeEnv(8, 4, [](int, int y, double, double) {
+  const EnvImage img = makeEnv(8, 4, [](int, int y, double, double) {
     const double v = y + 1.0;
     return std::array<double, 3>{v, 2.0 * v, 3.0 * v};  // mean of R, G, B = 2 (y + 1)
   });
@@ -35,12 +35,12 @@ TEST_CASE("mis compensation: weights are max(m - mean, 0) and a constant map is 
   CHECK(out.weight(0, 0) == 0.0);  // the dimmest row is below the mean
   CHECK(out.weight(0, 3) > 0.0);
 
-  const EnvImage constant = test::constantEnv(8, 4, 2.0f);
+  const EnvImage constant = constantEnv(8, 4, 2.0f);
   CHECK(misCompensated(constant).rgb == constant.rgb);
 }
 
 TEST_CASE("mis compensation: the compensated env-cdf never samples at or below the mean") {
-  const EnvImage sky = test::smoothSky(64, 32);
+  const EnvImage sky = smoothSky(64, 32);
   const EnvImage compensated = misCompensated(sky);
   const EnvCdfSampler sampler(buildEnvCdf(compensated));
   std::size_t zeroWeightSamples = 0, samples = 0;

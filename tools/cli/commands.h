@@ -14,5 +14,7 @@ int cmdDevices(const Args& args);
 int cmdMakeSky(const Args& args);
 int cmdMakeTeapot(const Args& args);
 int cmdMerlSynth(const Args& args);
+int cmdConverge(const Args& args);
+int cmdHardCases(const Args& args);
 
 }  // namespace iblx::cli

@@ -16,6 +16,8 @@ constexpr const char* kUsage =
     "  render      render a scene progressively to .png/.exr, report speed (and error with --reference)\n"
     "  reference   compute the ground truth of a scene (deterministic convolution) to .exr\n"
     "  bench       samples per second of every method on one scene\n"
+    "  converge    error against spp and time of methods on one scene: CSV, summary table, PNG plots\n"
+    "  hardcases   the hard-case suite: every method on each hard scene, checked and ranked\n"
     "  devices     list the Vulkan devices and whether iblx can use them\n"
     "  make-sky    write the procedural sky used as the default environment map\n"
     "  make-teapot tessellate the Utah teapot's Bezier patches into an .obj (assets/teapot.obj)\n"
@@ -35,6 +37,8 @@ int main(int argc, char** argv) {
     if (command == "render") return cmdRender(args);
     if (command == "reference") return cmdReference(args);
     if (command == "bench") return cmdBench(args);
+    if (command == "converge") return cmdConverge(args);
+    if (command == "hardcases") return cmdHardCases(args);
     if (command == "devices") return cmdDevices(args);
     if (command == "make-sky") return cmdMakeSky(args);
     if (command == "make-teapot") return cmdMakeTeapot(args);

@@ -1,0 +1,136 @@
+// The measuring loop of `iblx converge` (engine/render/convergence_runner.h).
+#include "engine/render/convergence_runner.h"
+
+#include "engine/core/error.h"
+#include "engine/render/metrics.h"
+#include "engine/render/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+namespace iblx {
+namespace {
+
+// One dispatch renders at most this many samples per pixel (the renderer's --spp cap): far from GPU
+// watchdog limits at any image size.
+constexpr std::uint64_t kMaxSppPerDispatch = 4096;
+
+std::pair<std::string, std::string> splitLabel(const ResolvedMethod& method) {
+  const std::string label = method.label();
+  const auto slash = label.rfind('/');
+  return {label.substr(0, slash), label.substr(slash + 1)};
+}
+
+}  // namespace
+
+ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                                 std::span<const float> reference, std::span<const ResolvedMethod> methods,
+                                 std::span<const std::uint32_t> seeds, const ConvergenceBudget& budget,
+                                 const std::function<void(const ConvergenceProgress&)>& progress,
+                                 const std::atomic<bool>* stop) {
+  const std::vector<std::uint64_t> schedule = sppSchedule(budget.firstSpp, budget.maxSpp, budget.pointsPerOctave);
+  ConvergenceResult result;
+  const std::size_t runs = methods.size() * seeds.size();
+  for (const ResolvedMethod& method : methods) {
+    const auto [name, sequence] = splitLabel(method);
+    for (std::uint32_t seed : seeds) {
+      if (stop && stop->load()) return result.interrupted = true, result;
+      ConvergenceRun run{name, sequence, seed};
+      Renderer renderer(context, compiler, scene, method, seed);
+      run.setupSeconds = renderer.setupSeconds();
+      ConvergencePoint point;
+      for (std::uint64_t target : schedule) {
+        while (renderer.samplesPerPixel() < target) {
+          const auto spp = std::uint32_t(std::min(kMaxSppPerDispatch, target - renderer.samplesPerPixel()));
+          const PassTiming t = renderer.runPass(spp);
+          point.gpuSeconds += t.gpuSeconds;
+          point.wallSeconds += t.wallSeconds;
+        }
+        point.spp = renderer.samplesPerPixel();
+        const ErrorMetrics e = compareToReference(scene.gbuffer, renderer.meanRgb(), reference);
+        point.mse = e.mse;
+        point.relMse = e.relMse;
+        run.points.push_back(point);
+        if (progress) progress({result.runs.size(), runs, name + "/" + sequence, seed, point});
+        if (budget.seconds && point.wallSeconds >= *budget.seconds) break;
+        if (stop && stop->load()) {
+          result.interrupted = true;
+          break;
+        }
+      }
+      const auto mean = renderer.meanRgb();
+      run.finalMaxAbsZ = zTestMeanError(scene.gbuffer, mean, renderer.varianceRgb(),
+                                        double(renderer.samplesPerPixel()), reference)
+                             .maxAbsZ();
+      run.nonFiniteSamples = renderer.nonFiniteSamples();
+      run.finiteImage = std::all_of(mean.begin(), mean.end(), [](float v) { return std::isfinite(v); });
+      if (seed == seeds.front()) result.images.push_back({name, sequence, mean, point});
+      result.runs.push_back(std::move(run));
+      if (result.interrupted) return result;
+    }
+  }
+  return result;
+}
+
+std::vector<MethodSpec> defaultMethodSpecs(const BrdfInfo& brdf) {
+  std::vector<MethodSpec> specs;
+  for (const auto& m : methodRegistry()) {
+    MethodSpec spec;
+    spec.method = m.name;
+    try {
+      resolveMethod(spec, brdf);  // e.g. brdf needs a BRDF technique that applies
+    } catch (const Error&) {
+      continue;
+    }
+    specs.push_back(spec);
+  }
+  return specs;
+}
+
+MethodSpec parseMethodVariant(const std::string& text) {
+  MethodSpec spec;
+  std::size_t start = 0;
+  bool first = true;
+  while (start <= text.size()) {
+    const auto colon = text.find(':', start);
+    const std::string word = text.substr(start, colon == std::string::npos ? std::string::npos : colon - start);
+    start = colon == std::string::npos ? text.size() + 1 : colon + 1;
+    const std::string where = "--method " + text + ": ";
+    if (word.empty()) throw Error(where + "empty option");
+    if (first) {
+      spec.method = findMethod(word).name;
+      first = false;
+      continue;
+    }
+    auto isIn = [&](auto registry) {
+      return std::any_of(registry.begin(), registry.end(), [&](const auto& t) { return t.name == word; });
+    };
+    if (isIn(envTechniqueRegistry())) {
+      spec.envSampler = word;
+    } else if (isIn(brdfTechniqueRegistry())) {
+      spec.brdfSampler = word;
+    } else if (word == "balance" || word == "power") {
+      spec.misHeuristic = word;
+    } else if (word == "compensated") {
+      spec.misCompensation = true;
+    } else if (word.rfind("M=", 0) == 0) {
+      char* end = nullptr;
+      const long m = std::strtol(word.c_str() + 2, &end, 10);
+      if (word.size() == 2 || *end || m < 1 || m > kMaxRisCandidates)
+        throw Error(where + "'" + word + "': M must be 1-" + std::to_string(kMaxRisCandidates));
+      spec.risCandidates = int(m);
+    } else if (word.rfind("split=", 0) == 0) {
+      char* end = nullptr;
+      const double f = std::strtod(word.c_str() + 6, &end);
+      if (word.size() == 6 || *end || !(f >= 0.0 && f <= 1.0)) throw Error(where + "'" + word + "': split must be in [0, 1]");
+      spec.misEnvFraction = f;
+    } else {
+      throw Error(where + "unknown option '" + word +
+                  "'; options are env and BRDF technique names, balance, power, compensated, M=N and split=F");
+    }
+  }
+  return spec;
+}
+
+}  // namespace iblx

@@ -1,0 +1,40 @@
+// The hard-case suite (DESIGN §5, issue 6): named scenes that stress samplers (suns 1e3-1e6 over a few texels,
+// an exactly-zero half, energy at a pole, grazing-only pixels, a near-mirror GGX, a file with NaN, Inf and
+// negative texels, a map of more than 2^24 texels). `iblx hardcases` runs every method on each and checks
+// finite output and convergence to the reference; `iblx converge --case NAME` measures one; the GPU tests run
+// each at a small size.
+#pragma once
+
+#include "engine/render/scene.h"
+
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace iblx {
+
+struct HardCase {
+  std::string name;
+  std::string description;
+  SceneSpec scene;  // BRDF, parameters, object, camera and the full image size (envPath unused)
+  // The environment at `width` texels across (height width/2); cases whose point is the map's size ignore it.
+  std::function<EnvImage(int width)> environment;
+  int envWidth = 256;     // full size (the test size is 64)
+  bool viaFile = false;   // written as an EXR and read back, so the loader's sanitation is part of the case
+  // A closed-form ground truth (object pixels; background left 0), where the convolution would take minutes.
+  std::function<std::vector<float>(const Scene&)> exactReference;
+};
+
+std::span<const HardCase> hardCases();
+// Throws iblx::Error listing the valid names.
+const HardCase& findHardCase(const std::string& name);
+
+enum class HardCaseSize { Full, Test };  // Test: 64-texel-wide maps, 24 px images (the huge map stays huge)
+
+// The case's scene. A case with viaFile writes its map to a temporary EXR and loads it like --env would
+// (warning with the count of repaired texels).
+Scene makeHardCaseScene(const HardCase& hardCase, HardCaseSize size = HardCaseSize::Full);
+
+}  // namespace iblx

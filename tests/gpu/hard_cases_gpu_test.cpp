@@ -1,0 +1,159 @@
+// The hard-case suite at test size: for every case, every method the registry offers by default, with both
+// sequences, gives finite output and converges to the reference; plus the measuring loop, the method words of
+// `converge --method` and the reference cache.
+#include "engine/core/error.h"
+#include "engine/render/convergence_runner.h"
+#include "engine/render/hard_cases.h"
+#include "engine/render/metrics.h"
+#include "engine/render/reference.h"
+#include "tests/gpu/gpu_fixture.h"
+#include "tests/gpu/render_checks.h"
+#include "tests/support/hard_envs.h"
+
+#include <doctest/doctest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+
+namespace iblx::test {
+namespace {
+
+std::vector<ResolvedMethod> defaultMethods(const Scene& scene) {
+  std::vector<ResolvedMethod> methods;
+  for (const char* sequence : {"random", "sobol"})
+    for (MethodSpec spec : defaultMethodSpecs(*scene.brdf)) {
+      spec.sequence = sequence;
+      methods.push_back(resolveMethod(spec, *scene.brdf));
+    }
+  return methods;
+}
+
+// Runs the suite's check on one case: finite images, no NaN/Inf estimate, |z| under the family bound.
+void checkHardCase(const HardCase& hardCase, std::span<const ResolvedMethod> methods, std::uint64_t spp) {
+  const Scene scene = makeHardCaseScene(hardCase, HardCaseSize::Test);
+  const std::vector<float> reference = hardCase.exactReference
+                                           ? hardCase.exactReference(scene)
+                                           : computeReference(gpuContext(), gpuCompiler(), scene).rgb;
+  ConvergenceBudget budget;
+  budget.firstSpp = spp / 4;
+  budget.maxSpp = spp;
+  budget.pointsPerOctave = 1;
+  const std::uint32_t seeds[] = {29};
+  const ConvergenceResult result =
+      runConvergence(gpuContext(), gpuCompiler(), scene, reference, methods, seeds, budget);
+  REQUIRE(result.runs.size() == methods.size());
+  // Family of 3 channels x (cases x methods) over the whole suite, about 400 tests: 1e-4 family rate.
+  const double zBound = familyZBound(1e-4, 400);
+  for (const auto& run : result.runs) {
+    INFO(hardCase.name << ": " << run.method << "/" << run.sequence);
+    CHECK(run.points.size() == 3);
+    CHECK(run.points.back().spp == spp);
+    CHECK(run.finiteImage);
+    CHECK(run.nonFiniteSamples == 0);
+    CHECK(run.finalMaxAbsZ < zBound);
+    // The error falls: relMSE at the end below the first point's (a sampler that stopped adding samples, or a
+    // biased one, would not fall).
+    CHECK(run.points.back().relMse < run.points.front().relMse);
+  }
+  checkNoNewValidationErrors();
+}
+
+}  // namespace
+
+TEST_CASE("hard-case suite: every case, every default method, finite and converging (z-test)") {
+  for (const auto& hardCase : hardCases()) {
+    if (hardCase.name == "huge-map") continue;  // its own test case below, with fewer methods
+    const Scene scene = makeHardCaseScene(hardCase, HardCaseSize::Test);
+    checkHardCase(hardCase, defaultMethods(scene), 512);
+  }
+}
+
+TEST_CASE("hard case huge-map: more than 2^24 texels, closed-form reference") {
+  const HardCase& huge = findHardCase("huge-map");
+  const Scene scene = makeHardCaseScene(huge, HardCaseSize::Test);
+  CHECK(std::size_t(scene.env.width) * scene.env.height > (std::size_t(1) << 24));
+  // The table-based env techniques (their indices run past 2^24) and a table-free one, which checks the closed
+  // form independently of every table.
+  std::vector<ResolvedMethod> methods;
+  for (const char* name : {"cosine", "env-cdf", "env-hier", "mis"})
+    methods.push_back(resolveMethod({name}, *scene.brdf));
+  checkHardCase(huge, methods, 256);
+}
+
+TEST_CASE("hard cases: the bad-texels case goes through the loader's sanitation") {
+  const Scene scene = makeHardCaseScene(findHardCase("bad-texels"), HardCaseSize::Test);
+  for (float v : scene.env.rgb) {
+    REQUIRE(std::isfinite(v));
+    REQUIRE(v >= 0.0f);
+  }
+  CHECK_THROWS_WITH_AS(findHardCase("nope"), doctest::Contains("valid: sun-1e3"), Error);
+}
+
+TEST_CASE("converge --method words: options by name, errors that say what is valid") {
+  const MethodSpec a = parseMethodVariant("mis:env-hier:power:split=0.25");
+  CHECK(a.method == "mis");
+  CHECK(a.envSampler == "env-hier");
+  CHECK(a.misHeuristic == "power");
+  CHECK(*a.misEnvFraction == 0.25);
+  const MethodSpec b = parseMethodVariant("ris:M=32");
+  CHECK(*b.risCandidates == 32);
+  CHECK(parseMethodVariant("brdf:brdf-tab").brdfSampler == "brdf-tab");
+  CHECK(parseMethodVariant("mis:compensated").misCompensation);
+  CHECK_THROWS_WITH_AS(parseMethodVariant("mis:bogus"), doctest::Contains("unknown option 'bogus'"), Error);
+  CHECK_THROWS_WITH_AS(parseMethodVariant("ris:M=0"), doctest::Contains("M must be 1-64"), Error);
+  CHECK_THROWS_AS(parseMethodVariant("mis:"), Error);
+  CHECK_THROWS_AS(parseMethodVariant("nomethod"), Error);
+  // Defaults: every registry method that applies to the BRDF, each once.
+  CHECK(defaultMethodSpecs(findBrdf("ggx")).size() == methodRegistry().size());
+}
+
+TEST_CASE("the reference cache: a second request reads the stored image; another scene misses") {
+  const auto dir = std::filesystem::temp_directory_path() / ("iblx-refcache-" + std::to_string(::getpid()));
+  const Scene scene = sceneWith(smoothSky(32, 16), "ggx", {{"roughness", "0.3"}}, 16);
+  bool fromCache = true;
+  const ReferenceImage first = cachedReference(gpuContext(), gpuCompiler(), scene, dir, {}, &fromCache);
+  CHECK_FALSE(fromCache);
+  const ReferenceImage second = cachedReference(gpuContext(), gpuCompiler(), scene, dir, {}, &fromCache);
+  CHECK(fromCache);
+  CHECK(second.rgb == first.rgb);  // EXR float: lossless
+  const Scene other = sceneWith(smoothSky(32, 16), "ggx", {{"roughness", "0.31"}}, 16);
+  CHECK(referenceKey(other) != referenceKey(scene));
+  cachedReference(gpuContext(), gpuCompiler(), other, dir, {}, &fromCache);
+  CHECK_FALSE(fromCache);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("runConvergence: error falls like 1/N on the schedule; Ctrl-C keeps what was measured") {
+  const Scene scene = sceneWith(smoothSky(32, 16), "lambert", {}, 16);
+  const ReferenceImage ref = computeReference(gpuContext(), gpuCompiler(), scene);
+  const ResolvedMethod methods[] = {resolveMethod({"env-cdf"}, *scene.brdf)};
+  const std::uint32_t seeds[] = {1, 2, 3};
+  ConvergenceBudget budget;
+  budget.firstSpp = 8;
+  budget.maxSpp = 2048;
+  budget.pointsPerOctave = 2;
+  const ConvergenceResult r = runConvergence(gpuContext(), gpuCompiler(), scene, ref.rgb, methods, seeds, budget);
+  REQUIRE(r.runs.size() == 3);
+  REQUIRE(r.images.size() == 1);
+  const ConvergenceSummary s = summarize(r.runs, 1e-4);
+  // 8 doublings of spp: the fitted slope of MSE is -1 within the noise of 3 seeds.
+  CHECK(s.rows[0].slopeSpp == doctest::Approx(-1.0).epsilon(0.15));
+  CHECK(s.rows[0].spp == 2048);
+  for (std::size_t i = 1; i < r.runs[0].points.size(); ++i)
+    CHECK(r.runs[0].points[i].wallSeconds > r.runs[0].points[i - 1].wallSeconds);
+
+  std::atomic<bool> stop{false};
+  int calls = 0;
+  const ConvergenceResult partial = runConvergence(
+      gpuContext(), gpuCompiler(), scene, ref.rgb, methods, seeds, budget,
+      [&](const ConvergenceProgress&) {
+        if (++calls == 3) stop = true;
+      },
+      &stop);
+  CHECK(partial.interrupted);
+  REQUIRE(partial.runs.size() == 1);
+  CHECK(partial.runs[0].points.size() == 3);
+}
+
+}  // namespace iblx::test

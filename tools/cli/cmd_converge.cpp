@@ -1,0 +1,112 @@
+// `iblx converge`: speed against error (DESIGN §7). Runs methods x sequences x seeds on one scene, records
+// MSE and relMSE against the ground truth after each point of a log-spaced sample schedule, and writes the CSV,
+// the summary table and the PNG figures.
+#include "engine/analysis/convergence.h"
+#include "engine/core/error.h"
+#include "engine/core/log.h"
+#include "engine/io/image_write.h"
+#include "tools/cli/cli_options.h"
+#include "tools/cli/commands.h"
+#include "tools/cli/converge_figures.h"
+#include "tools/cli/measurement.h"
+
+#include <cstdio>
+#include <fstream>
+
+namespace iblx::cli {
+
+int cmdConverge(const Args& args) {
+  RenderSpec render;
+  MeasurementSpec spec;
+  std::string caseName;
+  std::filesystem::path outDir = "converge";
+  double targetRelMse = 1e-3;
+  bool plots = true;
+  bool sizeGiven = false;
+  ArgParser parser("converge");
+  addSceneFlags(parser, render);
+  parser.value("--case", "NAME", "a scene of the hard-case suite instead of --env/--brdf/... (see `iblx hardcases --list`)",
+               [&](const std::string& v) { caseName = findHardCase(v).name; });
+  addMeasurementFlags(parser, spec);
+  addDeviceFlags(parser, render);
+  parser.value("--target-relmse", "X", "the error whose time to reach is reported (default 1e-3)",
+               [&](const std::string& v) { targetRelMse = parseDouble("--target-relmse", v, 1e-12, 1e6); });
+  parser.value("--out-dir", "DIR", "where the CSV, summary and figures go (default ./converge; created)",
+               [&](const std::string& v) { outDir = v; });
+  parser.toggle("--no-plots", "write no PNG figures", [&] { plots = false; });
+  parser.toggle("--json", "print the summary as one JSON object per method instead of the table",
+                [&] { render.json = true; });
+  for (const auto& a : args) sizeGiven = sizeGiven || a == "--size";
+  if (parser.parseOrShowHelp(args)) return 0;
+
+  // Everything a user can get wrong is checked before anything heavy.
+  const HardCase* hardCase = caseName.empty() ? nullptr : &findHardCase(caseName);
+  const ConvergenceBudget budget = spec.finalBudget();
+  std::error_code ec;
+  std::filesystem::create_directories(outDir, ec);
+  if (!std::filesystem::is_directory(outDir)) throw Error("--out-dir " + outDir.string() + ": cannot create it");
+  std::optional<LoadedBrdf> brdf;
+  if (!hardCase) {
+    brdf = loadBrdfArgument(render.scene.brdf);
+    resolveParams(*brdf->info, render.scene.params);
+  }
+
+  Scene scene = [&] {
+    if (!hardCase) return loadScene(render.scene, std::move(*brdf));
+    HardCase sized = *hardCase;
+    if (sizeGiven) sized.scene.width = render.scene.width, sized.scene.height = render.scene.height;
+    return makeHardCaseScene(sized);
+  }();
+  const std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene.brdf);
+  const std::vector<std::uint32_t> seeds = seedList(spec);
+  VulkanContext context({render.device, render.validation ? Validation::On : Validation::Auto});
+  ShaderCompiler compiler;
+  const std::vector<float> reference = obtainReference(context, compiler, scene, hardCase, spec);
+
+  const std::string sceneTitle = (hardCase ? "case " + hardCase->name + ", " : std::string()) + scene.brdf->name +
+                                 ", env " + std::to_string(scene.env.width) + "x" + std::to_string(scene.env.height) +
+                                 ", " + std::to_string(scene.gbuffer.width) + "x" + std::to_string(scene.gbuffer.height);
+  std::fprintf(stderr, "converge: %zu methods x %zu seeds on %s (%s)\n", methods.size(), seeds.size(),
+               context.deviceName().c_str(), sceneTitle.c_str());
+  ConvergenceResult result;
+  {
+    InterruptGuard interrupt;
+    result = runConvergence(context, compiler, scene, reference, methods, seeds, budget, showProgress,
+                            &interrupt.flag());
+  }
+  endProgressLine();
+  if (result.interrupted)
+    warn("interrupted: keeping the " + std::to_string(result.runs.size()) + " runs measured so far");
+  if (result.runs.empty()) throw Error("interrupted before any measurement");
+
+  writeConvergenceCsv(outDir / "converge.csv", result.runs);
+  writeExr(outDir / "reference.exr", scene.gbuffer.width, scene.gbuffer.height, reference);
+  const ConvergenceSummary summary = summarize(result.runs, targetRelMse);
+  std::vector<std::string> figures;
+  if (plots) {
+    figures = writeConvergencePlots(outDir, sceneTitle, result.runs);
+    for (auto& f : writeErrorHeatMaps(outDir, scene.gbuffer, result.images, reference)) figures.push_back(f);
+  }
+  const std::string table = formatSummaryTable(summary);
+  {
+    std::ofstream md(outDir / "summary.md");
+    md << "# iblx converge: " << sceneTitle << "\n\nDevice: " << context.deviceName() << ". Seeds: " << seeds.size()
+       << ". Budget per run: "
+       << (budget.seconds ? std::to_string(*budget.seconds) + " s" : std::to_string(budget.maxSpp) + " spp")
+       << (result.interrupted ? " (interrupted)" : "") << ".\n\n"
+       << table;
+    if (!md) throw Error((outDir / "summary.md").string() + ": write failed");
+  }
+  if (render.json)
+    std::fputs(formatSummaryJson(summary).c_str(), stdout);
+  else
+    std::printf("%s\nwrote %s: converge.csv, summary.md, reference.exr and %zu figures\n", table.c_str(),
+                outDir.string().c_str(), figures.size());
+  for (const auto& row : summary.rows)
+    if (row.nonFiniteSamples || !row.finite)
+      warn(row.method + "/" + row.sequence + ": " + std::to_string(row.nonFiniteSamples) +
+           " NaN/Inf estimates (a sampler bug: please report it)");
+  return result.interrupted ? 130 : 0;
+}
+
+}  // namespace iblx::cli

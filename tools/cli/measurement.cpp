@@ -1,0 +1,141 @@
+// Flags, ground truth, progress and Ctrl-C of the measuring commands (tools/cli/measurement.h).
+#include "tools/cli/measurement.h"
+
+#include "engine/core/cache_dir.h"
+#include "engine/core/error.h"
+#include "engine/core/log.h"
+#include "engine/render/reference.h"
+
+#include <csignal>
+#include <cmath>
+#include <cstdio>
+
+namespace iblx::cli {
+namespace {
+
+std::atomic<bool> gInterrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
+
+extern "C" void onInterrupt(int) {
+  gInterrupted.store(true);
+  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process
+}
+
+}  // namespace
+
+void addMeasurementFlags(ArgParser& p, MeasurementSpec& s) {
+  p.value("--method", "NAME[:OPTION]...",
+          "a method, repeatable (default: every method that applies). Options: an env or BRDF technique, "
+          "balance|power, compensated, M=N, split=F; e.g. mis:env-hier:power, ris:M=32, brdf:brdf-tab",
+          [&](const std::string& v) {
+            parseMethodVariant(v);  // reports a bad word now, with the flag
+            s.methods.push_back(v);
+          });
+  p.value("--seq", "NAME", "a sequence, repeatable (default: every sequence)", [&](const std::string& v) {
+    s.sequences.push_back(findSequence(v).name);
+  });
+  p.value("--seeds", "K", "independent runs per method, seeds N..N+K-1 (default 3)",
+          [&](const std::string& v) { s.seeds = parseUint("--seeds", v, 1, 1000); });
+  p.value("--seed", "N", "first seed (default 1)",
+          [&](const std::string& v) { s.firstSeed = parseUint("--seed", v, 0, 0xffffffffu - 1000); });
+  p.value("--spp", "N", "samples per pixel at the first recorded point (default 4)",
+          [&](const std::string& v) { s.budget.firstSpp = parseUint("--spp", v, 1, 1u << 20); });
+  p.value("--max-spp", "N", "budget: samples per pixel per run (default 1024; with --time, unlimited)",
+          [&](const std::string& v) { s.maxSpp = parseUint("--max-spp", v, 1, 1u << 30); });
+  p.value("--time", "S", "budget: seconds of rendering per run (the run ends at the first point past S)",
+          [&](const std::string& v) {
+            s.budget.seconds = parseDouble("--time", v, 1e-3, 1e6);
+          });
+  p.value("--points-per-octave", "P", "recorded points per doubling of spp (default 4)",
+          [&](const std::string& v) { s.budget.pointsPerOctave = int(parseUint("--points-per-octave", v, 1, 64)); });
+  p.value("--reference-file", "FILE", "the ground truth as an EXR of `iblx reference` (default: computed, cached)",
+          [&](const std::string& v) { s.referenceFile = v; });
+  p.toggle("--no-cache", "compute the ground truth even when the cache holds it, and do not store it",
+           [&] { s.noCache = true; });
+}
+
+std::vector<ResolvedMethod> resolveMethods(const MeasurementSpec& spec, const BrdfInfo& brdf) {
+  std::vector<MethodSpec> methods;
+  if (spec.methods.empty())
+    methods = defaultMethodSpecs(brdf);
+  else
+    for (const auto& m : spec.methods) methods.push_back(parseMethodVariant(m));
+  std::vector<std::string> sequences = spec.sequences;
+  if (sequences.empty())
+    for (const auto& s : sequenceRegistry()) sequences.push_back(s.name);
+  std::vector<ResolvedMethod> resolved;
+  for (const auto& sequence : sequences)
+    for (MethodSpec m : methods) {
+      m.sequence = sequence;
+      resolved.push_back(resolveMethod(m, brdf));
+    }
+  return resolved;
+}
+
+ConvergenceBudget MeasurementSpec::finalBudget() const {
+  ConvergenceBudget b = budget;
+  b.maxSpp = maxSpp ? *maxSpp : budget.seconds ? (std::uint64_t(1) << 32) - 4096 : 1024;  // the sample index is 32-bit
+  if (b.firstSpp > b.maxSpp)
+    throw Error("--spp " + std::to_string(b.firstSpp) + " exceeds --max-spp " + std::to_string(b.maxSpp));
+  return b;
+}
+
+std::vector<std::uint32_t> seedList(const MeasurementSpec& spec) {
+  std::vector<std::uint32_t> seeds;
+  for (std::uint32_t i = 0; i < spec.seeds; ++i) seeds.push_back(spec.firstSeed + i);
+  return seeds;
+}
+
+std::vector<float> obtainReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                                   const HardCase* hardCase, const MeasurementSpec& spec) {
+  if (!spec.referenceFile.empty()) {
+    EnvImage image;
+    try {
+      image = loadRgbImage(spec.referenceFile);
+    } catch (const Error& e) {
+      throw Error(std::string("--reference-file: ") + e.what());
+    }
+    if (image.width != scene.gbuffer.width || image.height != scene.gbuffer.height)
+      throw Error("--reference-file " + spec.referenceFile.string() + ": " + std::to_string(image.width) + "x" +
+                  std::to_string(image.height) + " does not match the scene's " +
+                  std::to_string(scene.gbuffer.width) + "x" + std::to_string(scene.gbuffer.height));
+    for (float v : image.rgb)
+      if (!std::isfinite(v)) throw Error("--reference-file " + spec.referenceFile.string() + ": NaN or Inf values");
+    return std::move(image.rgb);
+  }
+  if (hardCase && hardCase->exactReference) {
+    std::fprintf(stderr, "reference: closed form of hard case %s\n", hardCase->name.c_str());
+    return hardCase->exactReference(scene);
+  }
+  ReferenceOptions options;
+  options.progress = [](double f) { progressLine("reference " + std::to_string(int(100 * f)) + "%"); };
+  bool fromCache = false;
+  const ReferenceImage ref =
+      cachedReference(context, compiler, scene, spec.noCache ? std::filesystem::path() : defaultCacheDir(),
+                      options, &fromCache);
+  endProgressLine();
+  if (fromCache)
+    std::fprintf(stderr, "reference: from the cache (%s)\n", defaultCacheDir().string().c_str());
+  else
+    std::fprintf(stderr, "reference: computed in %.2f s\n", ref.seconds);
+  return ref.rgb;
+}
+
+InterruptGuard::InterruptGuard() {
+  gInterrupted.store(false);
+  std::signal(SIGINT, onInterrupt);
+}
+
+InterruptGuard::~InterruptGuard() { std::signal(SIGINT, SIG_DFL); }
+
+const std::atomic<bool>& InterruptGuard::flag() const { return gInterrupted; }
+
+void showProgress(const ConvergenceProgress& p) {
+  char line[256];
+  std::snprintf(line, sizeof line, "[%zu/%zu] %s seed %u: %llu spp, %.2f s, relMSE %.3g", p.run + 1, p.runs,
+                p.label.c_str(), p.seed, static_cast<unsigned long long>(p.point.spp), p.point.wallSeconds,
+                p.point.relMse);
+  progressLine(line);
+}
+
+}  // namespace iblx::cli

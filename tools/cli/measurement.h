@@ -1,0 +1,55 @@
+// What `iblx converge` and `iblx hardcases` share: the method / sequence / seed / budget flags, the ground
+// truth (computed and cached, closed-form for hard cases that have one, or read from a file), the progress
+// line and Ctrl-C handling.
+#pragma once
+
+#include "engine/render/convergence_runner.h"
+#include "engine/render/hard_cases.h"
+#include "tools/cli/cli_options.h"
+
+#include <atomic>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace iblx::cli {
+
+struct MeasurementSpec {
+  std::vector<std::string> methods;    // NAME[:OPTION]... (parseMethodVariant); empty: every method that applies
+  std::vector<std::string> sequences;  // empty: every sequence
+  std::uint32_t seeds = 3, firstSeed = 1;
+  ConvergenceBudget budget;            // maxSpp: see finalBudget
+  std::optional<std::uint64_t> maxSpp;  // --max-spp
+  std::filesystem::path referenceFile;
+  bool noCache = false;
+  // The budget with --max-spp's default: 1024 spp, or unlimited with --time.
+  ConvergenceBudget finalBudget() const;
+};
+
+void addMeasurementFlags(ArgParser& parser, MeasurementSpec& spec);
+
+// Every requested (method, sequence), resolved against the BRDF (an explicit method that does not apply is an
+// error; defaults that do not apply are skipped).
+std::vector<ResolvedMethod> resolveMethods(const MeasurementSpec& spec, const BrdfInfo& brdf);
+std::vector<std::uint32_t> seedList(const MeasurementSpec& spec);
+
+// The ground truth of `scene`: --reference-file, else the hard case's closed form, else the convolution through
+// the on-disk cache (unless --no-cache). Prints where it came from.
+std::vector<float> obtainReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                                   const HardCase* hardCase, const MeasurementSpec& spec);
+
+// While alive, Ctrl-C sets flag() instead of ending the process (a second Ctrl-C ends it).
+class InterruptGuard {
+ public:
+  InterruptGuard();
+  ~InterruptGuard();
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+  const std::atomic<bool>& flag() const;
+};
+
+// The progress line of a measurement (stderr, terminals only).
+void showProgress(const ConvergenceProgress& p);
+
+}  // namespace iblx::cli
