@@ -75,6 +75,14 @@ void writePng(const fs::path& path, int width, int height, std::span<const float
     throw Error("cannot write PNG file " + path.string() + " (is the directory writable?)");
 }
 
+void writePngRgb8(const fs::path& path, int width, int height, std::span<const std::uint8_t> rgb) {
+  if (width <= 0 || height <= 0 || rgb.size() != 3 * std::size_t(width) * std::size_t(height))
+    throw Error("cannot write " + path.string() + ": " + std::to_string(rgb.size()) + " bytes given for a " +
+                std::to_string(width) + "x" + std::to_string(height) + " RGB8 image");
+  if (!stbi_write_png(path.string().c_str(), width, height, 3, rgb.data(), 3 * width))
+    throw Error("cannot write PNG file " + path.string() + " (is the directory writable?)");
+}
+
 void writeImage(const fs::path& path, int width, int height, std::span<const float> rgb, double exposureEV) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });

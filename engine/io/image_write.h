@@ -1,6 +1,7 @@
 // Writing rendered images: linear float OpenEXR, and tonemapped 8-bit sRGB PNG for viewing.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <span>
 
@@ -15,6 +16,11 @@ void writeExr(const std::filesystem::path& path, int width, int height, std::spa
 // OETF, rounded to the nearest code value.
 void writePng(const std::filesystem::path& path, int width, int height, std::span<const float> rgb,
               double exposureEV);
+
+// An already display-referred 8-bit RGB raster (3 bytes per pixel, row-major, top row first), written as is;
+// used for figures. Throws Error naming the path if the size does not match or the file cannot be written.
+void writePngRgb8(const std::filesystem::path& path, int width, int height,
+                  std::span<const std::uint8_t> rgb);
 
 // Chooses the format from the extension (.exr or .png, case-insensitive); exposureEV only affects PNG.
 void writeImage(const std::filesystem::path& path, int width, int height, std::span<const float> rgb,
