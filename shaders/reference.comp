@@ -4,8 +4,9 @@
 // cone around the mirror direction get frame.quadrature.y subdivisions per axis, texels the horizon may cross at
 // least frame.strategy.w, the few brightest texels (energy mean(L) * solid angle >= frame.strategy.x, such as a
 // sun's) at least frame.strategy.y, the others frame.quadrature.x.
-// Each dispatch adds the rows [rowBegin, rowBegin + quadrature.w) with Kahan-compensated sums in accum
-// (mean = sum, meanSquare = compensation), so long references are split into short dispatches.
+// Each dispatch adds the texels [sampleOffset, samplesPerPass) in row-major order with Kahan-compensated sums in
+// accum (mean = sum, meanSquare = compensation); the host sizes these ranges so that no invocation runs more loop
+// iterations than lavapipe allows (engine/render/reference.cpp).
 #include "lib/frame_resources.glsl"
 #include "lib/latlong.glsl"
 #include "lib/pixel_shading.glsl"
@@ -55,11 +56,11 @@ void main() {
   int brightFine = int(frame.strategy.y);
   precise vec3 sum = accum[index].mean.rgb;
   precise vec3 compensation = accum[index].meanSquare.rgb;
-  if (frame.rowBegin == 0u) sum = compensation = vec3(0.0);
-  uint rowEnd = min(frame.rowBegin + uint(frame.quadrature.w), frame.envHeight);
-  for (uint y = frame.rowBegin; y < rowEnd; ++y) {
-    for (uint x = 0u; x < frame.envWidth; ++x) {
-      ivec2 texel = ivec2(x, y);
+  uint texelBegin = frame.sampleOffset, texelEnd = frame.samplesPerPass;
+  if (texelBegin == 0u) sum = compensation = vec3(0.0);
+  for (uint i = texelBegin; i < texelEnd; ++i) {
+    {
+      ivec2 texel = ivec2(i % frame.envWidth, i / frame.envWidth);
       vec3 radiance = envTexelRadiance(texel);
       if (radiance == vec3(0.0)) continue;
       vec3 centre = texelToDirection(texel, vec2(0.5));

@@ -178,7 +178,8 @@ ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double target
     if (std::isinf(row.timeToTarget)) row.timeToTarget = kNotReached;
     row.efficiency = mean(efficiency);
     row.samplesPerSecond = median(rate);
-    summary.equalTimeSeconds = std::min(summary.equalTimeSeconds, row.seconds);
+    // The common time is the shortest run's end, so every run has a measurement on both sides of it.
+    for (double s : seconds) summary.equalTimeSeconds = std::min(summary.equalTimeSeconds, s);
     summary.rows.push_back(row);
   }
   // MSE of every method at the common time, and its ratio to the best there.

@@ -76,7 +76,7 @@ struct MethodSummary {
 
 struct ConvergenceSummary {
   double targetRelMse = 0.0;
-  double equalTimeSeconds = 0.0;  // the common time: the shortest of the methods' final times
+  double equalTimeSeconds = 0.0;  // the common time: the end of the shortest run
   std::vector<MethodSummary> rows;  // in the order the runs first appear
 };
 

@@ -39,6 +39,10 @@ ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& c
       ConvergenceRun run{name, sequence, seed};
       Renderer renderer(context, compiler, scene, method, seed);
       run.setupSeconds = renderer.setupSeconds();
+      // A warm-up pass, then a fresh start: first-use costs (the driver compiling the pipeline on its first
+      // dispatch) stay off the time axis.
+      renderer.runPass(1);
+      renderer.restart(seed);
       ConvergencePoint point;
       for (std::uint64_t target : schedule) {
         while (renderer.samplesPerPixel() < target) {

@@ -21,8 +21,13 @@ struct HardCase {
   SceneSpec scene;  // BRDF, parameters, object, camera and the full image size (envPath unused)
   // The environment at `width` texels across (height width/2); cases whose point is the map's size ignore it.
   std::function<EnvImage(int width)> environment;
-  int envWidth = 256;     // full size (the test size is 64)
+  int envWidth = 256;     // full size
+  int testEnvWidth = 64;  // test size
   bool viaFile = false;   // written as an EXR and read back, so the loader's sanitation is part of the case
+  // False when the convolution reference is not accurate enough for the z-test: the near-mirror lobe, where
+  // near-deterministic estimators (VNDF sampling) resolve reference errors of ~1e-3 relative. Such a case still
+  // checks finite output; its z is reported, not judged.
+  bool zTested = true;
   // A closed-form ground truth (object pixels; background left 0), where the convolution would take minutes.
   std::function<std::vector<float>(const Scene&)> exactReference;
 };
@@ -31,7 +36,7 @@ std::span<const HardCase> hardCases();
 // Throws iblx::Error listing the valid names.
 const HardCase& findHardCase(const std::string& name);
 
-enum class HardCaseSize { Full, Test };  // Test: 64-texel-wide maps, 24 px images (the huge map stays huge)
+enum class HardCaseSize { Full, Test };  // Test: testEnvWidth-wide maps, 24 px images (the huge map stays huge)
 
 // The case's scene. A case with viaFile writes its map to a temporary EXR and loads it like --env would
 // (warning with the count of repaired texels).

@@ -55,14 +55,6 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   const int horizonFine = std::min(coarse == 0 ? 2 : 4 * coarse, std::max(1, options.maxFineSubdivisions));
   const double horizonBand = std::sin(std::min(kPi / 2, 0.75 * texelAngle));
 
-  // Chunks of rows keep each dispatch short (GPU watchdogs, progress reports).
-  const double workPerRow =
-      double(scene.gbuffer.objectPixelCount()) * W * std::max(1.0, 4.0 * coarse * coarse);
-  // lavapipe also caps the loop iterations of one invocation (about 65535 back-edges in all): a dispatch
-  // visits at most kTexelsPerDispatch texels per pixel, leaving the rest of the budget to sub-cell loops.
-  constexpr double kTexelsPerDispatch = 8192;
-  const int rowsPerDispatch =
-      int(std::clamp(std::min(2e8 / std::max(workPerRow, 1.0), kTexelsPerDispatch / W), 1.0, double(H)));
   const double rotation = scene.envRotationDeg * kPi / 180.0;
   gpu::FrameParams params{};
   params.width = uint32_t(scene.gbuffer.width);
@@ -86,21 +78,50 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
     }
   double brightEnergy = 32.0 * totalEnergy / double(energies.size());
   if (energies.size() > kBrightTexels) {  // strictly above the (kBrightTexels + 1)-th brightest
-    std::nth_element(energies.begin(), energies.begin() + kBrightTexels, energies.end(), std::greater<>());
-    brightEnergy = std::max(brightEnergy, std::nextafter(energies[kBrightTexels], HUGE_VAL) * (1.0 + 1e-6));
+    std::vector<double> sorted = energies;
+    std::nth_element(sorted.begin(), sorted.begin() + kBrightTexels, sorted.end(), std::greater<>());
+    brightEnergy = std::max(brightEnergy, std::nextafter(sorted[kBrightTexels], HUGE_VAL) * (1.0 + 1e-6));
   }
   if (!(brightEnergy > 0.0)) brightEnergy = std::numeric_limits<double>::max();
   const int brightFine = std::min(16, std::max(1, options.maxFineSubdivisions));
   params.strategy = {float(std::min(brightEnergy, double(std::numeric_limits<float>::max()))),
                      float(brightFine), float(horizonBand), float(horizonFine)};
-  params.quadrature = {float(coarse), float(fine), float(fineZoneCos), float(rowsPerDispatch)};
-  for (int row = 0; row < H; row += rowsPerDispatch) {
-    params.rowBegin = uint32_t(row);
+  params.quadrature = {float(coarse), float(fine), float(fineZoneCos), 0.0f};
+
+  // Dispatches over runs of texels (row-major). lavapipe caps the loop iterations one invocation may run (about
+  // 65535 back-edges in all; beyond it loops end early and the sum silently misses texels), so each run's
+  // worst-case iteration count stays under kIterationBudget: a texel costs one texel-loop iteration plus its
+  // sub-cell loop, k^2 for the largest k any pixel may give it (any texel may lie in some pixel's fine zone or
+  // horizon band; only the bright ones get brightFine). Runs also bound the work per dispatch (watchdogs, progress).
+  constexpr double kIterationBudget = 50000;
+  const double workPerIteration = double(scene.gbuffer.objectPixelCount());
+  const double kCommon = std::max({double(coarse), double(fine), double(horizonFine)});
+  std::vector<std::pair<uint32_t, uint32_t>> runs;
+  {
+    uint32_t begin = 0;
+    double iterations = 0;
+    const std::size_t texels = std::size_t(W) * std::size_t(H);
+    for (std::size_t i = 0; i < texels; ++i) {
+      const double k = energies[i] >= brightEnergy ? std::max(kCommon, double(brightFine)) : kCommon;
+      const double cost = 1.0 + k * k;
+      if (i > begin && (iterations + cost > kIterationBudget || (iterations + cost) * workPerIteration > 4e8)) {
+        runs.emplace_back(begin, uint32_t(i));
+        begin = uint32_t(i);
+        iterations = 0;
+      }
+      iterations += cost;
+    }
+    runs.emplace_back(begin, uint32_t(texels));
+  }
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    params.sampleOffset = runs[r].first;
+    params.samplesPerPass = runs[r].second;
     context.submitAndWait([&](vk::CommandBuffer cmd) {
       kernel.record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
-      recordShaderWriteBarrier(cmd, true);  // -> the next chunk and the host
+      recordShaderWriteBarrier(cmd, true);  // -> the next run and the host
     });
-    if (options.progress) options.progress(double(std::min(row + rowsPerDispatch, H)) / H);
+    if (options.progress && (r % 16 == 15 || r + 1 == runs.size()))
+      options.progress(double(runs[r].second) / double(runs.back().second));
   }
 
   ReferenceImage image{scene.gbuffer.width, scene.gbuffer.height, {}, 0.0, fine};

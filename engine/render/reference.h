@@ -15,7 +15,7 @@ namespace iblx {
 struct ReferenceOptions {
   int coarseSubdivisions =
       1;  // per texel axis, each with 2x2 Gauss-Legendre points (unless the midpoint suffices)
-  int maxFineSubdivisions = 128;
+  int maxFineSubdivisions = 512;
   bool allowMidpoint = true;  // false: the Gauss rule everywhere (for checking the midpoint rule)
   std::function<void(double fraction)> progress;  // called after each chunk of rows
 };

@@ -23,7 +23,7 @@ uint32_t chooseMemoryType(const vk::raii::PhysicalDevice& physical, uint32_t typ
 Buffer::Buffer(const VulkanContext& context, vk::DeviceSize size, std::string name)
     : size_(std::max<vk::DeviceSize>(size, 16)), name_(std::move(name)) {
   if (size_ > context.limits().maxStorageBufferRange)
-    throw Error("buffer '" + name_ + "' needs " + std::to_string(size_ >> 20) +
+    throw DeviceLimitError("buffer '" + name_ + "' needs " + std::to_string(size_ >> 20) +
                 " MiB, more than this device's " + "largest storage buffer (" +
                 std::to_string(context.limits().maxStorageBufferRange >> 20) +
                 " MiB); use a smaller environment map or image");

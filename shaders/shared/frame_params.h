@@ -37,15 +37,15 @@ struct FrameParams {
   uint height;
   uint envWidth;
   uint envHeight;
-  uint sampleOffset;    // samples already accumulated per pixel
-  uint samplesPerPass;  // samples added by this dispatch
+  uint sampleOffset;    // samples already accumulated per pixel (reference kernel: first texel of the dispatch)
+  uint samplesPerPass;  // samples added by this dispatch (reference kernel: end texel of the dispatch)
   uint seed;
-  uint rowBegin;     // reference kernel: first environment row of this dispatch
+  uint probeMode;    // test probes (tests/gpu/probe): which query to answer
   vec4 envRotation;  // x: cos, y: sin of the rotation about +Y (world -> env), zw unused
   vec4 strategy;     // x: MIS fraction of env samples, y: heuristic (0 balance, 1 power);
                      // reference: z sin of the horizon band, w subdivisions per axis inside it
   vec4 quadrature;   // reference: x coarse, y fine subdivisions per texel axis, z cos of the fine-zone angle,
-                     // w: number of environment rows in this dispatch
+                     // w unused
 };
 
 #ifdef __cplusplus

@@ -81,7 +81,7 @@ struct ProbeRunner {
     params.envWidth = uint32_t(scene.env.width);
     params.envHeight = uint32_t(scene.env.height);
     params.samplesPerPass = uint32_t(input.size());
-    params.rowBegin = mode;
+    params.probeMode = mode;
     params.envRotation = {1, 0, 0, 0};
     params.quadrature = {float(vector.x), float(vector.y), float(vector.z), 0};
     gpuContext().submitAndWait([&](vk::CommandBuffer cmd) {

@@ -28,7 +28,7 @@ int cmdHardCases(const Args& args) {
   parser.toggle("--list", "list the cases and exit", [&] { list = true; });
   parser.value("--case", "NAME", "only this case (repeatable; default: every case)",
                [&](const std::string& v) { caseNames.push_back(findHardCase(v).name); });
-  parser.toggle("--quick", "the test sizes: 64-texel-wide maps and 24 px images", [&] { quick = true; });
+  parser.toggle("--quick", "the test sizes: small maps (64 texels wide for most cases) and 24 px images", [&] { quick = true; });
   addMeasurementFlags(parser, spec);
   addDeviceFlags(parser, render);
   parser.value("--alpha", "A", "family-wise false-alarm rate of the z-tests (default 1e-3)",
@@ -59,9 +59,18 @@ int cmdHardCases(const Args& args) {
     const HardCase& hardCase = findHardCase(name);
     const Scene scene = makeHardCaseScene(hardCase, quick ? HardCaseSize::Test : HardCaseSize::Full);
     const std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene.brdf);
-    const std::vector<float> reference = obtainReference(context, compiler, scene, &hardCase, spec);
-    const ConvergenceResult result = runConvergence(context, compiler, scene, reference, methods, seedList(spec),
-                                                    budget, showProgress, &interrupt.flag());
+    ConvergenceResult result;
+    try {
+      const std::vector<float> reference = obtainReference(context, compiler, scene, &hardCase, spec);
+      result = runConvergence(context, compiler, scene, reference, methods, seedList(spec), budget, showProgress,
+                              &interrupt.flag());
+    } catch (const DeviceLimitError& e) {
+      endProgressLine();
+      const std::string note = "### " + name + "\n\nSkipped on " + context.deviceName() + ": " + e.what() + "\n";
+      std::printf("%s\n", note.c_str());
+      markdown << note << "\n";
+      continue;
+    }
     endProgressLine();
     if (result.runs.empty()) break;
     if (!outDir.empty()) writeConvergenceCsv(outDir / (name + ".csv"), result.runs);
@@ -75,12 +84,13 @@ int cmdHardCases(const Args& args) {
     std::ostringstream table;
     table << "### " << name << "\n\n" << hardCase.description << ". Env " << scene.env.width << "x"
           << scene.env.height << ", " << scene.gbuffer.width << "x" << scene.gbuffer.height << " px, "
-          << summary.rows.front().spp << " spp, |z| bound " << std::to_string(zBound).substr(0, 4) << ".\n\n"
+          << summary.rows.front().spp << " spp, |z| bound " << std::to_string(zBound).substr(0, 4)
+          << (hardCase.zTested ? "" : " (not judged: the reference is not accurate enough for this lobe)") << ".\n\n"
           << "| rank | method | seq | relMSE | MSE × best at equal time | max |z| | NaN/Inf | check |\n"
           << "|---:|---|---|---:|---:|---:|---:|---|\n";
     for (std::size_t position = 0; position < rank.size(); ++position) {
       const auto& r = summary.rows[rank[position]];
-      const bool ok = r.finite && r.nonFiniteSamples == 0 && r.maxAbsZ < zBound;
+      const bool ok = r.finite && r.nonFiniteSamples == 0 && (!hardCase.zTested || r.maxAbsZ < zBound);
       failures += !ok;
       char line[512];
       std::snprintf(line, sizeof line, "| %zu | %s | %s | %.3g | %.2f | %.2f | %u | %s |\n", position + 1,

@@ -74,7 +74,7 @@ std::vector<std::string> writeConvergencePlots(const std::filesystem::path& dir,
     for (const bool timeAxis : {false, true}) {
       LogLogPlot plot;
       const std::string error = relative ? "relMSE" : "MSE";
-      plot.title = error + (timeAxis ? " against time: " : " against samples per pixel: ") + sceneTitle;
+      plot.title = error + (timeAxis ? " vs time, " : " vs spp, ") + sceneTitle;
       plot.xLabel = timeAxis ? "seconds of rendering" : "samples per pixel";
       plot.yLabel = error + " over object pixels";
       plot.guideSlope = -1.0;
@@ -92,7 +92,8 @@ std::vector<std::string> writeConvergencePlots(const std::filesystem::path& dir,
       }
       const std::string name =
           std::string(relative ? "relmse" : "mse") + (timeAxis ? "_vs_time.png" : "_vs_spp.png");
-      drawLogLogPlot(plot, 1000, 640).writePng(dir / name);
+      // More than 6 series put the legend outside the axes: the figure widens so the axes keep their size.
+      drawLogLogPlot(plot, plot.series.size() > 6 ? 1450 : 1000, 640).writePng(dir / name);
       written.push_back(name);
     }
   return written;

@@ -23,7 +23,7 @@ void main() {
   vec3 wo = normalize(frame.quadrature.xyz);
   const vec3 n = vec3(0.0, 0.0, 1.0), x = vec3(1.0, 0.0, 0.0), y = vec3(0.0, 1.0, 0.0);
   iblxSetView(wo);
-  if (frame.rowBegin == 0u) {
+  if (frame.probeMode == 0u) {
 #ifdef PROBE_HAS_ISFUNC
     vec3 wi = vec3(0.0);
     float pdf = 0.0;
@@ -31,7 +31,7 @@ void main() {
     probeOut[2u * i] = vec4(wi, pdf);
     probeOut[2u * i + 1u] = vec4(weight, 0.0);
 #endif
-  } else if (frame.rowBegin == 1u) {
+  } else if (frame.probeMode == 1u) {
     probeOut[2u * i] = vec4(BRDF(normalize(probeIn[i].xyz), wo, n, x, y), 0.0);
   } else {
 #ifdef PROBE_HAS_ISFUNC

@@ -10,12 +10,12 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= frame.samplesPerPass) return;
   vec3 wo = normalize(frame.quadrature.xyz);
-  if (frame.rowBegin == 0u) {
+  if (frame.probeMode == 0u) {
     float pdf;
     vec3 wi = brdfSample(probeIn[i].xy, wo, pdf);
     probeOut[2u * i] = vec4(wi, pdf);
     probeOut[2u * i + 1u] = vec4(brdfPdf(wi, wo), 0.0, 0.0, 0.0);
-  } else if (frame.rowBegin == 1u) {
+  } else if (frame.probeMode == 1u) {
     probeOut[2u * i] = vec4(brdfPdf(normalize(probeIn[i].xyz), wo), 0.0, 0.0, 0.0);
   } else {
     vec3 wi = normalize(probeIn[i].xyz);

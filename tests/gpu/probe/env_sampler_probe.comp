@@ -1,5 +1,5 @@
 // Probe kernel for env techniques (Falcor-style GPU test pairing): the host supplies u (mode 0) or directions
-// (mode 1, in frame.rowBegin); the probe writes envSample's direction and pdf plus envPdf of that direction, or
+// (mode 1, in frame.probeMode); the probe writes envSample's direction and pdf plus envPdf of that direction, or
 // envPdf of the given directions. frame.quadrature.xyz is the shading normal handed to the technique.
 #include "lib/frame_resources.glsl"
 #include "lib/latlong.glsl"
@@ -12,7 +12,7 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= frame.samplesPerPass) return;
   vec3 n = frame.quadrature.xyz;
-  if (frame.rowBegin == 0u) {
+  if (frame.probeMode == 0u) {
     float pdf;
     vec3 radiance;
     vec3 w = envSample(probeIn[i].xy, n, pdf, radiance);
