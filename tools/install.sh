@@ -7,7 +7,8 @@ cd "$(dirname "$0")/.."
 packages=(build-essential cmake ninja-build pkg-config
           libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
           glslang-dev glslang-tools spirv-tools libglm-dev libopenexr-dev libstb-dev libtinyobjloader-dev
-          doctest-dev)
+          doctest-dev
+          blender-data)  # the CC0 HDRIs of tools/results.sh and the OT benchmarks (studiolights/world/*.exr)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

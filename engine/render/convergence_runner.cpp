@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 
 namespace iblx {
 namespace {
@@ -37,7 +38,14 @@ ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& c
     for (std::uint32_t seed : seeds) {
       if (stop && stop->load()) return result.interrupted = true, result;
       ConvergenceRun run{name, sequence, seed};
-      Renderer renderer(context, compiler, scene, method, seed);
+      std::optional<Renderer> made;
+      try {
+        made.emplace(context, compiler, scene, method, seed);
+      } catch (const DeviceLimitError& e) {
+        result.skipped.push_back({name, sequence, e.what()});
+        break;  // the other seeds would need the same tables
+      }
+      Renderer& renderer = *made;
       run.setupSeconds = renderer.setupSeconds();
       // A warm-up pass, then a fresh start: first-use costs (the driver compiling the pipeline on its first
       // dispatch) stay off the time axis.

@@ -35,14 +35,21 @@ struct ConvergenceImage {
   ConvergencePoint point;  // where it was taken
 };
 
+struct SkippedMethod {
+  std::string method, sequence;
+  std::string reason;  // the DeviceLimitError's message
+};
+
 struct ConvergenceResult {
   std::vector<ConvergenceRun> runs;  // method-major, then seed
   std::vector<ConvergenceImage> images;
+  std::vector<SkippedMethod> skipped;  // methods whose data exceed the device's limits
   bool interrupted = false;
 };
 
 // Every method with every seed, each from an empty accumulation to the end of the budget, recording error
-// against `reference` (object pixels) at the budget's schedule. `stop` (e.g. set by Ctrl-C) ends the
+// against `reference` (object pixels) at the budget's schedule. A method whose tables exceed the device's limits
+// (DeviceLimitError) is listed in `skipped` and the others go on. `stop` (e.g. set by Ctrl-C) ends the
 // measurement after the current point; what was recorded is kept.
 ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                  std::span<const float> reference, std::span<const ResolvedMethod> methods,

@@ -34,10 +34,11 @@ HardCase sunCase(const std::string& exponent, double ratio) {
           [ratio](int w) { return sunOverSky(w, w / 2, ratio, 2, w / 3, w / 5); }};
 }
 
-// More than 2^24 texels: 8192 x 4096, a constant sky of 1 and a sun of 1e5 in 3 x 3 texels at row 3000, whose
-// flat texel indices (about 2.46e7) are beyond what a float counts exactly.
-constexpr int kHugeWidth = 8192, kHugeHeight = 4096, kHugeSunX = 1000, kHugeSunY = 3000, kHugeSunTexels = 3;
-constexpr double kHugeSun = 1e5;
+// More than 2^24 texels: 6144 x 3072 (18.9 M), a constant sky of 1 and a sun of 1e6 in 3 x 3 texels at row 2800,
+// whose flat texel indices (about 1.72e7) are beyond what a float counts exactly. Its radiance (216 MiB) exceeds
+// lavapipe's largest storage buffer, so it also exercises the chunked upload.
+constexpr int kHugeWidth = 6144, kHugeHeight = 3072, kHugeSunX = 1000, kHugeSunY = 2800, kHugeSunTexels = 3;
+constexpr double kHugeSun = 1e6;
 
 EnvImage hugeEnvironment(int) {
   EnvImage image{kHugeWidth, kHugeHeight, std::vector<float>(3 * std::size_t(kHugeWidth) * kHugeHeight, 1.0f)};
@@ -111,11 +112,15 @@ std::vector<HardCase> makeHardCases() {
   broken.viaFile = true;
   cases.push_back(broken);
   HardCase huge{"huge-map",
-                "8192 x 4096 (2^25 texels): a constant sky and a 1e5 sun at texel indices above 2^24; Lambert, "
+                "6144 x 3072 (18.9 M texels): a constant sky and a 1e6 sun at texel indices above 2^24; Lambert, "
                 "with a closed-form reference",
                 sceneOf("lambert", {}), hugeEnvironment};
   huge.scene.width = huge.scene.height = 32;
   huge.exactReference = hugeLambertReference;
+  huge.excludedMethods = {"uniform", "cosine", "brdf"};
+  huge.exclusionReason =
+      "the sun covers 2.5e-6 sr: uniform, cosine and BRDF samples almost never reach it, so their images carry no "
+      "variance to judge them by";
   cases.push_back(huge);
   return cases;
 }

@@ -28,6 +28,9 @@ struct HardCase {
   // near-deterministic estimators (VNDF sampling) resolve reference errors of ~1e-3 relative. Such a case still
   // checks finite output; its z is reported, not judged.
   bool zTested = true;
+  // Methods left out of the default list, and why (e.g. a light no sample of theirs reaches within a budget).
+  std::vector<std::string> excludedMethods;
+  std::string exclusionReason;
   // A closed-form ground truth (object pixels; background left 0), where the convolution would take minutes.
   std::function<std::vector<float>(const Scene&)> exactReference;
 };

@@ -60,7 +60,7 @@ KernelParts referenceParts(const Scene& scene) {
 }
 
 KernelLayout sceneKernelLayout(uint32_t envBuffers, uint32_t brdfBuffers) {
-  return {{5, 0, envBuffers, 1 + brdfBuffers}, sizeof(gpu::FrameParams)};
+  return {{8, 0, envBuffers, 1 + brdfBuffers}, sizeof(gpu::FrameParams)};  // set 0: SceneGpu::frameSet
 }
 
 }  // namespace iblx

@@ -205,10 +205,24 @@ SceneGpu uploadScene(const VulkanContext& context, const Scene& scene) {
   std::vector<float> params = packParams(*scene.brdf, scene.params);
   SceneGpu gpu{Buffer::fromData(context, g.pixels, "gbuffer"),
                Buffer(context, pixels * sizeof(gpu::AccumPixel), "accumulation"),
-               Buffer::fromData(context, scene.env.rgb, "environment radiance"),
                Buffer::fromData(context, rows, "environment row table"),
                Buffer(context, sizeof(gpu::KernelStats), "kernel stats"),
                Buffer::fromData(context, params, "brdf parameters")};
+  const std::size_t texels = std::size_t(scene.env.width) * std::size_t(scene.env.height);
+  const std::size_t bytesPerTexel = 3 * sizeof(float);
+  gpu.envTexelsPerChunk = std::min<std::size_t>(texels, context.limits().maxStorageBufferRange / bytesPerTexel);
+  const std::size_t chunks = (texels + gpu.envTexelsPerChunk - 1) / gpu.envTexelsPerChunk;
+  if (chunks > kMaxEnvRadianceChunks)
+    throw DeviceLimitError("the environment map's " + std::to_string(texels * bytesPerTexel >> 20) +
+                           " MiB of radiance need " + std::to_string(chunks) + " storage buffers on this device (" +
+                           std::to_string(context.limits().maxStorageBufferRange >> 20) + " MiB each), more than " +
+                           std::to_string(kMaxEnvRadianceChunks) + "; use a smaller map");
+  for (std::size_t c = 0; c < chunks; ++c) {
+    const std::size_t first = c * gpu.envTexelsPerChunk, count = std::min(gpu.envTexelsPerChunk, texels - first);
+    const std::span<const float> chunk(scene.env.rgb.data() + 3 * first, 3 * count);
+    gpu.envRgb.push_back(Buffer::fromData(context, chunk, chunks == 1 ? "environment radiance"
+                                                                      : "environment radiance " + std::to_string(c)));
+  }
   if (scene.brdf->data) {
     const TechniqueData data = scene.brdf->data(scene);
     for (std::size_t i = 0; i < data.buffers.size(); ++i)
@@ -217,6 +231,17 @@ SceneGpu uploadScene(const VulkanContext& context, const Scene& scene) {
   gpu.accum.fill(0);
   gpu.stats.fill(0);
   return gpu;
+}
+
+std::array<const Buffer*, 8> SceneGpu::frameSet() const {
+  auto chunk = [&](std::size_t c) { return c < envRgb.size() ? &envRgb[c] : &envRgb[0]; };
+  return {&gbuffer, &accum, &envRgb[0], &envRows, &stats, chunk(1), chunk(2), chunk(3)};
+}
+
+std::vector<std::pair<std::string, std::string>> SceneGpu::envDefines() const {
+  if (envRgb.size() <= 1) return {};
+  return {{"ENV_RADIANCE_CHUNKS", std::to_string(envRgb.size())},
+          {"ENV_TEXELS_PER_CHUNK", std::to_string(envTexelsPerChunk) + "u"}};
 }
 
 std::vector<const Buffer*> SceneGpu::brdfSet(std::span<const Buffer> techniqueBuffers) const {

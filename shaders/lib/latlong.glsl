@@ -34,7 +34,20 @@ vec3 texelToDirection(ivec2 texel, vec2 t) {
 }
 
 vec3 envTexelRadiance(ivec2 texel) {
-  uint i = 3u * (uint(texel.y) * frame.envWidth + uint(texel.x));
+  uint t = uint(texel.y) * frame.envWidth + uint(texel.x);
+#if ENV_RADIANCE_CHUNKS > 1
+  uint chunk = t / ENV_TEXELS_PER_CHUNK;
+  uint i = 3u * (t - chunk * ENV_TEXELS_PER_CHUNK);
+  if (chunk == 1u) return vec3(envRgb1[i], envRgb1[i + 1u], envRgb1[i + 2u]);
+#if ENV_RADIANCE_CHUNKS > 2
+  if (chunk == 2u) return vec3(envRgb2[i], envRgb2[i + 1u], envRgb2[i + 2u]);
+#endif
+#if ENV_RADIANCE_CHUNKS > 3
+  if (chunk == 3u) return vec3(envRgb3[i], envRgb3[i + 1u], envRgb3[i + 2u]);
+#endif
+#else
+  uint i = 3u * t;
+#endif
   return vec3(envRgb[i], envRgb[i + 1u], envRgb[i + 2u]);
 }
 

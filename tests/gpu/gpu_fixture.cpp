@@ -44,6 +44,7 @@ struct ProbeRunner {
     k.defines.insert(k.defines.end(), brdfData.defines.begin(), brdfData.defines.end());
     const auto bindings = brdfBindingDefines(gpu.brdfData.size());
     k.defines.insert(k.defines.end(), bindings.begin(), bindings.end());
+    for (auto& d : gpu.envDefines()) k.defines.push_back(d);
     const auto spirv = compileKernel(gpuCompiler(), k, kernelFile);
     const auto set3 = gpu.brdfSet(brdfBuffers);
     KernelLayout layout = sceneKernelLayout(uint32_t(envBuffers.size()), uint32_t(set3.size() - 1));

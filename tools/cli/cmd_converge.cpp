@@ -77,7 +77,10 @@ int cmdConverge(const Args& args) {
   endProgressLine();
   if (result.interrupted)
     warn("interrupted: keeping the " + std::to_string(result.runs.size()) + " runs measured so far");
-  if (result.runs.empty()) throw Error("interrupted before any measurement");
+  for (const auto& skipped : result.skipped)
+    warn(skipped.method + "/" + skipped.sequence + " skipped: " + skipped.reason);
+  if (result.runs.empty())
+    throw Error(result.interrupted ? "interrupted before any measurement" : "no method could run on this device");
 
   writeConvergenceCsv(outDir / "converge.csv", result.runs);
   writeExr(outDir / "reference.exr", scene.gbuffer.width, scene.gbuffer.height, reference);

@@ -58,7 +58,15 @@ int cmdHardCases(const Args& args) {
   for (const auto& name : caseNames) {
     const HardCase& hardCase = findHardCase(name);
     const Scene scene = makeHardCaseScene(hardCase, quick ? HardCaseSize::Test : HardCaseSize::Full);
-    const std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene.brdf);
+    std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene.brdf);
+    std::string excluded;
+    if (spec.methods.empty())  // the case's exclusions apply to the default list, not to asked-for methods
+      std::erase_if(methods, [&](const ResolvedMethod& m) {
+        const auto& names = hardCase.excludedMethods;
+        if (std::find(names.begin(), names.end(), m.method->name) == names.end()) return false;
+        if (excluded.find(m.method->name) == std::string::npos) excluded += (excluded.empty() ? "" : ", ") + m.method->name;
+        return true;
+      });
     ConvergenceResult result;
     try {
       const std::vector<float> reference = obtainReference(context, compiler, scene, &hardCase, spec);
@@ -85,7 +93,8 @@ int cmdHardCases(const Args& args) {
     table << "### " << name << "\n\n" << hardCase.description << ". Env " << scene.env.width << "x"
           << scene.env.height << ", " << scene.gbuffer.width << "x" << scene.gbuffer.height << " px, "
           << summary.rows.front().spp << " spp, |z| bound " << std::to_string(zBound).substr(0, 4)
-          << (hardCase.zTested ? "" : " (not judged: the reference is not accurate enough for this lobe)") << ".\n\n"
+          << (hardCase.zTested ? "" : " (not judged: the reference is not accurate enough for this lobe)") << "."
+          << (excluded.empty() ? "" : " Not run: " + excluded + " (" + hardCase.exclusionReason + ").") << "\n\n"
           << "| rank | method | seq | relMSE | MSE × best at equal time | max |z| | NaN/Inf | check |\n"
           << "|---:|---|---|---:|---:|---:|---:|---|\n";
     for (std::size_t position = 0; position < rank.size(); ++position) {
@@ -106,6 +115,9 @@ int cmdHardCases(const Args& args) {
             static_cast<unsigned long long>(r.spp), r.relMse, r.equalTimeRatio, r.maxAbsZ, zBound,
             r.nonFiniteSamples, r.finite ? "true" : "false", ok ? "true" : "false");
     }
+    for (const auto& skipped : result.skipped)
+      table << "| — | " << skipped.method << " | " << skipped.sequence << " | skipped: " << skipped.reason
+            << " | | | | |\n";
     if (!render.json) std::printf("%s\n", table.str().c_str());
     std::fflush(stdout);
     markdown << table.str() << "\n";
