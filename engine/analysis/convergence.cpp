@@ -63,8 +63,11 @@ std::string formatNumber(double v, const char* format = "%.3g") {
 }  // namespace
 
 std::vector<std::uint64_t> sppSchedule(std::uint64_t first, std::uint64_t max, int pointsPerOctave) {
-  if (first == 0 || pointsPerOctave < 1) throw Error("spp schedule: first spp and points per octave must be >= 1");
-  if (first > max) throw Error("spp schedule: the first point (" + std::to_string(first) + " spp) exceeds the budget (" + std::to_string(max) + " spp)");
+  if (first == 0 || pointsPerOctave < 1)
+    throw Error("spp schedule: first spp and points per octave must be >= 1");
+  if (first > max)
+    throw Error("spp schedule: the first point (" + std::to_string(first) + " spp) exceeds the budget (" +
+                std::to_string(max) + " spp)");
   std::vector<std::uint64_t> schedule;
   for (int k = 0;; ++k) {
     const double target = double(first) * std::exp2(double(k) / pointsPerOctave);
@@ -159,7 +162,7 @@ ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double target
       const double t = timeToReach(*run, targetRelMse);
       toTarget.push_back(std::isnan(t) ? std::numeric_limits<double>::infinity() : t);
       efficiency.push_back(last.mse > 0 && last.wallSeconds > 0 ? 1.0 / (last.mse * last.wallSeconds)
-                                                               : std::numeric_limits<double>::infinity());
+                                                                : std::numeric_limits<double>::infinity());
       rate.push_back(last.wallSeconds > 0 ? double(last.spp) / last.wallSeconds : 0.0);
       row.maxAbsZ = std::max(row.maxAbsZ, run->finalMaxAbsZ);
       row.nonFiniteSamples += run->nonFiniteSamples;
@@ -188,7 +191,8 @@ ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double target
     std::vector<double> atEqualTime;
     for (const ConvergenceRun* run : groups[order[r]])
       atEqualTime.push_back(interpolateLogLog(column(*run, &ConvergencePoint::wallSeconds),
-                                              column(*run, &ConvergencePoint::mse), summary.equalTimeSeconds));
+                                              column(*run, &ConvergencePoint::mse),
+                                              summary.equalTimeSeconds));
     summary.rows[r].equalTimeMse = mean(atEqualTime);
     if (summary.rows[r].equalTimeMse > 0) best = std::min(best, summary.rows[r].equalTimeMse);
   }
@@ -198,15 +202,15 @@ ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double target
 
 std::string formatSummaryTable(const ConvergenceSummary& summary) {
   std::ostringstream s;
-  s << "Equal time: " << formatSeconds(summary.equalTimeSeconds) << " of rendering (the shortest run); target relMSE "
-    << formatNumber(summary.targetRelMse) << ".\n\n";
+  s << "Equal time: " << formatSeconds(summary.equalTimeSeconds)
+    << " of rendering (the shortest run); target relMSE " << formatNumber(summary.targetRelMse) << ".\n\n";
   s << "| method | seq | seeds | spp | time | setup | MSE (min–max over seeds) | relMSE | slope vs spp | "
        "time to target | MSE at equal time | × best | efficiency 1/(MSE·s) |\n";
   s << "|---|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& r : summary.rows) {
     s << "| " << r.method << " | " << r.sequence << " | " << r.seeds << " | " << r.spp << " | "
-      << formatSeconds(r.seconds) << " | " << formatSeconds(r.setupSeconds) << " | " << formatNumber(r.mse) << " ("
-      << formatNumber(r.mseLow, "%.2g") << "–" << formatNumber(r.mseHigh, "%.2g") << ") | "
+      << formatSeconds(r.seconds) << " | " << formatSeconds(r.setupSeconds) << " | " << formatNumber(r.mse)
+      << " (" << formatNumber(r.mseLow, "%.2g") << "–" << formatNumber(r.mseHigh, "%.2g") << ") | "
       << formatNumber(r.relMse) << " | " << formatNumber(r.slopeSpp, "%.2f") << " | "
       << formatSeconds(r.timeToTarget) << " | " << formatNumber(r.equalTimeMse) << " | "
       << formatNumber(r.equalTimeRatio, "%.2f") << " | " << formatNumber(r.efficiency) << " |\n";
@@ -219,15 +223,18 @@ std::string formatSummaryJson(const ConvergenceSummary& summary) {
   auto number = [](double v) { return std::isfinite(v) ? formatNumber(v, "%.9g") : std::string("null"); };
   for (const auto& r : summary.rows)
     s << "{\"method\": \"" << r.method << "\", \"sequence\": \"" << r.sequence << "\", \"seeds\": " << r.seeds
-      << ", \"spp\": " << r.spp << ", \"wall_s\": " << number(r.seconds) << ", \"setup_s\": "
-      << number(r.setupSeconds) << ", \"mse\": " << number(r.mse) << ", \"mse_min\": " << number(r.mseLow)
-      << ", \"mse_max\": " << number(r.mseHigh) << ", \"relmse\": " << number(r.relMse)
-      << ", \"slope_spp\": " << number(r.slopeSpp) << ", \"slope_time\": " << number(r.slopeTime)
-      << ", \"target_relmse\": " << number(summary.targetRelMse) << ", \"time_to_target_s\": "
-      << number(r.timeToTarget) << ", \"equal_time_s\": " << number(summary.equalTimeSeconds)
-      << ", \"equal_time_mse\": " << number(r.equalTimeMse) << ", \"equal_time_ratio\": "
-      << number(r.equalTimeRatio) << ", \"efficiency\": " << number(r.efficiency) << ", \"max_abs_z\": "
-      << number(r.maxAbsZ) << ", \"non_finite\": " << r.nonFiniteSamples << "}\n";
+      << ", \"spp\": " << r.spp << ", \"wall_s\": " << number(r.seconds)
+      << ", \"setup_s\": " << number(r.setupSeconds) << ", \"mse\": " << number(r.mse)
+      << ", \"mse_min\": " << number(r.mseLow) << ", \"mse_max\": " << number(r.mseHigh)
+      << ", \"relmse\": " << number(r.relMse) << ", \"slope_spp\": " << number(r.slopeSpp)
+      << ", \"slope_time\": " << number(r.slopeTime)
+      << ", \"target_relmse\": " << number(summary.targetRelMse)
+      << ", \"time_to_target_s\": " << number(r.timeToTarget)
+      << ", \"equal_time_s\": " << number(summary.equalTimeSeconds)
+      << ", \"equal_time_mse\": " << number(r.equalTimeMse)
+      << ", \"equal_time_ratio\": " << number(r.equalTimeRatio)
+      << ", \"efficiency\": " << number(r.efficiency) << ", \"max_abs_z\": " << number(r.maxAbsZ)
+      << ", \"non_finite\": " << r.nonFiniteSamples << "}\n";
   return s.str();
 }
 
@@ -240,8 +247,9 @@ void writeConvergenceCsv(const std::filesystem::path& path, std::span<const Conv
     for (std::size_t i = 0; i < run.points.size(); ++i) {
       const auto& p = run.points[i];
       // Method labels contain commas: quoted as CSV requires.
-      std::snprintf(line, sizeof line, ",%s,%u,%zu,%llu,%.6f,%.6f,%.9g,%.9g\n", run.sequence.c_str(), run.seed,
-                    i + 1, static_cast<unsigned long long>(p.spp), p.gpuSeconds, p.wallSeconds, p.mse, p.relMse);
+      std::snprintf(line, sizeof line, ",%s,%u,%zu,%llu,%.6f,%.6f,%.9g,%.9g\n", run.sequence.c_str(),
+                    run.seed, i + 1, static_cast<unsigned long long>(p.spp), p.gpuSeconds, p.wallSeconds,
+                    p.mse, p.relMse);
       out << '"' << run.method << '"' << line;
     }
   if (!out) throw Error(path.string() + ": write failed");

@@ -58,9 +58,9 @@ double familyZBound(double alpha, std::size_t tests);
 struct MethodSummary {
   std::string method, sequence;
   int seeds = 0;
-  std::uint64_t spp = 0;        // final spp (median over seeds)
-  double seconds = 0.0;         // final wall time (median over seeds)
-  double setupSeconds = 0.0;    // median over seeds
+  std::uint64_t spp = 0;                   // final spp (median over seeds)
+  double seconds = 0.0;                    // final wall time (median over seeds)
+  double setupSeconds = 0.0;               // median over seeds
   double mse = 0.0, relMse = 0.0;          // final, mean over seeds
   double mseLow = 0.0, mseHigh = 0.0;      // final, min and max over seeds
   double slopeSpp = 0.0, slopeTime = 0.0;  // log-log slope of MSE against spp / time (median over seeds)
@@ -76,7 +76,7 @@ struct MethodSummary {
 
 struct ConvergenceSummary {
   double targetRelMse = 0.0;
-  double equalTimeSeconds = 0.0;  // the common time: the end of the shortest run
+  double equalTimeSeconds = 0.0;    // the common time: the end of the shortest run
   std::vector<MethodSummary> rows;  // in the order the runs first appear
 };
 

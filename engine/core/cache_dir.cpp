@@ -8,7 +8,8 @@ namespace iblx {
 
 std::filesystem::path defaultCacheDir() {
   if (const char* dir = std::getenv("IBLX_CACHE_DIR")) return dir;
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::filesystem::path(xdg) / "iblx";
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
+    return std::filesystem::path(xdg) / "iblx";
   if (const char* home = std::getenv("HOME"); home && *home)
     return std::filesystem::path(home) / ".cache" / "iblx";
   return {};

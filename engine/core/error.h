@@ -12,8 +12,8 @@ class Error : public std::runtime_error {
   explicit Error(const std::string& message) : std::runtime_error(message) {}
 };
 
-// The scene needs more than the Vulkan device offers (e.g. a storage buffer larger than maxStorageBufferRange):
-// nothing is wrong with the input, and another device may run it.
+// The scene needs more than the Vulkan device offers (e.g. a storage buffer larger than
+// maxStorageBufferRange): nothing is wrong with the input, and another device may run it.
 class DeviceLimitError : public Error {
  public:
   using Error::Error;

@@ -30,7 +30,8 @@ ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& c
                                  std::span<const std::uint32_t> seeds, const ConvergenceBudget& budget,
                                  const std::function<void(const ConvergenceProgress&)>& progress,
                                  const std::atomic<bool>* stop) {
-  const std::vector<std::uint64_t> schedule = sppSchedule(budget.firstSpp, budget.maxSpp, budget.pointsPerOctave);
+  const std::vector<std::uint64_t> schedule =
+      sppSchedule(budget.firstSpp, budget.maxSpp, budget.pointsPerOctave);
   ConvergenceResult result;
   const std::size_t runs = methods.size() * seeds.size();
   for (const ResolvedMethod& method : methods) {
@@ -106,7 +107,8 @@ MethodSpec parseMethodVariant(const std::string& text) {
   bool first = true;
   while (start <= text.size()) {
     const auto colon = text.find(':', start);
-    const std::string word = text.substr(start, colon == std::string::npos ? std::string::npos : colon - start);
+    const std::string word =
+        text.substr(start, colon == std::string::npos ? std::string::npos : colon - start);
     start = colon == std::string::npos ? text.size() + 1 : colon + 1;
     const std::string where = "--method " + text + ": ";
     if (word.empty()) throw Error(where + "empty option");
@@ -135,11 +137,13 @@ MethodSpec parseMethodVariant(const std::string& text) {
     } else if (word.rfind("split=", 0) == 0) {
       char* end = nullptr;
       const double f = std::strtod(word.c_str() + 6, &end);
-      if (word.size() == 6 || *end || !(f >= 0.0 && f <= 1.0)) throw Error(where + "'" + word + "': split must be in [0, 1]");
+      if (word.size() == 6 || *end || !(f >= 0.0 && f <= 1.0))
+        throw Error(where + "'" + word + "': split must be in [0, 1]");
       spec.misEnvFraction = f;
     } else {
-      throw Error(where + "unknown option '" + word +
-                  "'; options are env and BRDF technique names, balance, power, compensated, M=N and split=F");
+      throw Error(
+          where + "unknown option '" + word +
+          "'; options are env and BRDF technique names, balance, power, compensated, M=N and split=F");
     }
   }
   return spec;

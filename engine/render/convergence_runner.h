@@ -1,5 +1,6 @@
 // Runs methods on one scene and records their error after each pass (DESIGN §7): the measuring loop of
-// `iblx converge` and `iblx hardcases`. The figures derived from the records are engine/analysis/convergence.h.
+// `iblx converge` and `iblx hardcases`. The figures derived from the records are
+// engine/analysis/convergence.h.
 #pragma once
 
 #include "engine/analysis/convergence.h"
@@ -16,10 +17,10 @@
 namespace iblx {
 
 struct ConvergenceBudget {
-  std::uint64_t firstSpp = 4;       // the first recorded point
-  std::uint64_t maxSpp = 1024;      // stop after this many samples per pixel ...
-  std::optional<double> seconds;    // ... or once this much wall time of rendering has passed
-  int pointsPerOctave = 4;          // recorded points per doubling of spp (engine/analysis sppSchedule)
+  std::uint64_t firstSpp = 4;     // the first recorded point
+  std::uint64_t maxSpp = 1024;    // stop after this many samples per pixel ...
+  std::optional<double> seconds;  // ... or once this much wall time of rendering has passed
+  int pointsPerOctave = 4;        // recorded points per doubling of spp (engine/analysis sppSchedule)
 };
 
 struct ConvergenceProgress {
@@ -48,8 +49,8 @@ struct ConvergenceResult {
 };
 
 // Every method with every seed, each from an empty accumulation to the end of the budget, recording error
-// against `reference` (object pixels) at the budget's schedule. A method whose tables exceed the device's limits
-// (DeviceLimitError) is listed in `skipped` and the others go on. `stop` (e.g. set by Ctrl-C) ends the
+// against `reference` (object pixels) at the budget's schedule. A method whose tables exceed the device's
+// limits (DeviceLimitError) is listed in `skipped` and the others go on. `stop` (e.g. set by Ctrl-C) ends the
 // measurement after the current point; what was recorded is kept.
 ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                  std::span<const float> reference, std::span<const ResolvedMethod> methods,
@@ -61,9 +62,9 @@ ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& c
 // `hardcases` run when no --method is given.
 std::vector<MethodSpec> defaultMethodSpecs(const BrdfInfo& brdf);
 
-// A method with its options in one word, as `converge --method` takes it: NAME[:OPTION]..., where an option is
-// an env technique (mis, ris), a BRDF technique (brdf, mis), balance | power, compensated, M=N (ris candidates)
-// or split=F (mis). E.g. "mis:env-hier:power", "ris:env-hier:M=32", "brdf:brdf-tab".
+// A method with its options in one word, as `converge --method` takes it: NAME[:OPTION]..., where an option
+// is an env technique (mis, ris), a BRDF technique (brdf, mis), balance | power, compensated, M=N (ris
+// candidates) or split=F (mis). E.g. "mis:env-hier:power", "ris:env-hier:M=32", "brdf:brdf-tab".
 MethodSpec parseMethodVariant(const std::string& text);
 
 }  // namespace iblx

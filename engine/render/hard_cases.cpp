@@ -34,14 +34,15 @@ HardCase sunCase(const std::string& exponent, double ratio) {
           [ratio](int w) { return sunOverSky(w, w / 2, ratio, 2, w / 3, w / 5); }};
 }
 
-// More than 2^24 texels: 6144 x 3072 (18.9 M), a constant sky of 1 and a sun of 1e6 in 3 x 3 texels at row 2800,
-// whose flat texel indices (about 1.72e7) are beyond what a float counts exactly. Its radiance (216 MiB) exceeds
-// lavapipe's largest storage buffer, so it also exercises the chunked upload.
+// More than 2^24 texels: 6144 x 3072 (18.9 M), a constant sky of 1 and a sun of 1e6 in 3 x 3 texels at row
+// 2800, whose flat texel indices (about 1.72e7) are beyond what a float counts exactly. Its radiance (216
+// MiB) exceeds lavapipe's largest storage buffer, so it also exercises the chunked upload.
 constexpr int kHugeWidth = 6144, kHugeHeight = 3072, kHugeSunX = 1000, kHugeSunY = 2800, kHugeSunTexels = 3;
 constexpr double kHugeSun = 1e6;
 
 EnvImage hugeEnvironment(int) {
-  EnvImage image{kHugeWidth, kHugeHeight, std::vector<float>(3 * std::size_t(kHugeWidth) * kHugeHeight, 1.0f)};
+  EnvImage image{kHugeWidth, kHugeHeight,
+                 std::vector<float>(3 * std::size_t(kHugeWidth) * kHugeHeight, 1.0f)};
   for (int y = kHugeSunY; y < kHugeSunY + kHugeSunTexels; ++y)
     for (int x = kHugeSunX; x < kHugeSunX + kHugeSunTexels; ++x)
       for (int c = 0; c < 3; ++c) image.rgb[3 * image.index(x, y) + c] = float(kHugeSun);
@@ -57,7 +58,8 @@ std::vector<float> hugeLambertReference(const Scene& scene) {
   for (std::size_t i = 0; i < scene.gbuffer.pixels.size(); ++i) {
     const auto& pixel = scene.gbuffer.pixels[i];
     if (pixel.normal.w == 0.0f) continue;
-    const glm::dvec3 n = worldToEnv(glm::normalize(glm::dvec3(pixel.normal.x, pixel.normal.y, pixel.normal.z)), scene.envRotationDeg);
+    const glm::dvec3 n = worldToEnv(
+        glm::normalize(glm::dvec3(pixel.normal.x, pixel.normal.y, pixel.normal.z)), scene.envRotationDeg);
     double sunIrradiance = 0.0;
     for (int y = kHugeSunY; y < kHugeSunY + kHugeSunTexels; ++y) {
       const double omega = latLongTexelSolidAngle(y, kHugeWidth, kHugeHeight);
@@ -89,15 +91,15 @@ std::vector<HardCase> makeHardCases() {
   cases.push_back({"zero-half",
                    "sky of 1 on the upper half, a 1e6 sun in 2 texels, the lower half exactly 0; Lambert",
                    sceneOf("lambert", {}), [](int w) { return sunAndZeroHalf(w, w / 2); }});
-  cases.push_back({"pole",
-                   "energy in the two top rows (1000x), 1e-3 elsewhere; GGX a = 0.05 dielectric",
+  cases.push_back({"pole", "energy in the two top rows (1000x), 1e-3 elsewhere; GGX a = 0.05 dielectric",
                    sceneOf("ggx", {{"roughness", "0.05"}, {"metallic", "0"}}),
                    [](int w) { return poleEnergy(w, w / 2); }});
-  cases.push_back({"grazing",
-                   "a plane seen 85 degrees from its normal (every pixel has n.wo = 0.087) under a 1e4 sun; GGX "
-                   "a = 0.3",
-                   sceneOf("ggx", {{"roughness", "0.3"}}, "plane", {0.0, 85.0, 1.0}),
-                   [](int w) { return sunOverSky(w, w / 2, 1e4, 2, w / 3, w / 5); }});
+  cases.push_back(
+      {"grazing",
+       "a plane seen 85 degrees from its normal (every pixel has n.wo = 0.087) under a 1e4 sun; GGX "
+       "a = 0.3",
+       sceneOf("ggx", {{"roughness", "0.3"}}, "plane", {0.0, 85.0, 1.0}),
+       [](int w) { return sunOverSky(w, w / 2, 1e4, 2, w / 3, w / 5); }});
   HardCase mirror{"mirror", "GGX a = 1e-3, metal (a near-mirror lobe) under a smooth sky with a 1e4 sun",
                   sceneOf("ggx", {{"roughness", "0.001"}, {"metallic", "1"}}),
                   [](int w) { return sunOverSky(w, w / 2, 1e4, 2, w / 3, w / 5); }};
@@ -106,20 +108,23 @@ std::vector<HardCase> makeHardCases() {
   mirror.testEnvWidth = 256;
   mirror.zTested = false;
   cases.push_back(mirror);
-  HardCase broken{"bad-texels",
-                  "an EXR with NaN, +Inf, -Inf and negative texels (1 in 97 values), repaired at load; GGX a = 0.3",
-                  sceneOf("ggx", {{"roughness", "0.3"}}), brokenEnvironment};
+  HardCase broken{
+      "bad-texels",
+      "an EXR with NaN, +Inf, -Inf and negative texels (1 in 97 values), repaired at load; GGX a = 0.3",
+      sceneOf("ggx", {{"roughness", "0.3"}}), brokenEnvironment};
   broken.viaFile = true;
   cases.push_back(broken);
-  HardCase huge{"huge-map",
-                "6144 x 3072 (18.9 M texels): a constant sky and a 1e6 sun at texel indices above 2^24; Lambert, "
-                "with a closed-form reference",
-                sceneOf("lambert", {}), hugeEnvironment};
+  HardCase huge{
+      "huge-map",
+      "6144 x 3072 (18.9 M texels): a constant sky and a 1e6 sun at texel indices above 2^24; Lambert, "
+      "with a closed-form reference",
+      sceneOf("lambert", {}), hugeEnvironment};
   huge.scene.width = huge.scene.height = 32;
   huge.exactReference = hugeLambertReference;
   huge.excludedMethods = {"uniform", "cosine", "brdf"};
   huge.exclusionReason =
-      "the sun covers 2.5e-6 sr: uniform, cosine and BRDF samples almost never reach it, so their images carry no "
+      "the sun covers 2.5e-6 sr: uniform, cosine and BRDF samples almost never reach it, so their images "
+      "carry no "
       "variance to judge them by";
   cases.push_back(huge);
   return cases;

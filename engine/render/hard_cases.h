@@ -1,8 +1,8 @@
-// The hard-case suite (DESIGN §5, issue 6): named scenes that stress samplers (suns 1e3-1e6 over a few texels,
-// an exactly-zero half, energy at a pole, grazing-only pixels, a near-mirror GGX, a file with NaN, Inf and
-// negative texels, a map of more than 2^24 texels). `iblx hardcases` runs every method on each and checks
-// finite output and convergence to the reference; `iblx converge --case NAME` measures one; the GPU tests run
-// each at a small size.
+// The hard-case suite (DESIGN §5, issue 6): named scenes that stress samplers (suns 1e3-1e6 over a few
+// texels, an exactly-zero half, energy at a pole, grazing-only pixels, a near-mirror GGX, a file with NaN,
+// Inf and negative texels, a map of more than 2^24 texels). `iblx hardcases` runs every method on each and
+// checks finite output and convergence to the reference; `iblx converge --case NAME` measures one; the GPU
+// tests run each at a small size.
 #pragma once
 
 #include "engine/render/scene.h"
@@ -25,8 +25,8 @@ struct HardCase {
   int testEnvWidth = 64;  // test size
   bool viaFile = false;   // written as an EXR and read back, so the loader's sanitation is part of the case
   // False when the convolution reference is not accurate enough for the z-test: the near-mirror lobe, where
-  // near-deterministic estimators (VNDF sampling) resolve reference errors of ~1e-3 relative. Such a case still
-  // checks finite output; its z is reported, not judged.
+  // near-deterministic estimators (VNDF sampling) resolve reference errors of ~1e-3 relative. Such a case
+  // still checks finite output; its z is reported, not judged.
   bool zTested = true;
   // Methods left out of the default list, and why (e.g. a light no sample of theirs reaches within a budget).
   std::vector<std::string> excludedMethods;
@@ -39,7 +39,10 @@ std::span<const HardCase> hardCases();
 // Throws iblx::Error listing the valid names.
 const HardCase& findHardCase(const std::string& name);
 
-enum class HardCaseSize { Full, Test };  // Test: testEnvWidth-wide maps, 24 px images (the huge map stays huge)
+enum class HardCaseSize {
+  Full,
+  Test
+};  // Test: testEnvWidth-wide maps, 24 px images (the huge map stays huge)
 
 // The case's scene. A case with viaFile writes its map to a temporary EXR and loads it like --env would
 // (warning with the count of repaired texels).

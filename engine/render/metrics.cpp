@@ -54,9 +54,11 @@ double MeanErrorZTest::maxAbsZ() const {
   return std::max({std::abs(z[0]), std::abs(z[1]), std::abs(z[2])});
 }
 
-MeanErrorZTest zTestMeanError(const GBuffer& gbuffer, std::span<const float> mean, std::span<const float> variance,
-                              double samplesPerPixel, std::span<const float> reference) {
-  if (mean.size() != reference.size() || variance.size() != mean.size() || mean.size() != gbuffer.pixels.size() * 3)
+MeanErrorZTest zTestMeanError(const GBuffer& gbuffer, std::span<const float> mean,
+                              std::span<const float> variance, double samplesPerPixel,
+                              std::span<const float> reference) {
+  if (mean.size() != reference.size() || variance.size() != mean.size() ||
+      mean.size() != gbuffer.pixels.size() * 3)
     throw Error("image, variance and reference sizes differ");
   MeanErrorZTest t;
   double count = 0;

@@ -33,7 +33,8 @@ struct MeanErrorZTest {
   double standardError[3] = {0, 0, 0};
   double maxAbsZ() const;
 };
-MeanErrorZTest zTestMeanError(const GBuffer& gbuffer, std::span<const float> mean, std::span<const float> variance,
-                              double samplesPerPixel, std::span<const float> reference);
+MeanErrorZTest zTestMeanError(const GBuffer& gbuffer, std::span<const float> mean,
+                              std::span<const float> variance, double samplesPerPixel,
+                              std::span<const float> reference);
 
 }  // namespace iblx

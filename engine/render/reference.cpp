@@ -90,11 +90,12 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
                      float(brightFine), float(horizonBand), float(horizonFine)};
   params.quadrature = {float(coarse), float(fine), float(fineZoneCos), 0.0f};
 
-  // Dispatches over runs of texels (row-major). lavapipe caps the loop iterations one invocation may run (about
-  // 65535 back-edges in all; beyond it loops end early and the sum silently misses texels), so each run's
-  // worst-case iteration count stays under kIterationBudget: a texel costs one texel-loop iteration plus its
-  // sub-cell loop, k^2 for the largest k any pixel may give it (any texel may lie in some pixel's fine zone or
-  // horizon band; only the bright ones get brightFine). Runs also bound the work per dispatch (watchdogs, progress).
+  // Dispatches over runs of texels (row-major). lavapipe caps the loop iterations one invocation may run
+  // (about 65535 back-edges in all; beyond it loops end early and the sum silently misses texels), so each
+  // run's worst-case iteration count stays under kIterationBudget: a texel costs one texel-loop iteration
+  // plus its sub-cell loop, k^2 for the largest k any pixel may give it (any texel may lie in some pixel's
+  // fine zone or horizon band; only the bright ones get brightFine). Runs also bound the work per dispatch
+  // (watchdogs, progress).
   constexpr double kIterationBudget = 50000;
   const double workPerIteration = double(scene.gbuffer.objectPixelCount());
   const double kCommon = std::max({double(coarse), double(fine), double(horizonFine)});
@@ -106,7 +107,8 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
     for (std::size_t i = 0; i < texels; ++i) {
       const double k = energies[i] >= brightEnergy ? std::max(kCommon, double(brightFine)) : kCommon;
       const double cost = 1.0 + k * k;
-      if (i > begin && (iterations + cost > kIterationBudget || (iterations + cost) * workPerIteration > 4e8)) {
+      if (i > begin &&
+          (iterations + cost > kIterationBudget || (iterations + cost) * workPerIteration > 4e8)) {
         runs.emplace_back(begin, uint32_t(i));
         begin = uint32_t(i);
         iterations = 0;
@@ -143,8 +145,9 @@ std::uint64_t referenceKey(const Scene& scene, const ReferenceOptions& options) 
   constexpr std::string_view kAlgorithmVersion = "iblx-reference-1";
   ContentHash hash;
   hash.add(kAlgorithmVersion);
-  const int sizes[] = {scene.env.width, scene.env.height, scene.gbuffer.width, scene.gbuffer.height,
-                       options.coarseSubdivisions, options.maxFineSubdivisions, int(options.allowMidpoint)};
+  const int sizes[] = {scene.env.width,           scene.env.height,           scene.gbuffer.width,
+                       scene.gbuffer.height,      options.coarseSubdivisions, options.maxFineSubdivisions,
+                       int(options.allowMidpoint)};
   hash.add(std::span<const int>(sizes));
   hash.add(std::span<const float>(scene.env.rgb));
   hash.addBytes(&scene.envRotationDeg, sizeof scene.envRotationDeg);

@@ -210,18 +210,21 @@ SceneGpu uploadScene(const VulkanContext& context, const Scene& scene) {
                Buffer::fromData(context, params, "brdf parameters")};
   const std::size_t texels = std::size_t(scene.env.width) * std::size_t(scene.env.height);
   const std::size_t bytesPerTexel = 3 * sizeof(float);
-  gpu.envTexelsPerChunk = std::min<std::size_t>(texels, context.limits().maxStorageBufferRange / bytesPerTexel);
+  gpu.envTexelsPerChunk =
+      std::min<std::size_t>(texels, context.limits().maxStorageBufferRange / bytesPerTexel);
   const std::size_t chunks = (texels + gpu.envTexelsPerChunk - 1) / gpu.envTexelsPerChunk;
   if (chunks > kMaxEnvRadianceChunks)
-    throw DeviceLimitError("the environment map's " + std::to_string(texels * bytesPerTexel >> 20) +
-                           " MiB of radiance need " + std::to_string(chunks) + " storage buffers on this device (" +
-                           std::to_string(context.limits().maxStorageBufferRange >> 20) + " MiB each), more than " +
-                           std::to_string(kMaxEnvRadianceChunks) + "; use a smaller map");
+    throw DeviceLimitError(
+        "the environment map's " + std::to_string(texels * bytesPerTexel >> 20) + " MiB of radiance need " +
+        std::to_string(chunks) + " storage buffers on this device (" +
+        std::to_string(context.limits().maxStorageBufferRange >> 20) + " MiB each), more than " +
+        std::to_string(kMaxEnvRadianceChunks) + "; use a smaller map");
   for (std::size_t c = 0; c < chunks; ++c) {
-    const std::size_t first = c * gpu.envTexelsPerChunk, count = std::min(gpu.envTexelsPerChunk, texels - first);
+    const std::size_t first = c * gpu.envTexelsPerChunk,
+                      count = std::min(gpu.envTexelsPerChunk, texels - first);
     const std::span<const float> chunk(scene.env.rgb.data() + 3 * first, 3 * count);
-    gpu.envRgb.push_back(Buffer::fromData(context, chunk, chunks == 1 ? "environment radiance"
-                                                                      : "environment radiance " + std::to_string(c)));
+    gpu.envRgb.push_back(Buffer::fromData(
+        context, chunk, chunks == 1 ? "environment radiance" : "environment radiance " + std::to_string(c)));
   }
   if (scene.brdf->data) {
     const TechniqueData data = scene.brdf->data(scene);

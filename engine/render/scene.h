@@ -108,13 +108,13 @@ Scene loadScene(const SceneSpec& spec, LoadedBrdf brdf);  // the same with the -
 ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf);
 
 // Set-0 and set-3 buffers shared by the integrator and the reference kernel.
-// A map's radiance may exceed the device's largest storage buffer (lavapipe: 128 MiB, 11 M texels): it is then
-// uploaded in up to this many buffers of whole texels (shaders/lib/frame_resources.glsl).
+// A map's radiance may exceed the device's largest storage buffer (lavapipe: 128 MiB, 11 M texels): it is
+// then uploaded in up to this many buffers of whole texels (shaders/lib/frame_resources.glsl).
 inline constexpr std::size_t kMaxEnvRadianceChunks = 4;
 
 struct SceneGpu {
   Buffer gbuffer, accum, envRows, stats, brdfParams;
-  std::vector<Buffer> envRgb;       // the radiance in chunks of envTexelsPerChunk texels (usually one)
+  std::vector<Buffer> envRgb;  // the radiance in chunks of envTexelsPerChunk texels (usually one)
   std::size_t envTexelsPerChunk = 0;
   std::vector<Buffer> brdfData;  // the BRDF's own buffers (BrdfInfo::data), bindings 1.. of set 3
   // Set 0 (shaders/lib/frame_resources.glsl) in binding order; bindings 5-7 repeat chunk 0 when unused.

@@ -24,9 +24,9 @@ Buffer::Buffer(const VulkanContext& context, vk::DeviceSize size, std::string na
     : size_(std::max<vk::DeviceSize>(size, 16)), name_(std::move(name)) {
   if (size_ > context.limits().maxStorageBufferRange)
     throw DeviceLimitError("buffer '" + name_ + "' needs " + std::to_string(size_ >> 20) +
-                " MiB, more than this device's " + "largest storage buffer (" +
-                std::to_string(context.limits().maxStorageBufferRange >> 20) +
-                " MiB); use a smaller environment map or image");
+                           " MiB, more than this device's " + "largest storage buffer (" +
+                           std::to_string(context.limits().maxStorageBufferRange >> 20) +
+                           " MiB); use a smaller environment map or image");
   using U = vk::BufferUsageFlagBits;
   buffer_ = vk::raii::Buffer(
       context.device(),

@@ -37,7 +37,7 @@ struct FrameParams {
   uint height;
   uint envWidth;
   uint envHeight;
-  uint sampleOffset;    // samples already accumulated per pixel (reference kernel: first texel of the dispatch)
+  uint sampleOffset;  // samples already accumulated per pixel (reference kernel: first texel of the dispatch)
   uint samplesPerPass;  // samples added by this dispatch (reference kernel: end texel of the dispatch)
   uint seed;
   uint probeMode;    // test probes (tests/gpu/probe): which query to answer

@@ -110,8 +110,10 @@ TEST_CASE("familyZBound: the normal quantiles, Sidak-corrected") {
 }
 
 TEST_CASE("writeConvergenceCsv: one row per point, method labels quoted") {
-  const auto path = std::filesystem::temp_directory_path() / ("iblx-csv-" + std::to_string(::getpid()) + ".csv");
-  std::vector<ConvergenceRun> runs = {powerLawRun("mis(env-cdf+ggx-vndf, balance 0.5)", 3, 1.0, 0.01, {4, 8})};
+  const auto path =
+      std::filesystem::temp_directory_path() / ("iblx-csv-" + std::to_string(::getpid()) + ".csv");
+  std::vector<ConvergenceRun> runs = {
+      powerLawRun("mis(env-cdf+ggx-vndf, balance 0.5)", 3, 1.0, 0.01, {4, 8})};
   writeConvergenceCsv(path, runs);
   std::ifstream in(path);
   std::string header, first, second, extra;

@@ -73,8 +73,8 @@ TEST_CASE("hard case huge-map: more than 2^24 texels, closed-form reference") {
   const HardCase& huge = findHardCase("huge-map");
   const Scene scene = makeHardCaseScene(huge, HardCaseSize::Test);
   CHECK(std::size_t(scene.env.width) * scene.env.height > (std::size_t(1) << 24));
-  // The table-based env techniques (their indices run past 2^24), MIS and RIS: four estimators that agree with
-  // the closed form.
+  // The table-based env techniques (their indices run past 2^24), MIS and RIS: four estimators that agree
+  // with the closed form.
   std::vector<ResolvedMethod> methods;
   CHECK(huge.excludedMethods == std::vector<std::string>{"uniform", "cosine", "brdf"});
   for (const char* name : {"env-cdf", "env-hier", "mis", "ris"})
@@ -142,7 +142,8 @@ TEST_CASE("runConvergence: error falls like 1/N on the schedule; Ctrl-C keeps wh
   budget.firstSpp = 8;
   budget.maxSpp = 2048;
   budget.pointsPerOctave = 2;
-  const ConvergenceResult r = runConvergence(gpuContext(), gpuCompiler(), scene, ref.rgb, methods, seeds, budget);
+  const ConvergenceResult r =
+      runConvergence(gpuContext(), gpuCompiler(), scene, ref.rgb, methods, seeds, budget);
   REQUIRE(r.runs.size() == 3);
   REQUIRE(r.images.size() == 1);
   const ConvergenceSummary s = summarize(r.runs, 1e-4);

@@ -1,6 +1,6 @@
 // `iblx converge`: speed against error (DESIGN §7). Runs methods x sequences x seeds on one scene, records
-// MSE and relMSE against the ground truth after each point of a log-spaced sample schedule, and writes the CSV,
-// the summary table and the PNG figures.
+// MSE and relMSE against the ground truth after each point of a log-spaced sample schedule, and writes the
+// CSV, the summary table and the PNG figures.
 #include "engine/analysis/convergence.h"
 #include "engine/core/error.h"
 #include "engine/core/log.h"
@@ -25,7 +25,8 @@ int cmdConverge(const Args& args) {
   bool sizeGiven = false;
   ArgParser parser("converge");
   addSceneFlags(parser, render);
-  parser.value("--case", "NAME", "a scene of the hard-case suite instead of --env/--brdf/... (see `iblx hardcases --list`)",
+  parser.value("--case", "NAME",
+               "a scene of the hard-case suite instead of --env/--brdf/... (see `iblx hardcases --list`)",
                [&](const std::string& v) { caseName = findHardCase(v).name; });
   addMeasurementFlags(parser, spec);
   addDeviceFlags(parser, render);
@@ -44,7 +45,8 @@ int cmdConverge(const Args& args) {
   const ConvergenceBudget budget = spec.finalBudget();
   std::error_code ec;
   std::filesystem::create_directories(outDir, ec);
-  if (!std::filesystem::is_directory(outDir)) throw Error("--out-dir " + outDir.string() + ": cannot create it");
+  if (!std::filesystem::is_directory(outDir))
+    throw Error("--out-dir " + outDir.string() + ": cannot create it");
   std::optional<LoadedBrdf> brdf;
   if (!hardCase) {
     brdf = loadBrdfArgument(render.scene.brdf);
@@ -63,9 +65,10 @@ int cmdConverge(const Args& args) {
   ShaderCompiler compiler;
   const std::vector<float> reference = obtainReference(context, compiler, scene, hardCase, spec);
 
-  const std::string sceneTitle = (hardCase ? "case " + hardCase->name + ", " : std::string()) + scene.brdf->name +
-                                 ", env " + std::to_string(scene.env.width) + "x" + std::to_string(scene.env.height) +
-                                 ", " + std::to_string(scene.gbuffer.width) + "x" + std::to_string(scene.gbuffer.height);
+  const std::string sceneTitle =
+      (hardCase ? "case " + hardCase->name + ", " : std::string()) + scene.brdf->name + ", env " +
+      std::to_string(scene.env.width) + "x" + std::to_string(scene.env.height) + ", " +
+      std::to_string(scene.gbuffer.width) + "x" + std::to_string(scene.gbuffer.height);
   std::fprintf(stderr, "converge: %zu methods x %zu seeds on %s (%s)\n", methods.size(), seeds.size(),
                context.deviceName().c_str(), sceneTitle.c_str());
   ConvergenceResult result;
@@ -80,7 +83,8 @@ int cmdConverge(const Args& args) {
   for (const auto& skipped : result.skipped)
     warn(skipped.method + "/" + skipped.sequence + " skipped: " + skipped.reason);
   if (result.runs.empty())
-    throw Error(result.interrupted ? "interrupted before any measurement" : "no method could run on this device");
+    throw Error(result.interrupted ? "interrupted before any measurement"
+                                   : "no method could run on this device");
 
   writeConvergenceCsv(outDir / "converge.csv", result.runs);
   writeExr(outDir / "reference.exr", scene.gbuffer.width, scene.gbuffer.height, reference);
@@ -93,8 +97,8 @@ int cmdConverge(const Args& args) {
   const std::string table = formatSummaryTable(summary);
   {
     std::ofstream md(outDir / "summary.md");
-    md << "# iblx converge: " << sceneTitle << "\n\nDevice: " << context.deviceName() << ". Seeds: " << seeds.size()
-       << ". Budget per run: "
+    md << "# iblx converge: " << sceneTitle << "\n\nDevice: " << context.deviceName()
+       << ". Seeds: " << seeds.size() << ". Budget per run: "
        << (budget.seconds ? std::to_string(*budget.seconds) + " s" : std::to_string(budget.maxSpp) + " spp")
        << (result.interrupted ? " (interrupted)" : "") << ".\n\n"
        << table;

@@ -1,6 +1,6 @@
-// `iblx hardcases`: the hard-case suite (DESIGN §5). Runs every method on each case and checks that the output
-// is finite and converges to the reference (z-test of the image-mean error, family-wise false-alarm rate
-// 1e-3), then ranks the methods by MSE at equal time. Exit status 1 when any check fails.
+// `iblx hardcases`: the hard-case suite (DESIGN §5). Runs every method on each case and checks that the
+// output is finite and converges to the reference (z-test of the image-mean error, family-wise false-alarm
+// rate 1e-3), then ranks the methods by MSE at equal time. Exit status 1 when any check fails.
 #include "engine/analysis/convergence.h"
 #include "engine/core/error.h"
 #include "engine/core/log.h"
@@ -28,14 +28,16 @@ int cmdHardCases(const Args& args) {
   parser.toggle("--list", "list the cases and exit", [&] { list = true; });
   parser.value("--case", "NAME", "only this case (repeatable; default: every case)",
                [&](const std::string& v) { caseNames.push_back(findHardCase(v).name); });
-  parser.toggle("--quick", "the test sizes: small maps (64 texels wide for most cases) and 24 px images", [&] { quick = true; });
+  parser.toggle("--quick", "the test sizes: small maps (64 texels wide for most cases) and 24 px images",
+                [&] { quick = true; });
   addMeasurementFlags(parser, spec);
   addDeviceFlags(parser, render);
   parser.value("--alpha", "A", "family-wise false-alarm rate of the z-tests (default 1e-3)",
                [&](const std::string& v) { familyAlpha = parseDouble("--alpha", v, 1e-12, 0.5); });
   parser.value("--out-dir", "DIR", "also write one CSV per case and hardcases.md there",
                [&](const std::string& v) { outDir = v; });
-  parser.toggle("--json", "one JSON object per case and method instead of the tables", [&] { render.json = true; });
+  parser.toggle("--json", "one JSON object per case and method instead of the tables",
+                [&] { render.json = true; });
   if (parser.parseOrShowHelp(args)) return 0;
   if (list) {
     for (const auto& c : hardCases()) std::printf("%-12s %s\n", c.name.c_str(), c.description.c_str());
@@ -48,7 +50,8 @@ int cmdHardCases(const Args& args) {
   if (!outDir.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(outDir, ec);
-    if (!std::filesystem::is_directory(outDir)) throw Error("--out-dir " + outDir.string() + ": cannot create it");
+    if (!std::filesystem::is_directory(outDir))
+      throw Error("--out-dir " + outDir.string() + ": cannot create it");
   }
   VulkanContext context({render.device, render.validation ? Validation::On : Validation::Auto});
   ShaderCompiler compiler;
@@ -64,17 +67,19 @@ int cmdHardCases(const Args& args) {
       std::erase_if(methods, [&](const ResolvedMethod& m) {
         const auto& names = hardCase.excludedMethods;
         if (std::find(names.begin(), names.end(), m.method->name) == names.end()) return false;
-        if (excluded.find(m.method->name) == std::string::npos) excluded += (excluded.empty() ? "" : ", ") + m.method->name;
+        if (excluded.find(m.method->name) == std::string::npos)
+          excluded += (excluded.empty() ? "" : ", ") + m.method->name;
         return true;
       });
     ConvergenceResult result;
     try {
       const std::vector<float> reference = obtainReference(context, compiler, scene, &hardCase, spec);
-      result = runConvergence(context, compiler, scene, reference, methods, seedList(spec), budget, showProgress,
-                              &interrupt.flag());
+      result = runConvergence(context, compiler, scene, reference, methods, seedList(spec), budget,
+                              showProgress, &interrupt.flag());
     } catch (const DeviceLimitError& e) {
       endProgressLine();
-      const std::string note = "### " + name + "\n\nSkipped on " + context.deviceName() + ": " + e.what() + "\n";
+      const std::string note =
+          "### " + name + "\n\nSkipped on " + context.deviceName() + ": " + e.what() + "\n";
       std::printf("%s\n", note.c_str());
       markdown << note << "\n";
       continue;
@@ -90,11 +95,13 @@ int cmdHardCases(const Args& args) {
       return summary.rows[a].equalTimeRatio < summary.rows[b].equalTimeRatio;
     });
     std::ostringstream table;
-    table << "### " << name << "\n\n" << hardCase.description << ". Env " << scene.env.width << "x"
-          << scene.env.height << ", " << scene.gbuffer.width << "x" << scene.gbuffer.height << " px, "
-          << summary.rows.front().spp << " spp, |z| bound " << std::to_string(zBound).substr(0, 4)
-          << (hardCase.zTested ? "" : " (not judged: the reference is not accurate enough for this lobe)") << "."
-          << (excluded.empty() ? "" : " Not run: " + excluded + " (" + hardCase.exclusionReason + ").") << "\n\n"
+    table << "### " << name << "\n\n"
+          << hardCase.description << ". Env " << scene.env.width << "x" << scene.env.height << ", "
+          << scene.gbuffer.width << "x" << scene.gbuffer.height << " px, " << summary.rows.front().spp
+          << " spp, |z| bound " << std::to_string(zBound).substr(0, 4)
+          << (hardCase.zTested ? "" : " (not judged: the reference is not accurate enough for this lobe)")
+          << "." << (excluded.empty() ? "" : " Not run: " + excluded + " (" + hardCase.exclusionReason + ").")
+          << "\n\n"
           << "| rank | method | seq | relMSE | MSE × best at equal time | max |z| | NaN/Inf | check |\n"
           << "|---:|---|---|---:|---:|---:|---:|---|\n";
     for (std::size_t position = 0; position < rank.size(); ++position) {

@@ -54,7 +54,8 @@ std::string slug(const std::string& text) {
 
 }  // namespace
 
-std::vector<std::string> writeConvergencePlots(const std::filesystem::path& dir, const std::string& sceneTitle,
+std::vector<std::string> writeConvergencePlots(const std::filesystem::path& dir,
+                                               const std::string& sceneTitle,
                                                std::span<const ConvergenceRun> runs) {
   // Groups in first-seen order; a method keeps its colour across sequences, later sequences are dashed.
   std::vector<std::pair<std::string, std::string>> order;
@@ -85,7 +86,8 @@ std::vector<std::string> writeConvergencePlots(const std::filesystem::path& dir,
         s.x = c.x;
         s.y = c.y;
         if (groups[key].size() > 1) s.yLow = c.low, s.yHigh = c.high;
-        const auto methodIndex = std::size_t(std::find(methods.begin(), methods.end(), key.first) - methods.begin());
+        const auto methodIndex =
+            std::size_t(std::find(methods.begin(), methods.end(), key.first) - methods.begin());
         s.color = paletteColor(methodIndex);
         s.dashed = key.second != sequences.front();
         plot.series.push_back(std::move(s));
@@ -121,8 +123,9 @@ std::vector<std::string> writeErrorHeatMaps(const std::filesystem::path& dir, co
     const auto& image = images[i];
     HeatMap map;
     char title[256];
-    std::snprintf(title, sizeof title, "%s/%s at %llu spp, %.2f s", image.method.c_str(), image.sequence.c_str(),
-                  static_cast<unsigned long long>(image.point.spp), image.point.wallSeconds);
+    std::snprintf(title, sizeof title, "%s/%s at %llu spp, %.2f s", image.method.c_str(),
+                  image.sequence.c_str(), static_cast<unsigned long long>(image.point.spp),
+                  image.point.wallSeconds);
     map.title = title;
     map.width = gbuffer.width;
     map.height = gbuffer.height;

@@ -14,7 +14,8 @@ namespace iblx::cli {
 
 // Writes mse_vs_spp.png, mse_vs_time.png, relmse_vs_spp.png and relmse_vs_time.png into `dir`; returns the
 // file names written.
-std::vector<std::string> writeConvergencePlots(const std::filesystem::path& dir, const std::string& sceneTitle,
+std::vector<std::string> writeConvergencePlots(const std::filesystem::path& dir,
+                                               const std::string& sceneTitle,
                                                std::span<const ConvergenceRun> runs);
 
 // One heat map per final image, heat-NN-<method>-<sequence>.png, of the per-pixel relative squared error on a

@@ -31,9 +31,8 @@ void addMeasurementFlags(ArgParser& p, MeasurementSpec& s) {
             parseMethodVariant(v);  // reports a bad word now, with the flag
             s.methods.push_back(v);
           });
-  p.value("--seq", "NAME", "a sequence, repeatable (default: every sequence)", [&](const std::string& v) {
-    s.sequences.push_back(findSequence(v).name);
-  });
+  p.value("--seq", "NAME", "a sequence, repeatable (default: every sequence)",
+          [&](const std::string& v) { s.sequences.push_back(findSequence(v).name); });
   p.value("--seeds", "K", "independent runs per method, seeds N..N+K-1 (default 3)",
           [&](const std::string& v) { s.seeds = parseUint("--seeds", v, 1, 1000); });
   p.value("--seed", "N", "first seed (default 1)",
@@ -43,12 +42,13 @@ void addMeasurementFlags(ArgParser& p, MeasurementSpec& s) {
   p.value("--max-spp", "N", "budget: samples per pixel per run (default 1024; with --time, unlimited)",
           [&](const std::string& v) { s.maxSpp = parseUint("--max-spp", v, 1, 1u << 30); });
   p.value("--time", "S", "budget: seconds of rendering per run (the run ends at the first point past S)",
-          [&](const std::string& v) {
-            s.budget.seconds = parseDouble("--time", v, 1e-3, 1e6);
-          });
+          [&](const std::string& v) { s.budget.seconds = parseDouble("--time", v, 1e-3, 1e6); });
   p.value("--points-per-octave", "P", "recorded points per doubling of spp (default 4)",
-          [&](const std::string& v) { s.budget.pointsPerOctave = int(parseUint("--points-per-octave", v, 1, 64)); });
-  p.value("--reference-file", "FILE", "the ground truth as an EXR of `iblx reference` (default: computed, cached)",
+          [&](const std::string& v) {
+            s.budget.pointsPerOctave = int(parseUint("--points-per-octave", v, 1, 64));
+          });
+  p.value("--reference-file", "FILE",
+          "the ground truth as an EXR of `iblx reference` (default: computed, cached)",
           [&](const std::string& v) { s.referenceFile = v; });
   p.toggle("--no-cache", "compute the ground truth even when the cache holds it, and do not store it",
            [&] { s.noCache = true; });
@@ -74,7 +74,9 @@ std::vector<ResolvedMethod> resolveMethods(const MeasurementSpec& spec, const Br
 
 ConvergenceBudget MeasurementSpec::finalBudget() const {
   ConvergenceBudget b = budget;
-  b.maxSpp = maxSpp ? *maxSpp : budget.seconds ? (std::uint64_t(1) << 32) - 4096 : 1024;  // the sample index is 32-bit
+  b.maxSpp = maxSpp           ? *maxSpp
+             : budget.seconds ? (std::uint64_t(1) << 32) - 4096
+                              : 1024;  // the sample index is 32-bit
   if (b.firstSpp > b.maxSpp)
     throw Error("--spp " + std::to_string(b.firstSpp) + " exceeds --max-spp " + std::to_string(b.maxSpp));
   return b;
@@ -96,11 +98,12 @@ std::vector<float> obtainReference(const VulkanContext& context, ShaderCompiler&
       throw Error(std::string("--reference-file: ") + e.what());
     }
     if (image.width != scene.gbuffer.width || image.height != scene.gbuffer.height)
-      throw Error("--reference-file " + spec.referenceFile.string() + ": " + std::to_string(image.width) + "x" +
-                  std::to_string(image.height) + " does not match the scene's " +
+      throw Error("--reference-file " + spec.referenceFile.string() + ": " + std::to_string(image.width) +
+                  "x" + std::to_string(image.height) + " does not match the scene's " +
                   std::to_string(scene.gbuffer.width) + "x" + std::to_string(scene.gbuffer.height));
     for (float v : image.rgb)
-      if (!std::isfinite(v)) throw Error("--reference-file " + spec.referenceFile.string() + ": NaN or Inf values");
+      if (!std::isfinite(v))
+        throw Error("--reference-file " + spec.referenceFile.string() + ": NaN or Inf values");
     return std::move(image.rgb);
   }
   if (hardCase && hardCase->exactReference) {
@@ -126,9 +129,13 @@ InterruptGuard::InterruptGuard() {
   std::signal(SIGINT, onInterrupt);
 }
 
-InterruptGuard::~InterruptGuard() { std::signal(SIGINT, SIG_DFL); }
+InterruptGuard::~InterruptGuard() {
+  std::signal(SIGINT, SIG_DFL);
+}
 
-const std::atomic<bool>& InterruptGuard::flag() const { return gInterrupted; }
+const std::atomic<bool>& InterruptGuard::flag() const {
+  return gInterrupted;
+}
 
 void showProgress(const ConvergenceProgress& p) {
   char line[256];

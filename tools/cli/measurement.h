@@ -16,10 +16,11 @@
 namespace iblx::cli {
 
 struct MeasurementSpec {
-  std::vector<std::string> methods;    // NAME[:OPTION]... (parseMethodVariant); empty: every method that applies
+  std::vector<std::string>
+      methods;  // NAME[:OPTION]... (parseMethodVariant); empty: every method that applies
   std::vector<std::string> sequences;  // empty: every sequence
   std::uint32_t seeds = 3, firstSeed = 1;
-  ConvergenceBudget budget;            // maxSpp: see finalBudget
+  ConvergenceBudget budget;             // maxSpp: see finalBudget
   std::optional<std::uint64_t> maxSpp;  // --max-spp
   std::filesystem::path referenceFile;
   bool noCache = false;
@@ -34,8 +35,8 @@ void addMeasurementFlags(ArgParser& parser, MeasurementSpec& spec);
 std::vector<ResolvedMethod> resolveMethods(const MeasurementSpec& spec, const BrdfInfo& brdf);
 std::vector<std::uint32_t> seedList(const MeasurementSpec& spec);
 
-// The ground truth of `scene`: --reference-file, else the hard case's closed form, else the convolution through
-// the on-disk cache (unless --no-cache). Prints where it came from.
+// The ground truth of `scene`: --reference-file, else the hard case's closed form, else the convolution
+// through the on-disk cache (unless --no-cache). Prints where it came from.
 std::vector<float> obtainReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                    const HardCase* hardCase, const MeasurementSpec& spec);
 
