@@ -3,7 +3,7 @@
 # GGX a = 0.05 and a synthetic MERL material (GGX a = 0.1 metal tabulated by `iblx merl-synth`) under two real
 # HDRIs of Debian's blender-data (CC0): forest.exr (no sun) and sunrise.exr (a strong sun). Every default
 # method with both sequences and several seeds, equal wall-time budgets.
-# Writes docs/results/<env>-<material>/ (summary.md, converge.csv, plots, three heat maps) and
+# Writes docs/results/<env>-<material>/ (summary.md, converge.csv, two plots, three heat maps) and
 # docs/results/tables.md (every summary in one page).
 # Usage: tools/results.sh [SECONDS_PER_RUN (default 1.5)] [SEEDS (default 2)] [SIZE (default 128)]
 set -euo pipefail
@@ -42,7 +42,8 @@ for env in forest sunrise; do
       --seeds "$seeds" --target-relmse 1e-2 --out-dir "$dir" > /dev/null
     # Three heat maps per scene keep the repository small: the env-only, MIS and RIS estimators with sobol.
     find "$dir" -name 'heat-*.png' ! -name '*env-cdf-sobol.png' ! -name '*mis_*sobol.png' ! -name '*ris_*sobol.png' -delete
-    rm -f "$dir/reference.exr"
+    # Two of the four plots likewise: relMSE against time (the comparison) and MSE against spp (the slopes).
+    rm -f "$dir/reference.exr" "$dir/mse_vs_time.png" "$dir/relmse_vs_spp.png"
     { echo "## $env, $material"; echo; tail -n +3 "$dir/summary.md"; echo; } >> "$out/tables.md"
     echo "done: $env $material" >&2
   done

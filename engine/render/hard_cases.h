@@ -24,9 +24,11 @@ struct HardCase {
   int envWidth = 256;     // full size
   int testEnvWidth = 64;  // test size
   bool viaFile = false;   // written as an EXR and read back, so the loader's sanitation is part of the case
-  // False when the convolution reference is not accurate enough for the z-test: the near-mirror lobe, where
-  // near-deterministic estimators (VNDF sampling) resolve reference errors of ~1e-3 relative. Such a case
-  // still checks finite output; its z is reported, not judged.
+  // False when the z-test cannot judge the estimators at a test's budget: the near-mirror lobe under a sun, where
+  // GGX's long tail carries the sun's light into pixels whose mirror direction misses it. VNDF samples reach that
+  // tail so rarely that at hundreds of spp the estimate has not seen it and its sample variance shows no sign of
+  // it (the reference agrees with itself to 1e-5 between 24 and 50 sub-cells per texel; a pixel's estimate is
+  // 1.19 against 2.16). Such a case still checks finite output; its z is reported, not judged.
   bool zTested = true;
   // Methods left out of the default list, and why (e.g. a light no sample of theirs reaches within a budget).
   std::vector<std::string> excludedMethods;

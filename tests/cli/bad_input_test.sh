@@ -191,5 +191,39 @@ expect_error "make-teapot subdivisions" "--subdivisions 0" make-teapot --subdivi
 expect_error "make-teapot patch file" "none.txt: no such file" make-teapot --patches "$tmp/none.txt" --out "$tmp/t.obj"
 [ ! -e "$tmp/o.png" ] && [ ! -e "$tmp/o.exr" ] && [ ! -e "$tmp/t.obj" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: output written despite a bad object or camera"; }
 
+# converge and hardcases: bad input, a small run's files, and Ctrl-C keeping what was measured.
+export IBLX_CACHE_DIR="$tmp/cache"
+expect_error "converge unknown case" "unknown hard case 'sunny'; valid: sun-1e3" converge --case sunny
+expect_error "converge bad method word" "--method mis:bogus: unknown option 'bogus'" converge --method mis:bogus
+expect_error "converge bad M" "M must be 1-64" converge --method ris:M=99
+expect_error "converge method for another BRDF" "merl-table" converge --brdf lambert --method brdf:merl-table --size 8x8 --out-dir "$tmp/c0"
+expect_error "converge spp above budget" "--spp 64 exceeds --max-spp 16" converge --spp 64 --max-spp 16
+expect_error "hardcases unknown case" "unknown hard case" hardcases --case nope
+"$iblx" reference --size 8x8 --out "$tmp/ref8.exr" > /dev/null 2>&1
+expect_error "converge reference size" "does not match the scene's 16x16" converge --size 16x16 --reference-file "$tmp/ref8.exr" --out-dir "$tmp/c1"
+[ ! -e "$tmp/c0" ] && [ ! -e "$tmp/c1" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: converge created its output directory despite bad input"; }
+expect_ok "converge small" converge --brdf lambert --size 16x16 --method env-cdf --method mis:power --seq sobol --seeds 2 --spp 4 --max-spp 32 --out-dir "$tmp/conv"
+for f in converge.csv summary.md reference.exr mse_vs_spp.png relmse_vs_time.png heat-01-env-cdf-sobol.png; do
+  [ -s "$tmp/conv/$f" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: converge did not write $f"; }
+done
+# 2 methods x 2 seeds x the points 4, 5, 6, 7, 8, 10, ..., 27, 32 (4 per octave over 3 octaves: 13) + the header.
+rows=$(wc -l < "$tmp/conv/converge.csv")
+[ "$rows" -eq 53 ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: converge.csv has $rows lines, expected 53"; }
+grep -q "reference: from the cache" <("$iblx" converge --brdf lambert --size 16x16 --method env-cdf --seq random --seeds 1 --max-spp 8 --out-dir "$tmp/conv2" 2>&1) \
+  && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: the second converge did not use the cached reference"; }
+# Ctrl-C once the runs have begun (the reference is in the cache): exit 130 with the rows measured so far.
+IBLX_CACHE_DIR="$tmp/cache-int" "$iblx" converge --size 32x32 --method uniform --seq random --seeds 50 --time 2 \
+  --out-dir "$tmp/int" > /dev/null 2>&1 &
+pid=$!
+for _ in $(seq 300); do compgen -G "$tmp/cache-int/references/*.exr" > /dev/null && break; sleep 0.2; done
+sleep 3
+kill -INT $pid
+wait $pid
+status=$?
+lines=$(wc -l < "$tmp/int/converge.csv" 2>/dev/null || echo 0)
+[ $status -eq 130 ] && [ "$lines" -gt 1 ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: Ctrl-C: exit $status, $lines CSV lines"; }
+expect_ok "hardcases quick" hardcases --case zero-half --quick --method env-cdf --seq sobol --max-spp 64 --out-dir "$tmp/hard"
+[ -s "$tmp/hard/hardcases.md" ] && [ -s "$tmp/hard/zero-half.csv" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: hardcases wrote no report"; }
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -15,6 +15,19 @@
 
 namespace iblx::cli {
 
+namespace {
+
+std::string budgetText(const ConvergenceBudget& budget) {
+  char text[64];
+  if (budget.seconds)
+    std::snprintf(text, sizeof text, "%g s of rendering", *budget.seconds);
+  else
+    std::snprintf(text, sizeof text, "%llu spp", static_cast<unsigned long long>(budget.maxSpp));
+  return text;
+}
+
+}  // namespace
+
 int cmdConverge(const Args& args) {
   RenderSpec render;
   MeasurementSpec spec;
@@ -43,18 +56,12 @@ int cmdConverge(const Args& args) {
   // Everything a user can get wrong is checked before anything heavy.
   const HardCase* hardCase = caseName.empty() ? nullptr : &findHardCase(caseName);
   const ConvergenceBudget budget = spec.finalBudget();
-  std::error_code ec;
-  std::filesystem::create_directories(outDir, ec);
-  if (!std::filesystem::is_directory(outDir))
-    throw Error("--out-dir " + outDir.string() + ": cannot create it");
-  std::optional<LoadedBrdf> brdf;
-  if (!hardCase) {
-    brdf = loadBrdfArgument(render.scene.brdf);
-    resolveParams(*brdf->info, render.scene.params);
-  }
+  LoadedBrdf brdf = loadBrdfArgument(hardCase ? hardCase->scene.brdf : render.scene.brdf);
+  resolveParams(*brdf.info, hardCase ? hardCase->scene.params : render.scene.params);
+  resolveMethods(spec, *brdf.info);  // an asked-for method that does not apply to the BRDF
 
   Scene scene = [&] {
-    if (!hardCase) return loadScene(render.scene, std::move(*brdf));
+    if (!hardCase) return loadScene(render.scene, std::move(brdf));
     HardCase sized = *hardCase;
     if (sizeGiven) sized.scene.width = render.scene.width, sized.scene.height = render.scene.height;
     return makeHardCaseScene(sized);
@@ -64,6 +71,11 @@ int cmdConverge(const Args& args) {
   VulkanContext context({render.device, render.validation ? Validation::On : Validation::Auto});
   ShaderCompiler compiler;
   const std::vector<float> reference = obtainReference(context, compiler, scene, hardCase, spec);
+  // Created once the inputs have been checked (nothing is written for bad input), before the long part.
+  std::error_code ec;
+  std::filesystem::create_directories(outDir, ec);
+  if (!std::filesystem::is_directory(outDir))
+    throw Error("--out-dir " + outDir.string() + ": cannot create it");
 
   const std::string sceneTitle =
       (hardCase ? "case " + hardCase->name + ", " : std::string()) + scene.brdf->name + ", env " +
@@ -99,7 +111,7 @@ int cmdConverge(const Args& args) {
     std::ofstream md(outDir / "summary.md");
     md << "# iblx converge: " << sceneTitle << "\n\nDevice: " << context.deviceName()
        << ". Seeds: " << seeds.size() << ". Budget per run: "
-       << (budget.seconds ? std::to_string(*budget.seconds) + " s" : std::to_string(budget.maxSpp) + " spp")
+       << budgetText(budget)
        << (result.interrupted ? " (interrupted)" : "") << ".\n\n"
        << table;
     if (!md) throw Error((outDir / "summary.md").string() + ": write failed");

@@ -99,7 +99,7 @@ int cmdHardCases(const Args& args) {
           << hardCase.description << ". Env " << scene.env.width << "x" << scene.env.height << ", "
           << scene.gbuffer.width << "x" << scene.gbuffer.height << " px, " << summary.rows.front().spp
           << " spp, |z| bound " << std::to_string(zBound).substr(0, 4)
-          << (hardCase.zTested ? "" : " (not judged: the reference is not accurate enough for this lobe)")
+          << (hardCase.zTested ? "" : " (not judged: rare tail events this budget has not sampled)")
           << "." << (excluded.empty() ? "" : " Not run: " + excluded + " (" + hardCase.exclusionReason + ").")
           << "\n\n"
           << "| rank | method | seq | relMSE | MSE × best at equal time | max |z| | NaN/Inf | check |\n"
