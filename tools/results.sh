@@ -4,14 +4,14 @@
 # HDRIs of Debian's blender-data (CC0): forest.exr (no sun) and sunrise.exr (a strong sun). Every default
 # method with both sequences and several seeds, equal wall-time budgets.
 # Writes docs/results/<env>-<material>/ (summary.md, converge.csv, two plots, three heat maps) and
-# docs/results/tables.md (every summary in one page).
-# Usage: tools/results.sh [SECONDS_PER_RUN (default 1.5)] [SEEDS (default 2)] [SIZE (default 128)]
+# docs/results/tables.md (the equal-time and slope matrices of tools/results_matrix.sh, then every summary).
+# Usage: tools/results.sh [SECONDS_PER_RUN (default 2)] [SEEDS (default 3)] [SIZE (default 64)]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 iblx="$root/build/iblx"
-seconds="${1:-1.5}"
-seeds="${2:-2}"
-size="${3:-128}"
+seconds="${1:-2}"
+seeds="${2:-3}"
+size="${3:-64}"
 world=/usr/share/blender/datafiles/studiolights/world
 out="$root/docs/results"
 [ -f "$world/forest.exr" ] || { echo "results.sh: $world/forest.exr missing: install blender-data (tools/install.sh)" >&2; exit 1; }
@@ -48,3 +48,18 @@ for env in forest sunrise; do
     echo "done: $env $material" >&2
   done
 done
+{
+  echo "## MSE at equal time over the best method's, per scene"
+  echo
+  "$root/tools/results_matrix.sh" "$out"
+  echo
+  echo "## Log-log slope of MSE against spp"
+  echo
+  "$root/tools/results_matrix.sh" --slopes "$out"
+} > "$work/matrices.md"
+# The matrices first, then the per-scene summaries.
+head -n 5 "$out/tables.md" > "$work/tables.md"
+cat "$work/matrices.md" >> "$work/tables.md"
+echo >> "$work/tables.md"
+tail -n +6 "$out/tables.md" >> "$work/tables.md"
+mv "$work/tables.md" "$out/tables.md"

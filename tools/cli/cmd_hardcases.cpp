@@ -20,6 +20,7 @@ int cmdHardCases(const Args& args) {
   MeasurementSpec spec;
   spec.seeds = 1;
   spec.budget.firstSpp = 16;
+  spec.defaultMaxSpp = 512;
   std::vector<std::string> caseNames;
   bool list = false, quick = false;
   double familyAlpha = 1e-3;
@@ -45,7 +46,6 @@ int cmdHardCases(const Args& args) {
   }
   if (caseNames.empty())
     for (const auto& c : hardCases()) caseNames.push_back(c.name);
-  if (!spec.maxSpp && !spec.budget.seconds) spec.maxSpp = 512;
   const ConvergenceBudget budget = spec.finalBudget();
   if (!outDir.empty()) {
     std::error_code ec;

@@ -33,13 +33,16 @@ void addMeasurementFlags(ArgParser& p, MeasurementSpec& s) {
           });
   p.value("--seq", "NAME", "a sequence, repeatable (default: every sequence)",
           [&](const std::string& v) { s.sequences.push_back(findSequence(v).name); });
-  p.value("--seeds", "K", "independent runs per method, seeds N..N+K-1 (default 3)",
+  p.value("--seeds", "K", "independent runs per method, seeds N..N+K-1 (default " + std::to_string(s.seeds) + ")",
           [&](const std::string& v) { s.seeds = parseUint("--seeds", v, 1, 1000); });
   p.value("--seed", "N", "first seed (default 1)",
           [&](const std::string& v) { s.firstSeed = parseUint("--seed", v, 0, 0xffffffffu - 1000); });
-  p.value("--spp", "N", "samples per pixel at the first recorded point (default 4)",
+  p.value("--spp", "N",
+          "samples per pixel at the first recorded point (default " + std::to_string(s.budget.firstSpp) + ")",
           [&](const std::string& v) { s.budget.firstSpp = parseUint("--spp", v, 1, 1u << 20); });
-  p.value("--max-spp", "N", "budget: samples per pixel per run (default 1024; with --time, unlimited)",
+  p.value("--max-spp", "N",
+          "budget: samples per pixel per run (default " + std::to_string(s.defaultMaxSpp) +
+              "; with --time, unlimited)",
           [&](const std::string& v) { s.maxSpp = parseUint("--max-spp", v, 1, 1u << 30); });
   p.value("--time", "S", "budget: seconds of rendering per run (the run ends at the first point past S)",
           [&](const std::string& v) { s.budget.seconds = parseDouble("--time", v, 1e-3, 1e6); });
@@ -74,9 +77,8 @@ std::vector<ResolvedMethod> resolveMethods(const MeasurementSpec& spec, const Br
 
 ConvergenceBudget MeasurementSpec::finalBudget() const {
   ConvergenceBudget b = budget;
-  b.maxSpp = maxSpp           ? *maxSpp
-             : budget.seconds ? (std::uint64_t(1) << 32) - 4096
-                              : 1024;  // the sample index is 32-bit
+  // With --time alone, the limit is the 32-bit sample index.
+  b.maxSpp = maxSpp ? *maxSpp : budget.seconds ? (std::uint64_t(1) << 32) - 4096 : defaultMaxSpp;
   if (b.firstSpp > b.maxSpp)
     throw Error("--spp " + std::to_string(b.firstSpp) + " exceeds --max-spp " + std::to_string(b.maxSpp));
   return b;

@@ -22,12 +22,14 @@ struct MeasurementSpec {
   std::uint32_t seeds = 3, firstSeed = 1;
   ConvergenceBudget budget;             // maxSpp: see finalBudget
   std::optional<std::uint64_t> maxSpp;  // --max-spp
+  std::uint64_t defaultMaxSpp = 1024;   // without --max-spp and --time
   std::filesystem::path referenceFile;
   bool noCache = false;
-  // The budget with --max-spp's default: 1024 spp, or unlimited with --time.
+  // The budget with --max-spp's default: defaultMaxSpp, or unlimited with --time.
   ConvergenceBudget finalBudget() const;
 };
 
+// The help texts give the defaults held in `spec` when it is registered.
 void addMeasurementFlags(ArgParser& parser, MeasurementSpec& spec);
 
 // Every requested (method, sequence), resolved against the BRDF (an explicit method that does not apply is an
