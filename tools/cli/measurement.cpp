@@ -33,7 +33,8 @@ void addMeasurementFlags(ArgParser& p, MeasurementSpec& s) {
           });
   p.value("--seq", "NAME", "a sequence, repeatable (default: every sequence)",
           [&](const std::string& v) { s.sequences.push_back(findSequence(v).name); });
-  p.value("--seeds", "K", "independent runs per method, seeds N..N+K-1 (default " + std::to_string(s.seeds) + ")",
+  p.value("--seeds", "K",
+          "independent runs per method, seeds N..N+K-1 (default " + std::to_string(s.seeds) + ")",
           [&](const std::string& v) { s.seeds = parseUint("--seeds", v, 1, 1000); });
   p.value("--seed", "N", "first seed (default 1)",
           [&](const std::string& v) { s.firstSeed = parseUint("--seed", v, 0, 0xffffffffu - 1000); });
