@@ -13,12 +13,6 @@
 namespace iblx {
 namespace {
 
-double median(std::vector<double> v) {
-  if (v.empty()) return kNotReached;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 double mean(const std::vector<double>& v) {
   double sum = 0.0;
@@ -61,6 +55,13 @@ std::string formatNumber(double v, const char* format = "%.3g") {
 }
 
 }  // namespace
+
+double median(std::vector<double> v) {
+  if (v.empty()) return kNotReached;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
 
 std::vector<std::uint64_t> sppSchedule(std::uint64_t first, std::uint64_t max, int pointsPerOctave) {
   if (first == 0 || pointsPerOctave < 1)

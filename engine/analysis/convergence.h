@@ -40,6 +40,9 @@ struct ConvergenceRun {
 // spaced in log spp, so log-log plots and fits weigh every scale alike), strictly increasing, up to `max`.
 std::vector<std::uint64_t> sppSchedule(std::uint64_t first, std::uint64_t max, int pointsPerOctave);
 
+// The median of `values` (the mean of the middle two for an even count); NaN when empty.
+double median(std::vector<double> values);
+
 // Least-squares slope of log y against log x over the points with x, y > 0 and finite; NaN with fewer than 3.
 double fitLogLogSlope(std::span<const double> x, std::span<const double> y);
 

@@ -17,12 +17,6 @@ namespace {
 // watchdog limits at any image size.
 constexpr std::uint64_t kMaxSppPerDispatch = 4096;
 
-std::pair<std::string, std::string> splitLabel(const ResolvedMethod& method) {
-  const std::string label = method.label();
-  const auto slash = label.rfind('/');
-  return {label.substr(0, slash), label.substr(slash + 1)};
-}
-
 }  // namespace
 
 ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
@@ -35,7 +29,7 @@ ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& c
   ConvergenceResult result;
   const std::size_t runs = methods.size() * seeds.size();
   for (const ResolvedMethod& method : methods) {
-    const auto [name, sequence] = splitLabel(method);
+    const std::string name = method.techniqueLabel(), sequence = method.sequence->name;
     for (std::uint32_t seed : seeds) {
       if (stop && stop->load()) return result.interrupted = true, result;
       ConvergenceRun run{name, sequence, seed};

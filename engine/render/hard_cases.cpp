@@ -27,11 +27,15 @@ SceneSpec sceneOf(std::string brdf, Params params, std::string object = "sphere"
   return spec;
 }
 
+// A smooth sky, w x w/2, with a sun `ratio` times its mean in 2 x 2 texels at (w/3, w/5).
+EnvImage skyWithSun(int w, double ratio) { return sunOverSky(w, w / 2, ratio, 2, w / 3, w / 5); }
+EnvImage skyWithSun1e4(int w) { return skyWithSun(w, 1e4); }
+
 HardCase sunCase(const std::string& exponent, double ratio) {
   return {"sun-" + exponent,
           "smooth sky with a sun " + exponent + " times its mean in 2x2 texels; GGX a = 0.2, metal",
           sceneOf("ggx", {{"roughness", "0.2"}, {"metallic", "1"}}),
-          [ratio](int w) { return sunOverSky(w, w / 2, ratio, 2, w / 3, w / 5); }};
+          [ratio](int w) { return skyWithSun(w, ratio); }};
 }
 
 // More than 2^24 texels: 6144 x 3072 (18.9 M), a constant sky of 1 and a sun of 1e6 in 3 x 3 texels at row
@@ -79,7 +83,7 @@ std::vector<float> hugeLambertReference(const Scene& scene) {
 
 // NaN, +Inf, -Inf and negative texels sprinkled over a smooth sky with a sun.
 EnvImage brokenEnvironment(int w) {
-  EnvImage image = sunOverSky(w, w / 2, 1e4, 2, w / 3, w / 5);
+  EnvImage image = skyWithSun1e4(w);
   const float broken[] = {std::nanf(""), INFINITY, -INFINITY, -5.0f};
   for (std::size_t i = 0, k = 0; i < image.rgb.size(); i += 97, ++k) image.rgb[i] = broken[k % 4];
   return image;
@@ -99,10 +103,10 @@ std::vector<HardCase> makeHardCases() {
        "a plane seen 85 degrees from its normal (every pixel has n.wo = 0.087) under a 1e4 sun; GGX "
        "a = 0.3",
        sceneOf("ggx", {{"roughness", "0.3"}}, "plane", {0.0, 85.0, 1.0}),
-       [](int w) { return sunOverSky(w, w / 2, 1e4, 2, w / 3, w / 5); }});
+       skyWithSun1e4});
   HardCase mirror{"mirror", "GGX a = 1e-3, metal (a near-mirror lobe) under a smooth sky with a 1e4 sun",
                   sceneOf("ggx", {{"roughness", "0.001"}, {"metallic", "1"}}),
-                  [](int w) { return sunOverSky(w, w / 2, 1e4, 2, w / 3, w / 5); }};
+                  skyWithSun1e4};
   // The reference's cost grows with (texel / lobe)^2 per texel near the mirror direction: on 64-texel-wide
   // maps a 1e-3 lobe needs 197^2 sub-cells per texel (minutes), on 256-wide ones 49^2 (seconds).
   mirror.testEnvWidth = 256;
@@ -150,11 +154,7 @@ Scene makeHardCaseScene(const HardCase& hardCase, HardCaseSize size) {
   SceneSpec spec = hardCase.scene;
   EnvImage env = hardCase.environment(size == HardCaseSize::Full ? hardCase.envWidth : hardCase.testEnvWidth);
   if (size == HardCaseSize::Test) spec.width = spec.height = std::min(spec.width, 24);
-  if (!hardCase.viaFile) {
-    // Synthetic maps are valid by construction, except for what the loader would repair; keep them honest.
-    sanitize(env);
-    return makeScene(std::move(env), spec);
-  }
+  if (!hardCase.viaFile) return makeScene(std::move(env), spec);  // synthetic maps are valid by construction
   spec.envPath = std::filesystem::temp_directory_path() /
                  ("iblx-hardcase-" + hardCase.name + "-" + std::to_string(::getpid()) + ".exr");
   writeExr(spec.envPath, env.width, env.height, env.rgb);

@@ -35,12 +35,14 @@ std::vector<std::pair<std::string, std::string>> brdfBindingDefines(std::size_t 
   return {{"BRDF_DATA_BINDING", "1"}, {"BRDF_SAMPLER_BINDING", std::to_string(1 + brdfDataBuffers)}};
 }
 
-KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method, const TechniqueData& envData,
-                            const TechniqueData& brdfTechniqueData, std::size_t brdfDataBuffers) {
+KernelParts integratorParts(const Scene& scene, const SceneGpu& gpu, const ResolvedMethod& method,
+                            const TechniqueData& envData, const TechniqueData& brdfTechniqueData) {
   KernelParts k{"integrate.comp", {}, paramBlockGlsl(*scene.brdf), envData.defines};
   k.defines.insert(k.defines.end(), brdfTechniqueData.defines.begin(), brdfTechniqueData.defines.end());
-  const auto bindings = brdfBindingDefines(brdfDataBuffers);
+  const auto bindings = brdfBindingDefines(gpu.brdfData.size());
   k.defines.insert(k.defines.end(), bindings.begin(), bindings.end());
+  const auto chunking = gpu.envDefines();
+  k.defines.insert(k.defines.end(), chunking.begin(), chunking.end());
   k.parts.push_back(method.sequence->part);
   if (method.envTechnique) k.parts.push_back(method.envTechnique->part);
   k.parts.push_back(scene.brdf->evalPart);
@@ -52,10 +54,11 @@ KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method, co
   return k;
 }
 
-KernelParts referenceParts(const Scene& scene) {
+KernelParts referenceParts(const Scene& scene, const SceneGpu& gpu) {
   // No BRDF technique in the reference: only the BRDF's own data binding.
   KernelParts k = brdfKernelParts("reference.comp", *scene.brdf);
-  k.defines = {{"BRDF_DATA_BINDING", "1"}};
+  k.defines = gpu.envDefines();
+  k.defines.emplace_back("BRDF_DATA_BINDING", "1");
   return k;
 }
 

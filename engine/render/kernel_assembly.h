@@ -26,12 +26,13 @@ KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf);
 std::vector<uint32_t> compileKernel(ShaderCompiler& compiler, const KernelParts& parts,
                                     const std::string& name);
 
-// The integrator for a scene and method, and the reference kernel for a scene. Set 3 holds the parameter
-// block (binding 0), the BRDF's `brdfDataBuffers` buffers (from BRDF_DATA_BINDING = 1) and the BRDF
-// technique's (from BRDF_SAMPLER_BINDING); both bindings are defined for the parts.
-KernelParts integratorParts(const Scene& scene, const ResolvedMethod& method, const TechniqueData& envData,
-                            const TechniqueData& brdfTechniqueData, std::size_t brdfDataBuffers);
-KernelParts referenceParts(const Scene& scene);
+// The integrator for a scene and method, and the reference kernel for a scene, as uploaded in `gpu`. Set 3
+// holds the parameter block (binding 0), the BRDF's buffers (gpu.brdfData, from BRDF_DATA_BINDING = 1) and the
+// BRDF technique's (from BRDF_SAMPLER_BINDING); both bindings, and the environment's chunking
+// (SceneGpu::envDefines), are defined for the parts.
+KernelParts integratorParts(const Scene& scene, const SceneGpu& gpu, const ResolvedMethod& method,
+                            const TechniqueData& envData, const TechniqueData& brdfTechniqueData);
+KernelParts referenceParts(const Scene& scene, const SceneGpu& gpu);
 // The two set-3 binding definitions alone (for kernels assembled elsewhere, e.g. the test probes).
 std::vector<std::pair<std::string, std::string>> brdfBindingDefines(std::size_t brdfDataBuffers);
 

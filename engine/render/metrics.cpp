@@ -8,6 +8,12 @@
 #include <limits>
 
 namespace iblx {
+namespace {
+
+// DESIGN §7: the squared error relative to the reference, with eps = 0.01 for dark pixels.
+double relativeSquaredError(double x, double r) { return (x - r) * (x - r) / (r * r + 0.01); }
+
+}  // namespace
 
 ErrorMetrics compareToReference(const GBuffer& gbuffer, std::span<const float> estimate,
                                 std::span<const float> reference) {
@@ -20,7 +26,7 @@ ErrorMetrics compareToReference(const GBuffer& gbuffer, std::span<const float> e
     for (int c = 0; c < 3; ++c) {
       const double x = estimate[3 * i + c], r = reference[3 * i + c], d = x - r;
       m.mse += d * d;
-      m.relMse += d * d / (r * r + 0.01);
+      m.relMse += relativeSquaredError(x, r);
       m.meanSignedError += d;
     }
   }
@@ -41,10 +47,7 @@ std::vector<double> relativeSquaredErrorPerPixel(const GBuffer& gbuffer, std::sp
   for (size_t i = 0; i < gbuffer.pixels.size(); ++i) {
     if (gbuffer.pixels[i].normal.w == 0.0f) continue;
     double sum = 0;
-    for (int c = 0; c < 3; ++c) {
-      const double r = reference[3 * i + c], d = estimate[3 * i + c] - r;
-      sum += d * d / (r * r + 0.01);
-    }
+    for (int c = 0; c < 3; ++c) sum += relativeSquaredError(estimate[3 * i + c], reference[3 * i + c]);
     error[i] = sum / 3.0;
   }
   return error;

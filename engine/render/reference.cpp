@@ -27,9 +27,7 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
                                 const ReferenceOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   SceneGpu gpu = uploadScene(context, scene);
-  KernelParts parts = referenceParts(scene);
-  for (auto& d : gpu.envDefines()) parts.defines.push_back(d);
-  const auto spirv = compileKernel(compiler, parts, "reference " + scene.brdf->name);
+  const auto spirv = compileKernel(compiler, referenceParts(scene, gpu), "reference " + scene.brdf->name);
   const auto brdfSet = gpu.brdfSet();
   ComputeKernel kernel(context, spirv, sceneKernelLayout(0, uint32_t(brdfSet.size() - 1)), "reference");
   kernel.bindBuffers(0, gpu.frameSet());

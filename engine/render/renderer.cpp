@@ -39,8 +39,7 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
                                : TechniqueData{};
   for (size_t i = 0; i < brdfData.buffers.size(); ++i)
     brdfTechniqueBuffers_.push_back(Buffer::fromData(context, brdfData.buffers[i], brdfData.names[i]));
-  KernelParts parts = integratorParts(scene, method, envData, brdfData, gpu_.brdfData.size());
-  for (auto& d : gpu_.envDefines()) parts.defines.push_back(d);
+  const KernelParts parts = integratorParts(scene, gpu_, method, envData, brdfData);
   const auto spirv = compileKernel(compiler, parts, "integrate " + method.label());
   const auto brdfSet = gpu_.brdfSet(brdfTechniqueBuffers_);
   kernel_ = std::make_unique<ComputeKernel>(

@@ -143,7 +143,7 @@ Scene loadScene(const SceneSpec& spec, LoadedBrdf brdf) {
   return makeScene(loadEnvImage(path), spec, std::move(brdf));
 }
 
-std::string ResolvedMethod::label() const {
+std::string ResolvedMethod::techniqueLabel() const {
   std::ostringstream s;
   s << method->name;
   if (method->strategy == Strategy::Mis)
@@ -153,9 +153,10 @@ std::string ResolvedMethod::label() const {
     s << "(" << brdfTechnique->name << ")";
   else if (method->strategy == Strategy::Ris)
     s << "(" << envTechnique->name << ", M=" << risCandidates << ")";
-  s << "/" << sequence->name;
   return s.str();
 }
+
+std::string ResolvedMethod::label() const { return techniqueLabel() + "/" + sequence->name; }
 
 ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
   ResolvedMethod r;

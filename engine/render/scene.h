@@ -96,7 +96,8 @@ struct ResolvedMethod {
   bool misPower = false;
   uint32_t risCandidates = 8;
   bool misCompensation = false;
-  std::string label() const;  // e.g. "mis(env-cdf+ggx-vndf, balance 0.5)/sobol"
+  std::string label() const;           // e.g. "mis(env-cdf+ggx-vndf, balance 0.5)/sobol"
+  std::string techniqueLabel() const;  // the same without the sequence
 };
 
 std::filesystem::path defaultEnvPath();

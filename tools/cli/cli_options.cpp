@@ -1,6 +1,8 @@
 // Flag parsing for all subcommands.
 #include "tools/cli/cli_options.h"
 
+#include "engine/io/env_image.h"
+
 #include "engine/core/error.h"
 
 #include <cmath>
@@ -208,6 +210,23 @@ void checkImagePath(const std::string& flag, const std::string& path, bool exrOn
   const auto parent = p.parent_path();
   if (!parent.empty() && !std::filesystem::is_directory(parent))
     throw Error(flag + " " + path + ": directory '" + parent.string() + "' does not exist");
+}
+
+std::vector<float> readReferenceFile(const std::filesystem::path& path, int width, int height,
+                                     const std::string& sizeName) {
+  EnvImage image;
+  try {
+    image = loadRgbImage(path);
+  } catch (const Error& e) {
+    throw Error(std::string("--reference-file: ") + e.what());
+  }
+  if (image.width != width || image.height != height)
+    throw Error("--reference-file " + path.string() + ": " + std::to_string(image.width) + "x" +
+                std::to_string(image.height) + " does not match " + sizeName + " " + std::to_string(width) +
+                "x" + std::to_string(height));
+  for (float v : image.rgb)
+    if (!std::isfinite(v)) throw Error("--reference-file " + path.string() + ": contains NaN or Inf values");
+  return std::move(image.rgb);
 }
 
 std::string jsonEscape(const std::string& text) {

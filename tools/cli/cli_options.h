@@ -70,6 +70,10 @@ void parseSize(const std::string& flag, const std::string& text, int& width, int
 namespace iblx::cli {
 // Fails early (before any rendering) when an output path cannot be written as an image.
 void checkImagePath(const std::string& flag, const std::string& path, bool exrOnly = false);
+// The ground truth of --reference-file (an EXR of `iblx reference`): W x H RGB, every value finite. Errors name
+// the flag and file; a size mismatch says "does not match <sizeName> WxH".
+std::vector<float> readReferenceFile(const std::filesystem::path& path, int width, int height,
+                                     const std::string& sizeName);
 // A string as the inside of a JSON string literal.
 std::string jsonEscape(const std::string& text);
 // Progress line on stderr, only when stderr is a terminal.

@@ -1,4 +1,5 @@
 // `iblx bench`: samples per second of every method (and sequence) on one scene, medians over timed passes.
+#include "engine/analysis/convergence.h"
 #include "engine/render/renderer.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
@@ -8,12 +9,6 @@
 #include <cstdio>
 
 namespace iblx::cli {
-namespace {
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-}  // namespace
 
 int cmdBench(const Args& args) {
   RenderSpec spec;
@@ -79,7 +74,7 @@ int cmdBench(const Args& args) {
         if (t.gpuSeconds > 0) gpuRates.push_back(samples / t.gpuSeconds);
         wallRates.push_back(samples / t.wallSeconds);
       }
-      rows[r].gpu.push_back(median(gpuRates));
+      rows[r].gpu.push_back(gpuRates.empty() ? 0.0 : median(gpuRates));  // 0: no timestamps
       rows[r].wall.push_back(median(wallRates));
       if (repeat > 1)
         progressLine("round " + std::to_string(round + 1) + "/" + std::to_string(repeat) + ": " +
@@ -87,11 +82,12 @@ int cmdBench(const Args& args) {
     }
   endProgressLine();
   std::map<std::string, double> uniformRate;  // per sequence
-  for (const auto& row : rows) {
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const Row& row = rows[r];
     const double gpuRate = median(row.gpu), wallRate = median(row.wall);
     const double rate = gpuRate > 0 ? gpuRate : wallRate;
-    const std::string sequence = row.label.substr(row.label.rfind('/') + 1);
-    if (row.label.rfind("uniform/", 0) == 0) uniformRate[sequence] = rate;
+    const std::string& sequence = resolved[r].sequence->name;
+    if (resolved[r].method->name == "uniform") uniformRate[sequence] = rate;
     const double ratio = uniformRate.count(sequence) ? uniformRate[sequence] / rate : 0.0;
     const auto [lo, hi] = std::minmax_element(row.gpu.begin(), row.gpu.end());
     if (spec.json)

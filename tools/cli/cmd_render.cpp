@@ -56,22 +56,10 @@ int cmdRender(const Args& args) {
 
   const auto start = std::chrono::steady_clock::now();
   // A stored ground truth is read before anything heavy: its errors must not wait for the map and the render.
-  std::optional<EnvImage> referenceImage;
+  std::optional<std::vector<float>> referenceImage;
   if (!spec.referenceFile.empty()) {
     if (spec.reference) warn("--reference is ignored: --reference-file gives the ground truth");
-    try {
-      referenceImage = loadRgbImage(spec.referenceFile);
-    } catch (const Error& e) {
-      throw Error(std::string("--reference-file: ") + e.what());
-    }
-    if (referenceImage->width != spec.scene.width || referenceImage->height != spec.scene.height)
-      throw Error("--reference-file " + spec.referenceFile.string() + ": " +
-                  std::to_string(referenceImage->width) + "x" + std::to_string(referenceImage->height) +
-                  " does not match --size " + std::to_string(spec.scene.width) + "x" +
-                  std::to_string(spec.scene.height));
-    for (float v : referenceImage->rgb)
-      if (!std::isfinite(v))
-        throw Error("--reference-file " + spec.referenceFile.string() + ": contains NaN or Inf values");
+    referenceImage = readReferenceFile(spec.referenceFile, spec.scene.width, spec.scene.height, "--size");
   }
   const Scene scene = loadScene(spec.scene, std::move(brdf));
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
@@ -106,7 +94,7 @@ int cmdRender(const Args& args) {
   std::optional<ErrorMetrics> error;
   double referenceSeconds = 0.0;
   if (referenceImage) {
-    error = compareToReference(scene.gbuffer, rgb, referenceImage->rgb);
+    error = compareToReference(scene.gbuffer, rgb, *referenceImage);
   } else if (spec.reference) {
     ReferenceOptions options;
     options.progress = [](double f) { progressLine("reference " + std::to_string(int(100 * f)) + "%"); };

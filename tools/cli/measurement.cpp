@@ -93,22 +93,8 @@ std::vector<std::uint32_t> seedList(const MeasurementSpec& spec) {
 
 std::vector<float> obtainReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                    const HardCase* hardCase, const MeasurementSpec& spec) {
-  if (!spec.referenceFile.empty()) {
-    EnvImage image;
-    try {
-      image = loadRgbImage(spec.referenceFile);
-    } catch (const Error& e) {
-      throw Error(std::string("--reference-file: ") + e.what());
-    }
-    if (image.width != scene.gbuffer.width || image.height != scene.gbuffer.height)
-      throw Error("--reference-file " + spec.referenceFile.string() + ": " + std::to_string(image.width) +
-                  "x" + std::to_string(image.height) + " does not match the scene's " +
-                  std::to_string(scene.gbuffer.width) + "x" + std::to_string(scene.gbuffer.height));
-    for (float v : image.rgb)
-      if (!std::isfinite(v))
-        throw Error("--reference-file " + spec.referenceFile.string() + ": NaN or Inf values");
-    return std::move(image.rgb);
-  }
+  if (!spec.referenceFile.empty())
+    return readReferenceFile(spec.referenceFile, scene.gbuffer.width, scene.gbuffer.height, "the scene's");
   if (hardCase && hardCase->exactReference) {
     std::fprintf(stderr, "reference: closed form of hard case %s\n", hardCase->name.c_str());
     return hardCase->exactReference(scene);
