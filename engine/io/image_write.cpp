@@ -39,6 +39,25 @@ double linearToSrgb(double x) {
   return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
 }
 
+std::uint8_t toDisplayByte(float radiance, const DisplayTransform& transform) {
+  const double v = double(radiance) * std::exp2(transform.exposureEV);
+  if (!(v > 0.0)) return 0;  // also NaN
+  double mapped = 1.0;
+  switch (transform.tonemap) {
+    case Tonemap::Clamp:
+      mapped = std::min(v, 1.0);
+      break;
+    case Tonemap::Reinhard:
+      mapped = std::isinf(v) ? 1.0 : v / (1.0 + v);
+      break;
+    case Tonemap::Aces:
+      mapped = std::isinf(v) ? 1.0 : std::clamp(v * (2.51 * v + 0.03) / (v * (2.43 * v + 0.59) + 0.14), 0.0, 1.0);
+      break;
+  }
+  const double encoded = transform.gamma > 0.0 ? std::pow(mapped, 1.0 / transform.gamma) : linearToSrgb(mapped);
+  return std::uint8_t(std::lround(255.0 * encoded));
+}
+
 void writeExr(const fs::path& path, int width, int height, std::span<const float> rgb) {
   checkImageSize(path, width, height, rgb);
   try {
@@ -63,14 +82,9 @@ void writeExr(const fs::path& path, int width, int height, std::span<const float
 
 void writePng(const fs::path& path, int width, int height, std::span<const float> rgb, double exposureEV) {
   checkImageSize(path, width, height, rgb);
-  const double scale = std::exp2(exposureEV);
+  const DisplayTransform transform{.exposureEV = exposureEV};
   std::vector<std::uint8_t> bytes(rgb.size());
-  for (std::size_t i = 0; i < rgb.size(); ++i) {
-    const double v = double(rgb[i]) * scale;
-    // !(v > 0) also sends NaN to black; +Inf clamps to white.
-    const double clamped = !(v > 0.0) ? 0.0 : std::min(v, 1.0);
-    bytes[i] = std::uint8_t(std::lround(255.0 * linearToSrgb(clamped)));
-  }
+  for (std::size_t i = 0; i < rgb.size(); ++i) bytes[i] = toDisplayByte(rgb[i], transform);
   if (!stbi_write_png(path.string().c_str(), width, height, 3, bytes.data(), 3 * width))
     throw Error("cannot write PNG file " + path.string() + " (is the directory writable?)");
 }

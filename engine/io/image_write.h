@@ -29,4 +29,18 @@ void writeImage(const std::filesystem::path& path, int width, int height, std::s
 // The exact sRGB OETF (IEC 61966-2-1) for linear x in [0, 1].
 double linearToSrgb(double x);
 
+// Radiance to display code values, shared by PNG output and the viewer so both show the same bytes.
+enum class Tonemap {
+  Clamp,     // min(x, 1): what writePng does
+  Reinhard,  // x / (1 + x) per channel (Reinhard et al. 2002, eq. 3)
+  Aces,      // Narkowicz's fit of the ACES filmic curve (2015): x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14)
+};
+struct DisplayTransform {
+  double exposureEV = 0.0;  // radiance * 2^exposureEV before the curve
+  Tonemap tonemap = Tonemap::Clamp;
+  double gamma = 0.0;  // 0: the exact sRGB OETF; otherwise x^(1/gamma)
+};
+// One display code value (0-255) for a linear radiance value; NaN and negatives give 0, +Inf gives 255.
+std::uint8_t toDisplayByte(float radiance, const DisplayTransform& transform);
+
 }  // namespace iblx

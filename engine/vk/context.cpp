@@ -51,19 +51,29 @@ std::string typeName(vk::PhysicalDeviceType type) {
 }
 
 // Why a device cannot run iblx, or empty if it can.
-std::string rejectionReason(const vk::raii::PhysicalDevice& device, uint32_t* computeFamily) {
+// surface: with a window, the family must also draw and present to it, and the device must have swapchains.
+std::string rejectionReason(const vk::raii::PhysicalDevice& device, uint32_t* computeFamily,
+                            vk::SurfaceKHR surface = {}) {
   const auto properties = device.getProperties();
   if (properties.apiVersion < VK_API_VERSION_1_2)
     return "supports only Vulkan " + std::to_string(VK_API_VERSION_MAJOR(properties.apiVersion)) + "." +
            std::to_string(VK_API_VERSION_MINOR(properties.apiVersion)) + ", iblx needs 1.2";
   const auto families = device.getQueueFamilyProperties();
-  for (uint32_t i = 0; i < families.size(); ++i) {
-    if (families[i].queueFlags & vk::QueueFlagBits::eCompute) {
-      if (computeFamily) *computeFamily = i;
-      return {};
-    }
+  if (surface) {
+    bool swapchain = false;
+    for (const auto& e : device.enumerateDeviceExtensionProperties())
+      swapchain = swapchain || std::string_view(e.extensionName) == VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+    if (!swapchain) return "has no swapchain extension (cannot show a window)";
   }
-  return "has no compute queue";
+  const vk::QueueFlags needed =
+      surface ? vk::QueueFlagBits::eCompute | vk::QueueFlagBits::eGraphics : vk::QueueFlagBits::eCompute;
+  for (uint32_t i = 0; i < families.size(); ++i) {
+    if ((families[i].queueFlags & needed) != needed) continue;
+    if (surface && !device.getSurfaceSupportKHR(i, surface)) continue;
+    if (computeFamily) *computeFamily = i;
+    return {};
+  }
+  return surface ? "has no queue that computes, draws and presents to the window" : "has no compute queue";
 }
 
 bool layerAvailable(const vk::raii::Context& context, const char* name) {
@@ -130,8 +140,11 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
                   " is not installed (Debian package vulkan-validationlayers)");
     }
   }
+  if (options.presentation)
+    for (const std::string& e : options.presentation->instanceExtensions) extensions.push_back(e.c_str());
   vk::ApplicationInfo app("iblx", 1, "iblx", 1, VK_API_VERSION_1_2);
   instance_ = vk::raii::Instance(context_, vk::InstanceCreateInfo({}, &app, layers, extensions));
+  if (options.presentation) surface_ = vk::raii::SurfaceKHR(instance_, options.presentation->createSurface(*instance_));
   if (validationEnabled_) {
     using S = vk::DebugUtilsMessageSeverityFlagBitsEXT;
     using T = vk::DebugUtilsMessageTypeFlagBitsEXT;
@@ -152,7 +165,7 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
   for (uint32_t i = 0; i < devices.size(); ++i) {
     const auto properties = devices[i].getProperties();
     uint32_t family = 0;
-    std::string reason = rejectionReason(devices[i], &family);
+    std::string reason = rejectionReason(devices[i], &family, *surface_);
     const std::string name = properties.deviceName.data();
     if (reason.empty() && !selector.empty()) {
       const bool isIndex = std::all_of(selector.begin(), selector.end(), ::isdigit);
@@ -186,7 +199,9 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
   const float priority = 1.0f;
   vk::DeviceQueueCreateInfo queueInfo({}, queueFamily_, 1, &priority);
   vk::PhysicalDeviceFeatures features;
-  vk::DeviceCreateInfo deviceInfo({}, queueInfo, {}, {}, &features);
+  std::vector<const char*> deviceExtensions;
+  if (options.presentation) deviceExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+  vk::DeviceCreateInfo deviceInfo({}, queueInfo, {}, deviceExtensions, &features);
   device_ = vk::raii::Device(physicalDevice_, deviceInfo);
   queue_ = vk::raii::Queue(device_, queueFamily_, 0);
   commandPool_ = vk::raii::CommandPool(

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,11 +16,20 @@ namespace iblx {
 
 enum class Validation { Auto, On, Off };  // Auto: on in debug builds or when IBLX_VALIDATION=1, if installed
 
+// What a window needs from the context (the viewer): the instance extensions of the window system, a callback
+// that creates the window's surface once the instance exists, and then a queue family that can also draw and
+// present to it, with VK_KHR_swapchain enabled. Headless contexts leave it empty.
+struct PresentationRequest {
+  std::vector<std::string> instanceExtensions;
+  std::function<VkSurfaceKHR(VkInstance)> createSurface;  // throws on failure; the context owns the result
+};
+
 struct ContextOptions {
   // Empty: the IBLX_DEVICE environment variable, else the best device (discrete, integrated, virtual, CPU).
   // Otherwise a device index as listed by `iblx devices` or a case-insensitive substring of its name.
   std::string deviceSelector;
   Validation validation = Validation::Auto;
+  std::optional<PresentationRequest> presentation;
 };
 
 struct DeviceDescription {
@@ -35,7 +45,10 @@ class VulkanContext {
   VulkanContext(const VulkanContext&) = delete;
   VulkanContext& operator=(const VulkanContext&) = delete;
 
+  const vk::raii::Instance& instance() const { return instance_; }
   const vk::raii::Device& device() const { return device_; }
+  // The window's surface (null without a PresentationRequest); the queue can present to it.
+  const vk::raii::SurfaceKHR& surface() const { return surface_; }
   const vk::raii::PhysicalDevice& physicalDevice() const { return physicalDevice_; }
   const vk::raii::Queue& queue() const { return queue_; }
   const vk::raii::CommandPool& commandPool() const { return commandPool_; }
@@ -66,6 +79,7 @@ class VulkanContext {
   vk::raii::Context context_;
   vk::raii::Instance instance_ = nullptr;
   vk::raii::DebugUtilsMessengerEXT messenger_ = nullptr;
+  vk::raii::SurfaceKHR surface_ = nullptr;
   vk::raii::PhysicalDevice physicalDevice_ = nullptr;
   vk::raii::Device device_ = nullptr;
   vk::raii::Queue queue_ = nullptr;

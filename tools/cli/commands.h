@@ -8,6 +8,7 @@ namespace iblx::cli {
 
 using Args = std::vector<std::string>;
 int cmdRender(const Args& args);
+int cmdView(const Args& args);
 int cmdReference(const Args& args);
 int cmdBench(const Args& args);
 int cmdDevices(const Args& args);

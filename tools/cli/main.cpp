@@ -14,6 +14,7 @@ constexpr const char* kUsage =
     "usage: iblx COMMAND [flags]      (iblx COMMAND --help for the flags of one command)\n"
     "commands:\n"
     "  render      render a scene progressively to .png/.exr, report speed (and error with --reference)\n"
+    "  view        the desktop viewer: live progressive rendering, methods and parameters switched live\n"
     "  reference   compute the ground truth of a scene (deterministic convolution) to .exr\n"
     "  bench       samples per second of every method on one scene\n"
     "  converge    error against spp and time of methods on one scene: CSV, summary table, PNG plots\n"
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
   const Args args(argv + 2, argv + argc);
   try {
     if (command == "render") return cmdRender(args);
+    if (command == "view") return cmdView(args);
     if (command == "reference") return cmdReference(args);
     if (command == "bench") return cmdBench(args);
     if (command == "converge") return cmdConverge(args);

@@ -1,0 +1,126 @@
+// The viewer, tested without a GPU: `iblx view` runs its scripted mode under Xvfb on lavapipe and its screenshot
+// is compared with a headless render of the same passes (same method, sequence, seed and spp) put through the
+// same display transform. Needs xvfb-run (tools/install.sh installs it).
+#include "engine/io/image_write.h"
+#include "engine/render/renderer.h"
+
+#include <doctest/doctest.h>
+#include <stb/stb_image.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace iblx;
+
+namespace {
+
+struct Png {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgb;
+  const unsigned char* at(int x, int y) const { return &rgb[3 * (std::size_t(y) * width + x)]; }
+};
+
+Png loadPng(const fs::path& path) {
+  Png png;
+  int channels = 0;
+  unsigned char* data = stbi_load(path.string().c_str(), &png.width, &png.height, &channels, 3);
+  REQUIRE_MESSAGE(data != nullptr, "cannot read " << path);
+  png.rgb.assign(data, data + std::size_t(png.width) * png.height * 3);
+  stbi_image_free(data);
+  return png;
+}
+
+// Runs `iblx view ARGS --frames N --screenshot OUT` under Xvfb and returns the screenshot.
+Png viewerScreenshot(const std::string& args, uint32_t frames, const std::string& name) {
+  const fs::path out = fs::temp_directory_path() / ("iblx_viewer_test_" + name + ".png");
+  fs::remove(out);
+  const std::string command = "xvfb-run -a -s '-screen 0 1024x768x24' " + std::string(IBLX_BINARY) + " view " +
+                              args + " --frames " + std::to_string(frames) + " --screenshot " + out.string() +
+                              " > /dev/null";
+  const int status = std::system(command.c_str());
+  REQUIRE_MESSAGE(status == 0, "failed: " << command);
+  return loadPng(out);
+}
+
+// The same passes rendered headless, in display bytes (RGB, top row first).
+std::vector<unsigned char> headless(const SceneSpec& sceneSpec, const MethodSpec& methodSpec, uint32_t passes,
+                                    uint32_t spp, const DisplayTransform& display) {
+  const Scene scene = loadScene(sceneSpec);
+  VulkanContext context;
+  ShaderCompiler compiler;
+  Renderer renderer(context, compiler, scene, resolveMethod(methodSpec, *scene.brdf), 1);
+  for (uint32_t p = 0; p < passes; ++p) renderer.runPass(spp);
+  const std::vector<float> rgb = renderer.meanRgb();
+  std::vector<unsigned char> bytes(rgb.size());
+  for (std::size_t i = 0; i < rgb.size(); ++i) bytes[i] = toDisplayByte(rgb[i], display);
+  return bytes;
+}
+
+struct Difference {
+  int maxDifference = 0;
+  double meanObject = 0.0;  // mean code value over object pixels (to see that there is an image at all)
+};
+
+Difference compareObjectRegion(const Png& shot, const std::vector<unsigned char>& expected, const Scene& scene) {
+  Difference d;
+  std::size_t count = 0;
+  for (int y = 0; y < scene.gbuffer.height; ++y)
+    for (int x = 0; x < scene.gbuffer.width; ++x) {
+      const std::size_t p = std::size_t(y) * scene.gbuffer.width + x;
+      if (scene.gbuffer.pixels[p].normal.w == 0.0f) continue;
+      for (int c = 0; c < 3; ++c) {
+        d.maxDifference = std::max(d.maxDifference, std::abs(int(shot.at(x, y)[c]) - int(expected[3 * p + c])));
+        d.meanObject += shot.at(x, y)[c];
+      }
+      ++count;
+    }
+  d.meanObject /= double(3 * count);
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("viewer: the scripted screenshot shows the same passes as a headless render") {
+  SceneSpec scene;
+  scene.width = scene.height = 64;
+  struct Run {
+    std::string args;
+    MethodSpec method;
+    DisplayTransform display;
+  };
+  std::vector<Run> runs;
+  runs.push_back({"", MethodSpec{}, DisplayTransform{}});
+  MethodSpec hierSobol;
+  hierSobol.method = "env-hier", hierSobol.sequence = "sobol";
+  runs.push_back({"--method env-hier --seq sobol --exposure 1.5 --tonemap aces", hierSobol,
+                  DisplayTransform{.exposureEV = 1.5, .tonemap = Tonemap::Aces}});
+  for (const Run& run : runs) {
+    CAPTURE(run.args);
+    const uint32_t frames = 6, spp = 4;
+    const Png shot = viewerScreenshot("--size 64x64 --spp 4 " + run.args, frames, "same");
+    CHECK(shot.width >= 64);
+    CHECK(shot.height >= 64);
+    const Scene loaded = loadScene(scene);
+    const Difference d = compareObjectRegion(shot, headless(scene, run.method, frames, spp, run.display), loaded);
+    CHECK(d.maxDifference <= 1);
+    CHECK(d.meanObject > 20.0);  // an image, not the window's grey
+    // A different number of passes is a different image: the comparison can tell.
+    const Difference other =
+        compareObjectRegion(shot, headless(scene, run.method, frames + 3, spp, run.display), loaded);
+    CHECK(other.maxDifference > 1);
+  }
+}
+
+TEST_CASE("viewer: --no-background shows the window's grey around the object") {
+  const Png shot = viewerScreenshot("--size 64x64 --no-background", 2, "nobg");
+  CHECK(shot.at(0, 0)[0] == 24);
+  CHECK(shot.at(0, 0)[1] == 24);
+  CHECK(shot.at(0, 0)[2] == 24);
+  CHECK(shot.at(32, 32)[0] != 24);  // the sphere's centre
+  const Png withBackground = viewerScreenshot("--size 64x64", 2, "bg");
+  CHECK(withBackground.at(0, 0)[0] != 24);
+}

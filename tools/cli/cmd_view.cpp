@@ -1,0 +1,62 @@
+// `iblx view`: the desktop viewer's flags (the scene, method and display flags of `iblx render`, plus the
+// scripted mode used by CI under Xvfb); the viewer itself is tools/viewer/.
+#include "engine/core/error.h"
+#include "engine/render/methods.h"
+#include "tools/cli/cli_options.h"
+#include "tools/cli/commands.h"
+#include "tools/viewer/viewer.h"
+
+#include <cstdio>
+
+namespace iblx::cli {
+
+int cmdView(const Args& args) {
+  RenderSpec spec;
+  spec.samplesPerPass = 4;
+  viewer::ViewerOptions options;
+  ArgParser parser("view");
+  addSceneFlags(parser, spec);
+  addMethodFlags(parser, spec);
+  parser.value("--spp", "N", "samples per pixel per pass, i.e. per frame, up to 4096 (default 4)",
+               [&](const std::string& v) { spec.samplesPerPass = parseUint("--spp", v, 1, 4096); });
+  parser.value("--seed", "N", "seed of the sample sequences (default 1)",
+               [&](const std::string& v) { spec.seed = parseUint("--seed", v, 0, 0xffffffffu); });
+  parser.value("--exposure", "EV", "display exposure in stops (default 0)",
+               [&](const std::string& v) { options.display.exposureEV = parseDouble("--exposure", v, -30, 30); });
+  parser.value("--tonemap", "CURVE", "clamp (default, as render's PNG), reinhard or aces", [&](const std::string& v) {
+    if (v == "clamp") options.display.tonemap = Tonemap::Clamp;
+    else if (v == "reinhard") options.display.tonemap = Tonemap::Reinhard;
+    else if (v == "aces") options.display.tonemap = Tonemap::Aces;
+    else throw Error("--tonemap " + v + ": expected clamp, reinhard or aces");
+  });
+  parser.value("--gamma", "G", "display gamma instead of the sRGB curve (1 to 3)",
+               [&](const std::string& v) { options.display.gamma = parseDouble("--gamma", v, 1, 3); });
+  parser.toggle("--no-background", "show the background in grey instead of the environment",
+                [&] { options.background = false; });
+  parser.value("--frames", "N", "scripted mode: render N frames (one pass each), then exit",
+               [&](const std::string& v) { options.frames = parseUint("--frames", v, 1, 1u << 20); });
+  parser.value("--screenshot", "FILE.png",
+               "PNG of the window after the last scripted frame; also where F12 and the panel's button write "
+               "(default iblx-view.png)",
+               [&](const std::string& v) {
+                 checkImagePath("--screenshot", v);
+                 options.screenshot = v;
+               });
+  addDeviceFlags(parser, spec);
+  if (parser.parseOrShowHelp(args)) return 0;
+  if (spec.listMethods) {
+    std::fputs(describeRegistry().c_str(), stdout);
+    return 0;
+  }
+  if (!options.screenshot.empty() && options.screenshot.extension() != ".png")
+    throw Error("--screenshot " + options.screenshot.string() + ": the file name must end in .png");
+  options.scene = spec.scene;
+  options.method = spec.method;
+  options.samplesPerPass = spec.samplesPerPass;
+  options.seed = spec.seed;
+  options.device = spec.device;
+  options.validation = spec.validation;
+  return viewer::runViewer(options);
+}
+
+}  // namespace iblx::cli

@@ -1,0 +1,33 @@
+// `iblx view`: the desktop viewer. The object converges pass by pass in a window; method, sequence, samples per
+// pass, MIS settings, BRDF parameters and display settings switch live from a Dear ImGui panel, and any change
+// restarts the accumulation. A scripted mode (--frames, --screenshot) runs it unattended, e.g. under Xvfb.
+#pragma once
+
+#include "engine/io/image_write.h"
+#include "engine/render/scene.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace iblx::viewer {
+
+struct ViewerOptions {
+  SceneSpec scene;
+  MethodSpec method;
+  uint32_t samplesPerPass = 4;
+  uint32_t seed = 1;
+  DisplayTransform display;
+  bool background = true;
+  std::string device;
+  bool validation = false;
+  // Scripted mode: with frames > 0 the viewer renders exactly that many frames (one pass each), writes the
+  // screenshot (if a path is given) of the last one and exits.
+  uint32_t frames = 0;
+  std::filesystem::path screenshot;  // also the file name used by F12 and the menu (default iblx-view.png)
+};
+
+// Runs the viewer until its window is closed (or the scripted frames are done). Returns the exit code.
+int runViewer(const ViewerOptions& options);
+
+}  // namespace iblx::viewer
