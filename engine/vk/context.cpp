@@ -209,17 +209,23 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
 }
 
 void VulkanContext::submitAndWait(const std::function<void(vk::CommandBuffer)>& record) const {
-  vk::raii::CommandBuffers buffers(
-      device_, vk::CommandBufferAllocateInfo(*commandPool_, vk::CommandBufferLevel::ePrimary, 1));
-  vk::raii::CommandBuffer& cmd = buffers[0];
+  // The pool and the queue are shared by every thread (the viewer builds renderers and ground truths in the
+  // background): both are locked for recording and submission, but not while the work runs.
+  std::unique_lock lock(queueMutex_);
+  std::optional<vk::raii::CommandBuffers> buffers(
+      std::in_place, device_, vk::CommandBufferAllocateInfo(*commandPool_, vk::CommandBufferLevel::ePrimary, 1));
+  vk::raii::CommandBuffer& cmd = (*buffers)[0];
   cmd.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
   record(*cmd);
   cmd.end();
   vk::raii::Fence fence(device_, vk::FenceCreateInfo());
   vk::CommandBuffer handle = *cmd;
   queue_.submit(vk::SubmitInfo({}, {}, handle), *fence);
+  lock.unlock();
   while (device_.waitForFences(*fence, VK_TRUE, UINT64_MAX) == vk::Result::eTimeout) {
   }
+  lock.lock();
+  buffers.reset();  // freeing touches the pool
 }
 
 }  // namespace iblx

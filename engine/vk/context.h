@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <functional>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -63,8 +64,12 @@ class VulkanContext {
   uint32_t validationErrorCount() const { return validationErrors_.load(); }
   std::vector<std::string> validationMessages() const;
 
-  // Records commands into a one-time command buffer, submits and waits for completion.
+  // Records commands into a one-time command buffer, submits and waits for completion. Thread-safe.
   void submitAndWait(const std::function<void(vk::CommandBuffer)>& record) const;
+
+  // Held by anyone else who submits to or presents on queue() (the viewer's window), for Vulkan's external
+  // synchronisation of the queue.
+  std::unique_lock<std::mutex> lockQueue() const { return std::unique_lock(queueMutex_); }
 
   // Every physical device with the reason it would be rejected (for `iblx devices` and error messages).
   static std::vector<DeviceDescription> describeDevices();
@@ -92,6 +97,7 @@ class VulkanContext {
   vk::PhysicalDeviceLimits limits_;
   std::atomic<uint32_t> validationErrors_{0};
   mutable std::vector<std::string> messages_;
+  mutable std::mutex queueMutex_;  // also guards commandPool_
 };
 
 }  // namespace iblx

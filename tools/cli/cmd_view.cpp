@@ -42,6 +42,10 @@ int cmdView(const Args& args) {
                  checkImagePath("--screenshot", v);
                  options.screenshot = v;
                });
+  parser.toggle("--reference",
+                "compute the ground truth (or read it from the cache) at start, for the convergence panel; in "
+                "scripted mode before the first frame, and the final MSE and relMSE are printed",
+                [&] { options.reference = true; });
   addDeviceFlags(parser, spec);
   if (parser.parseOrShowHelp(args)) return 0;
   if (spec.listMethods) {

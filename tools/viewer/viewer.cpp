@@ -6,8 +6,12 @@
 #include "engine/core/error.h"
 #include "engine/core/log.h"
 #include "engine/io/brdf_file.h"
+#include "engine/core/cache_dir.h"
 #include "engine/render/methods.h"
+#include "engine/render/metrics.h"
+#include "engine/render/reference.h"
 #include "engine/render/renderer.h"
+#include "tools/viewer/background_job.h"
 #include "tools/viewer/window.h"
 
 #define GLFW_INCLUDE_NONE
@@ -25,36 +29,69 @@ namespace iblx::viewer {
 
 namespace {
 
-constexpr int kPanelWidth = 360;  // the ImGui panel to the right of the image
+constexpr int kPanelWidth = 360;         // the ImGui panel to the right of the image
+constexpr std::uint8_t kWindowGrey = 24;  // the window's own background (also behind the object without background)
+
+// One curve of the convergence panel: error against spp and time for one method on the current ground truth.
+struct ConvergenceCurve {
+  std::string label;
+  std::vector<double> spp, seconds, mse, relMse;
+};
+
+// A renderer and the scene and method it was built from (the renderer keeps a reference to the scene).
+struct ActiveRenderer {
+  std::shared_ptr<const Scene> scene;
+  ResolvedMethod method;
+  std::unique_ptr<Renderer> renderer;
+};
 
 // Everything the viewer shows, and what it was built from.
 class ViewerApp {
  public:
   ViewerApp(ViewerOptions options, ViewerWindow& window) : options_(std::move(options)), window_(window) {
-    loadSceneFromSpec();
+    if (loadSceneFromSpec() && options_.reference && options_.frames == 0) startReference();
+  }
+  ~ViewerApp() {
+    if (referenceJob_) referenceJob_->cancel();
   }
 
-  // One frame: the panel, one pass, the canvas. Returns the presented image when readback is asked.
-  // The pass runs before the panel is drawn, so the panel's figures describe the image shown with them; what
-  // the panel changes takes effect in the next frame.
+  // One frame: finished background work is taken over, one pass runs, the panel and the canvas are drawn.
+  // The pass runs before the panel, so the panel's figures describe the image shown with them; what the panel
+  // changes takes effect in the next frame. Returns the presented image when readback is asked.
   std::optional<Screenshot> frame(bool readback) {
-    if (rebuild_) rebuildRenderer();
-    if (renderer_ && !paused_) {
-      const PassTiming t = renderer_->runPass(options_.samplesPerPass);
+    pollJobs();
+    if (rebuild_ && !buildJob_) startBuild();
+    if (active_.renderer && !paused_) {
+      const PassTiming t = active_.renderer->runPass(options_.samplesPerPass);
       wallSeconds_ += t.wallSeconds, gpuSeconds_ += t.gpuSeconds;
       ++passes_;
+      recordError();
     }
     updateCanvas();
     drawPanel();
-    auto shot = window_.endFrame(canvas_, scene_.gbuffer.width, scene_.gbuffer.height, readback);
-    if (screenshotRequested_ && !readback) screenshotRequested_ = false;
+    const GBuffer& g = active_.scene ? active_.scene->gbuffer : scene_->gbuffer;
+    auto shot = window_.endFrame(canvas_, g.width, g.height, readback);
     return shot;
   }
 
+  // Scripted mode: finishes the renderer build (and the ground truth with --reference) before any frame, so
+  // that N frames are N passes.
+  void prepareBlocking(bool withReference) {
+    if (withReference) startReference();
+    startBuild();
+    if (buildJob_) buildJob_->wait();
+    if (referenceJob_) referenceJob_->wait();
+    pollJobs();
+    if (withReference && !reference_) throw Error("ground truth: " + error_);
+  }
+
+  uint32_t passes() const { return passes_; }
   bool wantsScreenshot() const { return screenshotRequested_; }
   void clearScreenshotRequest() { screenshotRequested_ = false; }
   void requestScreenshot() { screenshotRequested_ = true; }
   const std::string& lastError() const { return error_; }
+  const ActiveRenderer& active() const { return active_; }
+  const ConvergenceCurve* currentCurve() const { return curves_.empty() ? nullptr : &curves_.back(); }
 
   // Mouse orbit and wheel zoom over the image (not over the panel).
   void handleMouse() {
@@ -67,7 +104,8 @@ class ViewerApp {
       reloadGeometry();
     }
     if (io.MouseWheel != 0.0f) {
-      options_.scene.camera.zoom = std::clamp(options_.scene.camera.zoom * std::exp2(0.25 * io.MouseWheel), 0.1, 20.0);
+      options_.scene.camera.zoom =
+          std::clamp(options_.scene.camera.zoom * std::exp2(0.25 * io.MouseWheel), 0.1, 20.0);
       reloadGeometry();
     }
   }
@@ -89,18 +127,22 @@ class ViewerApp {
     }
     const SceneSpec previous = options_.scene;
     options_.scene = next;
-    if (!loadSceneFromSpec()) options_.scene = previous, loadSceneFromSpec();
+    if (!loadSceneFromSpec()) {
+      const std::string why = error_;
+      options_.scene = previous;
+      error_ = why;
+    }
   }
 
  private:
   // (Re)loads the scene from options_.scene; on failure keeps the message and returns false.
   bool loadSceneFromSpec() {
     try {
-      Scene scene = loadScene(options_.scene);
+      auto scene = std::make_shared<Scene>(loadScene(options_.scene));
       scene_ = std::move(scene);
-      params_ = scene_.params;
+      params_ = scene_->params;
       error_.clear();
-      rebuild_ = true;
+      sceneChanged();
       return true;
     } catch (const std::exception& e) {
       error_ = e.what();
@@ -108,57 +150,209 @@ class ViewerApp {
     }
   }
 
-  // Camera changes: only the G-buffer (the environment stays loaded).
+  // Camera and object changes: only the G-buffer (the environment stays loaded).
   void reloadGeometry() {
     try {
-      SceneSpec spec = options_.scene;
-      Scene next = makeScene(scene_.env, spec, LoadedBrdf{scene_.brdf, scene_.measured, scene_.brdfFile});
-      next.params = params_;
+      auto next = std::make_shared<Scene>(
+          makeScene(scene_->env, options_.scene, LoadedBrdf{scene_->brdf, scene_->measured, scene_->brdfFile}));
+      next->params = params_;
       scene_ = std::move(next);
-      rebuild_ = true;
+      sceneChanged();
     } catch (const std::exception& e) {
       error_ = e.what();
     }
   }
 
-  void rebuildRenderer() {
+  // What the ground truth depends on changed: it and every curve measured against it go.
+  void dropReference() {
+    if (referenceJob_) referenceJob_->cancel();
+    referenceJob_.reset();
+    reference_.reset();
+    curves_.clear();
+  }
+  void sceneChanged() {
+    dropReference();
+    rebuild_ = true;
+  }
+
+  // The scene as the next renderer or ground truth sees it.
+  std::shared_ptr<Scene> snapshotScene() const {
+    auto scene = std::make_shared<Scene>(*scene_);
+    scene->envRotationDeg = options_.scene.envRotationDeg;
+    scene->params = params_;
+    return scene;
+  }
+
+  void startBuild() {
     rebuild_ = false;
-    renderer_.reset();
-    try {
-      scene_.envRotationDeg = options_.scene.envRotationDeg;
-      method_ = resolveMethod(options_.method, *scene_.brdf);
-      renderer_ = std::make_unique<Renderer>(window_.context(), compiler_, scene_, method_, options_.seed);
-      renderer_->setParams(params_);
-      error_.clear();
-    } catch (const std::exception& e) {
-      error_ = e.what();
+    std::shared_ptr<const Scene> scene = snapshotScene();
+    const MethodSpec spec = options_.method;
+    const uint32_t seed = options_.seed;
+    const VulkanContext& context = window_.context();
+    buildJob_ = std::make_unique<BackgroundJob<ActiveRenderer>>(
+        "building the method (tables, shaders)", [scene, spec, seed, &context](const auto&) {
+          ActiveRenderer next{scene, resolveMethod(spec, *scene->brdf), nullptr};
+          ShaderCompiler compiler;
+          next.renderer = std::make_unique<Renderer>(context, compiler, *scene, next.method, seed);
+          return next;
+        });
+  }
+
+  void startReference() {
+    if (referenceJob_) return;
+    std::shared_ptr<const Scene> scene = snapshotScene();
+    const VulkanContext& context = window_.context();
+    referenceJob_ = std::make_unique<BackgroundJob<std::vector<float>>>(
+        "ground truth", [scene, &context](const std::function<void(double)>& progress) {
+          ShaderCompiler compiler;
+          ReferenceOptions options;
+          options.progress = progress;
+          return cachedReference(context, compiler, *scene, defaultCacheDir(), options).rgb;
+        });
+  }
+
+  void pollJobs() {
+    if (buildJob_ && buildJob_->done()) {
+      if (auto& result = buildJob_->result()) {
+        active_ = std::move(*result);
+        active_.renderer->setParams(params_);  // sliders moved while it was being built
+        error_.clear();
+        startCurve();
+      } else {
+        error_ = buildJob_->error();
+      }
+      buildJob_.reset();
     }
-    restartCounters();
+    if (referenceJob_ && referenceJob_->done()) {
+      if (auto& result = referenceJob_->result()) {
+        reference_ = std::move(*result);
+        restart();  // the curve starts at the first pass
+      } else if (referenceJob_->error() != "cancelled") {
+        error_ = "ground truth: " + referenceJob_->error();
+      }
+      referenceJob_.reset();
+    }
   }
 
   void restartCounters() { passes_ = 0, wallSeconds_ = gpuSeconds_ = 0.0; }
 
+  // Restarts accumulation; the current curve restarts too (the earlier methods' curves stay).
   void restart() {
-    if (renderer_) renderer_->restart(options_.seed);
+    if (active_.renderer) active_.renderer->restart(options_.seed);
     restartCounters();
+    startCurve();
+  }
+
+  void startCurve() {
+    restartCounters();
+    if (!reference_ || !active_.renderer) return;
+    const std::string label = active_.method.label();
+    if (!curves_.empty() && curves_.back().label == label) curves_.pop_back();
+    curves_.push_back({label, {}, {}, {}, {}});
+    constexpr std::size_t kMaxCurves = 6;  // the current one and five for comparison
+    if (curves_.size() > kMaxCurves) curves_.erase(curves_.begin());
+  }
+
+  void recordError() {
+    if (!reference_ || curves_.empty() || !active_.renderer) return;
+    const std::vector<float> rgb = active_.renderer->meanRgb();
+    const ErrorMetrics e = compareToReference(active_.scene->gbuffer, rgb, *reference_);
+    ConvergenceCurve& c = curves_.back();
+    c.spp.push_back(double(active_.renderer->samplesPerPixel()));
+    c.seconds.push_back(wallSeconds_);
+    c.mse.push_back(e.mse);
+    c.relMse.push_back(e.relMse);
   }
 
   void updateCanvas() {
-    const GBuffer& g = scene_.gbuffer;
+    const GBuffer& g = active_.scene ? active_.scene->gbuffer : scene_->gbuffer;
     canvas_.assign(std::size_t(g.width) * g.height * 4, 0);
     std::vector<float> rgb;
-    if (renderer_ && renderer_->samplesPerPixel() > 0) rgb = renderer_->meanRgb();
+    if (active_.renderer && active_.renderer->samplesPerPixel() > 0) rgb = active_.renderer->meanRgb();
     for (std::size_t p = 0; p < std::size_t(g.width) * g.height; ++p) {
       std::uint8_t* out = &canvas_[4 * p];
       out[3] = 255;
       const bool object = g.pixels[p].normal.w != 0.0f;
       if (rgb.empty() || (!object && !options_.background)) {
-        out[0] = out[1] = out[2] = 24;  // the window's own background
+        out[0] = out[1] = out[2] = kWindowGrey;
         continue;
       }
       out[2] = toDisplayByte(rgb[3 * p + 0], options_.display);  // BGRA
       out[1] = toDisplayByte(rgb[3 * p + 1], options_.display);
       out[0] = toDisplayByte(rgb[3 * p + 2], options_.display);
+    }
+  }
+
+  template <typename T>
+  void jobLine(const std::unique_ptr<BackgroundJob<T>>& job) {
+    if (!job) return;
+    const double f = job->progress();
+    char text[96];
+    std::snprintf(text, sizeof text, "%s %d%%", job->what().c_str(), int(100.0 * f));
+    ImGui::ProgressBar(float(f), ImVec2(-1.0f, 0.0f), text);
+  }
+
+  // Log-log plot of the curves' MSE or relMSE against spp or time, drawn with ImGui's draw list.
+  void drawConvergencePlot() {
+    ImGui::Checkbox("against time", &plotAgainstTime_);
+    ImGui::SameLine();
+    ImGui::Checkbox("relMSE", &plotRelative_);
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const ImVec2 size(ImGui::GetContentRegionAvail().x, 180.0f);
+    ImGui::InvisibleButton("plot", size);
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    draw->AddRectFilled(origin, ImVec2(origin.x + size.x, origin.y + size.y), IM_COL32(20, 20, 24, 255));
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    const auto xs = [&](const ConvergenceCurve& c) -> const std::vector<double>& {
+      return plotAgainstTime_ ? c.seconds : c.spp;
+    };
+    const auto ys = [&](const ConvergenceCurve& c) -> const std::vector<double>& {
+      return plotRelative_ ? c.relMse : c.mse;
+    };
+    for (const ConvergenceCurve& c : curves_)
+      for (std::size_t i = 0; i < c.spp.size(); ++i) {
+        if (!(xs(c)[i] > 0.0) || !(ys(c)[i] > 0.0)) continue;
+        x0 = std::min(x0, std::log10(xs(c)[i])), x1 = std::max(x1, std::log10(xs(c)[i]));
+        y0 = std::min(y0, std::log10(ys(c)[i])), y1 = std::max(y1, std::log10(ys(c)[i]));
+      }
+    if (x0 > x1) {
+      draw->AddText(ImVec2(origin.x + 8, origin.y + 8), IM_COL32(160, 160, 160, 255), "no points yet");
+      return;
+    }
+    // Whole decades on both axes, so slopes can be read off (-1 is 1/N).
+    x0 = std::floor(x0), x1 = std::max(std::ceil(x1), x0 + 1), y0 = std::floor(y0), y1 = std::max(std::ceil(y1), y0 + 1);
+    const float left = 44.0f, bottom = 18.0f;
+    const auto toScreen = [&](double lx, double ly) {
+      return ImVec2(origin.x + left + float((lx - x0) / (x1 - x0)) * (size.x - left - 6.0f),
+                    origin.y + 4.0f + float((y1 - ly) / (y1 - y0)) * (size.y - bottom - 8.0f));
+    };
+    char label[32];
+    for (double d = x0; d <= x1; d += 1.0) {
+      const ImVec2 a = toScreen(d, y0), b = toScreen(d, y1);
+      draw->AddLine(a, b, IM_COL32(60, 60, 70, 255));
+      std::snprintf(label, sizeof label, "1e%d", int(d));
+      draw->AddText(ImVec2(a.x - 10, a.y + 2), IM_COL32(160, 160, 160, 255), label);
+    }
+    for (double d = y0; d <= y1; d += 1.0) {
+      const ImVec2 a = toScreen(x0, d), b = toScreen(x1, d);
+      draw->AddLine(a, b, IM_COL32(60, 60, 70, 255));
+      std::snprintf(label, sizeof label, "1e%d", int(d));
+      draw->AddText(ImVec2(origin.x + 2, a.y - 7), IM_COL32(160, 160, 160, 255), label);
+    }
+    static constexpr ImU32 kColors[] = {IM_COL32(255, 120, 90, 255), IM_COL32(90, 180, 255, 255),
+                                        IM_COL32(130, 220, 110, 255), IM_COL32(240, 200, 80, 255),
+                                        IM_COL32(200, 130, 255, 255), IM_COL32(240, 240, 240, 255)};
+    for (std::size_t k = 0; k < curves_.size(); ++k) {
+      const ConvergenceCurve& c = curves_[k];
+      // The newest curve is always white-ish on top; earlier ones keep their colours.
+      const ImU32 color = k + 1 == curves_.size() ? kColors[5] : kColors[k % 5];
+      std::vector<ImVec2> points;
+      for (std::size_t i = 0; i < c.spp.size(); ++i)
+        if (xs(c)[i] > 0.0 && ys(c)[i] > 0.0) points.push_back(toScreen(std::log10(xs(c)[i]), std::log10(ys(c)[i])));
+      if (points.size() >= 2) draw->AddPolyline(points.data(), int(points.size()), color, ImDrawFlags_None, 1.5f);
+      else if (points.size() == 1) draw->AddCircleFilled(points[0], 2.0f, color);
+      ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(color), "%s: %s %.3g", c.label.c_str(),
+                         plotRelative_ ? "relMSE" : "MSE", ys(c).empty() ? 0.0 : ys(c).back());
     }
   }
 
@@ -178,20 +372,22 @@ class ViewerApp {
   }
 
   void drawPanel() {
-    const float x = float(std::max(scene_.gbuffer.width, window_.width() - kPanelWidth));
+    const float x = float(std::max(scene_->gbuffer.width, window_.width() - kPanelWidth));
     ImGui::SetNextWindowPos(ImVec2(std::min(x, float(window_.width() - kPanelWidth)), 0.0f));
     ImGui::SetNextWindowSize(ImVec2(float(kPanelWidth), float(window_.height())));
     ImGui::Begin("iblx", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
 
     // Progress first: what a user looks at.
-    const double objectPixels = double(scene_.gbuffer.objectPixelCount());
-    const uint64_t spp = renderer_ ? renderer_->samplesPerPixel() : 0;
-    ImGui::Text("%s", renderer_ ? method_.label().c_str() : "(no method)");
+    const Renderer* renderer = active_.renderer.get();
+    const double objectPixels = active_.scene ? double(active_.scene->gbuffer.objectPixelCount()) : 0.0;
+    const uint64_t spp = renderer ? renderer->samplesPerPixel() : 0;
+    ImGui::Text("%s", renderer ? active_.method.label().c_str() : "(no method yet)");
     ImGui::Text("pass %u, %llu spp, %.2f s", passes_, static_cast<unsigned long long>(spp), wallSeconds_);
     ImGui::Text("%.2f M samples/s (%.2f M/s GPU)", wallSeconds_ > 0 ? objectPixels * double(spp) / wallSeconds_ * 1e-6 : 0.0,
                 gpuSeconds_ > 0 ? objectPixels * double(spp) / gpuSeconds_ * 1e-6 : 0.0);
     ImGui::Text("device: %s", window_.context().deviceName().c_str());
     if (!error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "%s", error_.c_str());
+    jobLine(buildJob_);
     ImGui::Checkbox("pause", &paused_);
     ImGui::SameLine();
     if (ImGui::Button("restart")) restart();
@@ -224,10 +420,10 @@ class ViewerApp {
     }
 
     if (ImGui::CollapsingHeader("material", ImGuiTreeNodeFlags_DefaultOpen)) {
-      ImGui::TextWrapped("BRDF: %s", scene_.brdf ? scene_.brdf->name.c_str() : "-");
+      ImGui::TextWrapped("BRDF: %s", scene_->brdf ? scene_->brdf->name.c_str() : "-");
       bool changed = false;
-      if (scene_.brdf)
-        for (const ParamDecl& p : scene_.brdf->params) {
+      if (scene_->brdf)
+        for (const ParamDecl& p : scene_->brdf->params) {
           auto& v = params_[p.name];
           if (p.type == ParamType::Bool) {
             bool on = v[0] != 0.0;
@@ -244,14 +440,16 @@ class ViewerApp {
           }
           if (ImGui::IsItemHovered() && !p.description.empty()) ImGui::SetTooltip("%s", p.description.c_str());
         }
-      if (changed && renderer_) {
+      if (changed) {
+        // New values change the ground truth, not the method: the renderer keeps its tables and shaders.
+        scene_->params = params_;
+        dropReference();
         try {
-          renderer_->setParams(params_);
-          scene_.params = params_;
-          restartCounters();
+          if (active_.renderer) active_.renderer->setParams(params_);
         } catch (const std::exception& e) {
           error_ = e.what();
         }
+        restart();
       }
     }
 
@@ -261,7 +459,7 @@ class ViewerApp {
       float rotation = float(options_.scene.envRotationDeg);
       if (ImGui::SliderFloat("env rotation", &rotation, -180.0f, 180.0f, "%.1f deg")) {
         options_.scene.envRotationDeg = rotation;
-        rebuild_ = true;
+        sceneChanged();
       }
       static const char* objects[] = {"sphere", "plane", "teapot"};
       int object = 0;
@@ -288,20 +486,43 @@ class ViewerApp {
       ImGui::Checkbox("background", &options_.background);
     }
     ImGui::End();
+    drawConvergenceWindow();
+  }
+
+  // Below the image: the convergence plot once a ground truth exists.
+  void drawConvergenceWindow() {
+    const float top = float(scene_->gbuffer.height) + 4.0f;
+    ImGui::SetNextWindowPos(ImVec2(0.0f, top));
+    ImGui::SetNextWindowSize(ImVec2(float(window_.width() - kPanelWidth), std::max(120.0f, float(window_.height()) - top)));
+    ImGui::Begin("convergence", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+    if (!reference_ && !referenceJob_) {
+      if (ImGui::Button("compute the ground truth")) startReference();
+      ImGui::SameLine();
+      ImGui::TextDisabled("(cached on disk)");
+    }
+    jobLine(referenceJob_);
+    if (reference_) {
+      drawConvergencePlot();
+      if (curves_.size() > 1 && ImGui::Button("clear earlier curves")) curves_.erase(curves_.begin(), curves_.end() - 1);
+    }
+    ImGui::End();
   }
 
   ViewerOptions options_;
   ViewerWindow& window_;
-  ShaderCompiler compiler_;
-  Scene scene_;
+  std::shared_ptr<Scene> scene_;  // what the controls edit; renderers and ground truths get snapshots
   ParamValues params_;
-  ResolvedMethod method_;
-  std::unique_ptr<Renderer> renderer_;
+  ActiveRenderer active_;
+  std::unique_ptr<BackgroundJob<ActiveRenderer>> buildJob_;
+  std::unique_ptr<BackgroundJob<std::vector<float>>> referenceJob_;
+  std::optional<std::vector<float>> reference_;
+  std::vector<ConvergenceCurve> curves_;
   std::vector<std::uint8_t> canvas_;
   std::string error_;
   bool rebuild_ = true;
   bool paused_ = false;
   bool screenshotRequested_ = false;
+  bool plotAgainstTime_ = false, plotRelative_ = false;
   uint32_t passes_ = 0;
   double wallSeconds_ = 0.0, gpuSeconds_ = 0.0;
 };
@@ -322,23 +543,25 @@ int runViewer(const ViewerOptions& options) {
     (void)resolveParams(*brdf.info, options.scene.params);
     (void)resolveMethod(options.method, *brdf.info);
   }
-  const int width = options.scene.width + kPanelWidth, height = std::max(options.scene.height, 560);
+  // The image at the top left, the convergence plot under it, the panel on the right.
+  const int width = std::max(options.scene.width, 520) + kPanelWidth;
+  const int height = std::max(options.scene.height + 320, 720);
   ViewerWindow window("iblx view", width, height,
                       {options.device, options.validation ? Validation::On : Validation::Auto});
   ViewerApp app(options, window);
   if (!app.lastError().empty()) throw Error(app.lastError());
+  const bool scripted = options.frames > 0;
+  if (scripted) app.prepareBlocking(options.reference);
   gDropTarget = &app;
   glfwSetDropCallback(window.handle(), [](GLFWwindow*, int count, const char** paths) {
     if (gDropTarget && count > 0) gDropTarget->openFile(paths[count - 1]);
   });
   const std::filesystem::path screenshotPath = options.screenshot.empty() ? "iblx-view.png" : options.screenshot;
-  uint32_t frame = 0;
   while (window.beginFrame()) {
     // Dear ImGui 1.86 indexes keys by the backend's codes (GLFW's here).
     if (!ImGui::GetIO().WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F12, false)) app.requestScreenshot();
     app.handleMouse();
-    ++frame;
-    const bool lastScripted = options.frames > 0 && frame >= options.frames;
+    const bool lastScripted = scripted && app.passes() + 1 >= options.frames;
     const bool readback = app.wantsScreenshot() || (lastScripted && !options.screenshot.empty());
     if (const auto shot = app.frame(readback)) {
       writeScreenshot(*shot, screenshotPath);
@@ -347,10 +570,18 @@ int runViewer(const ViewerOptions& options) {
     if (lastScripted) break;
   }
   gDropTarget = nullptr;
-  if (options.frames > 0 && !app.lastError().empty()) throw Error(app.lastError());
-  // The scripted mode is what CI runs: a validation error there is a failure, not a line on stderr.
-  if (const uint32_t errors = window.context().validationErrorCount(); options.frames > 0 && errors > 0)
-    throw Error(std::to_string(errors) + " Vulkan validation error(s) during the scripted run (see above)");
+  if (scripted) {
+    if (!app.lastError().empty()) throw Error(app.lastError());
+    const ActiveRenderer& active = app.active();
+    std::printf("%s: %u passes, %llu spp", active.method.label().c_str(), app.passes(),
+                static_cast<unsigned long long>(active.renderer ? active.renderer->samplesPerPixel() : 0));
+    if (const ConvergenceCurve* curve = app.currentCurve(); curve && !curve->mse.empty())
+      std::printf(", MSE %.9g, relMSE %.9g", curve->mse.back(), curve->relMse.back());
+    std::printf("\n");
+    // The scripted mode is what CI runs: a validation error there is a failure, not a line on stderr.
+    if (const uint32_t errors = window.context().validationErrorCount(); errors > 0)
+      throw Error(std::to_string(errors) + " Vulkan validation error(s) during the scripted run (see above)");
+  }
   return 0;
 }
 

@@ -24,6 +24,7 @@ struct ViewerOptions {
   // Scripted mode: with frames > 0 the viewer renders exactly that many frames (one pass each), writes the
   // screenshot (if a path is given) of the last one and exits.
   uint32_t frames = 0;
+  bool reference = false;  // scripted mode: compute (or read from the cache) the ground truth first
   std::filesystem::path screenshot;  // also the file name used by F12 and the menu (default iblx-view.png)
 };
 

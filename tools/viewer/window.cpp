@@ -61,8 +61,10 @@ ViewerWindow::ViewerWindow(const std::string& title, int width, int height, cons
     context_ = std::make_unique<VulkanContext>(options);
 
     const auto& device = context_->device();
+    commandPool_ = vk::raii::CommandPool(
+        device, vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer, context_->queueFamily()));
     commands_ = vk::raii::CommandBuffers(
-        device, vk::CommandBufferAllocateInfo(*context_->commandPool(), vk::CommandBufferLevel::ePrimary, 1));
+        device, vk::CommandBufferAllocateInfo(*commandPool_, vk::CommandBufferLevel::ePrimary, 1));
     imageAvailable_ = vk::raii::Semaphore(device, vk::SemaphoreCreateInfo());
     frameDone_ = vk::raii::Fence(device, vk::FenceCreateInfo(vk::FenceCreateFlagBits::eSignaled));
     createSwapchain();
@@ -98,7 +100,10 @@ ViewerWindow::ViewerWindow(const std::string& title, int width, int height, cons
 }
 
 ViewerWindow::~ViewerWindow() {
-  if (context_) context_->device().waitIdle();
+  if (context_) {
+    const auto lock = context_->lockQueue();
+    context_->device().waitIdle();
+  }
   if (imguiReady_) {
     ImGui_ImplVulkan_Shutdown();
     ImGui_ImplGlfw_Shutdown();
@@ -109,7 +114,7 @@ ViewerWindow::~ViewerWindow() {
   upload_ = Buffer(), readback_ = Buffer();
   frameDone_ = nullptr, imageAvailable_ = nullptr;
   renderFinished_.clear();
-  commands_ = nullptr;
+  commands_ = nullptr, commandPool_ = nullptr;
   imguiPool_ = nullptr;
   framebuffers_.clear(), views_.clear();
   renderPass_ = nullptr, swapchain_ = nullptr;
@@ -121,7 +126,10 @@ void ViewerWindow::createSwapchain() {
   const auto& device = context_->device();
   const auto& physical = context_->physicalDevice();
   const vk::SurfaceKHR surface = *context_->surface();
-  device.waitIdle();
+  {
+    const auto lock = context_->lockQueue();
+    device.waitIdle();
+  }
   framebuffers_.clear(), views_.clear();
 
   const auto caps = physical.getSurfaceCapabilitiesKHR(surface);
@@ -220,7 +228,7 @@ std::optional<Screenshot> ViewerWindow::endFrame(std::span<const std::uint8_t> c
   // The canvas: dark grey, with the render at the top left (clipped to the window).
   const int width = int(extent_.width), height = int(extent_.height);
   std::vector<std::uint8_t> pixels(std::size_t(width) * height * 4);
-  for (std::size_t p = 0; p < pixels.size(); p += 4) pixels[p] = pixels[p + 1] = pixels[p + 2] = 24, pixels[p + 3] = 255;
+  for (std::size_t p = 0; p < pixels.size(); p += 4) pixels[p] = pixels[p + 1] = pixels[p + 2] = 24, pixels[p + 3] = 255;  // the viewer's kWindowGrey
   const int copyWidth = std::min(width, canvasWidth), copyHeight = std::min(height, canvasHeight);
   for (int y = 0; y < copyHeight; ++y)
     std::memcpy(&pixels[std::size_t(y) * width * 4], &canvas[std::size_t(y) * canvasWidth * 4],
@@ -258,6 +266,7 @@ std::optional<Screenshot> ViewerWindow::endFrame(std::span<const std::uint8_t> c
   const vk::PipelineStageFlags waitStage = S::eTransfer;
   const vk::CommandBuffer handle = *cmd;
   const vk::Semaphore finished = *renderFinished_[index];
+  auto queueLock = context_->lockQueue();
   context_->queue().submit(vk::SubmitInfo(*imageAvailable_, waitStage, handle, finished), *frameDone_);
   try {
     const vk::SwapchainKHR swapchain = *swapchain_;
@@ -266,6 +275,7 @@ std::optional<Screenshot> ViewerWindow::endFrame(std::span<const std::uint8_t> c
   } catch (const vk::OutOfDateKHRError&) {
     needsRecreate_ = true;
   }
+  queueLock.unlock();
   if (!readback) return std::nullopt;
   (void)device.waitForFences(*frameDone_, VK_TRUE, std::numeric_limits<uint64_t>::max());
   std::vector<std::uint8_t> bgra(std::size_t(width) * height * 4);

@@ -59,6 +59,7 @@ class ViewerWindow {
   vk::raii::RenderPass renderPass_ = nullptr;
   std::vector<vk::raii::Framebuffer> framebuffers_;
   vk::raii::DescriptorPool imguiPool_ = nullptr;
+  vk::raii::CommandPool commandPool_ = nullptr;  // the window's own: the context's is shared with other threads
   vk::raii::CommandBuffers commands_ = nullptr;
   vk::raii::Semaphore imageAvailable_ = nullptr;
   std::vector<vk::raii::Semaphore> renderFinished_;  // one per swapchain image

@@ -1,0 +1,60 @@
+// Long work off the viewer's UI thread (renderer builds: tables and shader compiles; ground truths), with its
+// progress and a cooperative cancel, so the window never freezes.
+#pragma once
+
+#include <atomic>
+#include <exception>
+#include <functional>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+namespace iblx::viewer {
+
+// Thrown from a job's progress callback after cancel(): the work unwinds at its next progress report.
+struct JobCancelled : std::runtime_error {
+  JobCancelled() : std::runtime_error("cancelled") {}
+};
+
+template <typename T>
+class BackgroundJob {
+ public:
+  // work(progress) runs on its own thread; progress(fraction in [0, 1]) may be called at any rate.
+  BackgroundJob(std::string what, std::function<T(const std::function<void(double)>&)> work)
+      : what_(std::move(what)), thread_([this, work = std::move(work)] {
+          try {
+            result_ = work([this](double fraction) {
+              progress_.store(fraction);
+              if (cancelled_.load()) throw JobCancelled();
+            });
+          } catch (const JobCancelled&) {
+            error_ = "cancelled";
+          } catch (const std::exception& e) {
+            error_ = e.what();
+          }
+          done_.store(true, std::memory_order_release);
+        }) {}
+  ~BackgroundJob() { cancel(); }  // std::jthread joins
+  BackgroundJob(const BackgroundJob&) = delete;
+  BackgroundJob& operator=(const BackgroundJob&) = delete;
+
+  const std::string& what() const { return what_; }
+  bool done() const { return done_.load(std::memory_order_acquire); }
+  double progress() const { return progress_.load(); }
+  void cancel() { cancelled_.store(true); }
+  void wait() { thread_.join(); }
+  // After done(): the result, or nullopt with error() saying why.
+  std::optional<T>& result() { return result_; }
+  const std::string& error() const { return error_; }
+
+ private:
+  std::string what_;
+  std::atomic<double> progress_{0.0};
+  std::atomic<bool> cancelled_{false}, done_{false};
+  std::optional<T> result_;
+  std::string error_;
+  std::jthread thread_;  // last: starts once everything above exists, joins before it goes
+};
+
+}  // namespace iblx::viewer
