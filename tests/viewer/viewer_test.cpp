@@ -1,12 +1,16 @@
 // The viewer, tested without a GPU: `iblx view` runs its scripted mode under Xvfb on lavapipe and its screenshot
 // is compared with a headless render of the same passes (same method, sequence, seed and spp) put through the
 // same display transform. Needs xvfb-run (tools/install.sh installs it).
+#include "engine/core/cache_dir.h"
 #include "engine/io/image_write.h"
+#include "engine/render/metrics.h"
+#include "engine/render/reference.h"
 #include "engine/render/renderer.h"
 
 #include <doctest/doctest.h>
 #include <stb/stb_image.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -34,15 +38,27 @@ Png loadPng(const fs::path& path) {
   return png;
 }
 
+std::string viewCommand(const std::string& args) {
+  return "xvfb-run -a -s '-screen 0 1280x1024x24' " + std::string(IBLX_BINARY) + " view " + args;
+}
+
+// Runs a command and returns its standard output; fails the test on a non-zero exit.
+std::string runCapturing(const std::string& command) {
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+  REQUIRE(pipe != nullptr);
+  std::string out;
+  char buffer[512];
+  while (std::fgets(buffer, sizeof buffer, pipe.get())) out += buffer;
+  const int status = pclose(pipe.release());
+  REQUIRE_MESSAGE(status == 0, "failed: " << command << "\n" << out);
+  return out;
+}
+
 // Runs `iblx view ARGS --frames N --screenshot OUT` under Xvfb and returns the screenshot.
 Png viewerScreenshot(const std::string& args, uint32_t frames, const std::string& name) {
   const fs::path out = fs::temp_directory_path() / ("iblx_viewer_test_" + name + ".png");
   fs::remove(out);
-  const std::string command = "xvfb-run -a -s '-screen 0 1024x768x24' " + std::string(IBLX_BINARY) + " view " +
-                              args + " --frames " + std::to_string(frames) + " --screenshot " + out.string() +
-                              " > /dev/null";
-  const int status = std::system(command.c_str());
-  REQUIRE_MESSAGE(status == 0, "failed: " << command);
+  runCapturing(viewCommand(args + " --frames " + std::to_string(frames) + " --screenshot " + out.string()));
   return loadPng(out);
 }
 
@@ -123,4 +139,28 @@ TEST_CASE("viewer: --no-background shows the window's grey around the object") {
   CHECK(shot.at(32, 32)[0] != 24);  // the sphere's centre
   const Png withBackground = viewerScreenshot("--size 64x64", 2, "bg");
   CHECK(withBackground.at(0, 0)[0] != 24);
+}
+
+TEST_CASE("viewer: --reference prints the error of the shown passes against the ground truth") {
+  const std::string out = runCapturing(viewCommand("--size 32x32 --method env-cdf --frames 5 --reference"));
+  double mse = -1.0, relMse = -1.0;
+  const std::size_t at = out.find("MSE ");
+  REQUIRE_MESSAGE(at != std::string::npos, out);
+  REQUIRE(std::sscanf(out.c_str() + at, "MSE %lf, relMSE %lf", &mse, &relMse) == 2);
+  CHECK(out.find("5 passes, 20 spp") != std::string::npos);
+
+  SceneSpec spec;
+  spec.width = spec.height = 32;
+  const Scene scene = loadScene(spec);
+  VulkanContext context;
+  ShaderCompiler compiler;
+  MethodSpec method;
+  method.method = "env-cdf";
+  Renderer renderer(context, compiler, scene, resolveMethod(method, *scene.brdf), 1);
+  for (int p = 0; p < 5; ++p) renderer.runPass(4);
+  const ReferenceImage reference = cachedReference(context, compiler, scene, defaultCacheDir());
+  const ErrorMetrics expected = compareToReference(scene.gbuffer, renderer.meanRgb(), reference.rgb);
+  CHECK(mse == doctest::Approx(expected.mse).epsilon(1e-6));
+  CHECK(relMse == doctest::Approx(expected.relMse).epsilon(1e-6));
+  CHECK(mse > 0.0);
 }
