@@ -225,5 +225,17 @@ lines=$(wc -l < "$tmp/int/converge.csv" 2>/dev/null || echo 0)
 expect_ok "hardcases quick" hardcases --case zero-half --quick --method env-cdf --seq sobol --max-spp 64 --out-dir "$tmp/hard"
 [ -s "$tmp/hard/hardcases.md" ] && [ -s "$tmp/hard/zero-half.csv" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: hardcases wrote no report"; }
 
+# The viewer: flags are checked before a window opens; without a display it says so (no crash).
+expect_error "view: screenshot not png" "--screenshot" view --frames 1 --screenshot "$tmp/shot.jpg"
+expect_error "view: bad tonemap" "--tonemap" view --tonemap filmic
+expect_error "view: zero frames" "--frames" view --frames 0
+expect_error "view: bad gamma" "--gamma" view --gamma 9
+expect_error "view: unknown method" "nope" view --method nope --frames 1
+expect_error "view: unknown flag" "--passes" view --passes 3
+out=$(env -u DISPLAY -u WAYLAND_DISPLAY "$iblx" view --frames 1 2>&1 >/dev/null)
+status=$?
+[ $status -ne 0 ] && printf '%s' "$out" | grep -qF "cannot open a window" && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: view without a display: exit $status, $out"; }
+[ ! -e "$tmp/shot.jpg" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: view wrote a .jpg"; }
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
