@@ -154,14 +154,14 @@ int cmdSamples(const Args& args) {
   // The records' mean and the integrator's own running mean of the pixel agree to float rounding: a check
   // the user sees on every run.
   const glm::dvec3 recordMean = estimateSum / double(count), pixelMean = recorder.pixelMean();
+  const uint32_t passes = (count + spec.samplesPerPass - 1) / spec.samplesPerPass;
   std::FILE* report = toStdout ? stderr : stdout;
   std::fprintf(report,
-               "%s on %s: %u samples of pixel %d,%d in %llu passes of up to %u; mean estimate %.6g %.6g %.6g "
+               "%s on %s: %u samples of pixel %d,%d in %u pass%s of up to %u; mean estimate %.6g %.6g %.6g "
                "(the integrator's running mean: %.6g %.6g %.6g)\n",
-               method.label().c_str(), context.deviceName().c_str(), count, x, y,
-               static_cast<unsigned long long>((count + spec.samplesPerPass - 1) / spec.samplesPerPass),
-               spec.samplesPerPass, recordMean.x, recordMean.y, recordMean.z, pixelMean.x, pixelMean.y,
-               pixelMean.z);
+               method.label().c_str(), context.deviceName().c_str(), count, x, y, passes,
+               passes == 1 ? "" : "es", spec.samplesPerPass, recordMean.x, recordMean.y, recordMean.z,
+               pixelMean.x, pixelMean.y, pixelMean.z);
   if (!toStdout) std::fprintf(report, "wrote %s\n", spec.out.c_str());
   return 0;
 }
