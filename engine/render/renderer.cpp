@@ -63,8 +63,8 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
 
 void Renderer::bindRecordingFrameSet() {
   const auto frame = gpu_.frameSet();
+  static_assert(std::tuple_size_v<decltype(frame)> == kSampleRecordBinding, "records follow the frame set");
   std::vector<const Buffer*> set(frame.begin(), frame.end());
-  IBLX_ASSERT(set.size() == kSampleRecordBinding);
   set.push_back(&sampleRecords_);
   kernel_->bindBuffers(0, set);
 }

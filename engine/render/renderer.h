@@ -18,6 +18,8 @@
 
 namespace iblx {
 
+static_assert(sizeof(gpu::SampleRecord) == 80);  // std430: four vec4, two floats, two uints
+
 struct PassTiming {
   double gpuSeconds = 0.0;   // the integrator dispatch alone (timestamp queries)
   double wallSeconds = 0.0;  // record + submit + wait

@@ -19,8 +19,6 @@
 
 namespace iblx {
 
-static_assert(sizeof(gpu::SampleRecord) == 80);
-
 struct RecordedSample {
   uint64_t index = 0;  // in the pixel's sequence, from 0
   uint64_t pass = 0;   // the pass that drew it
