@@ -1,16 +1,24 @@
 // The integrator: one invocation per pixel adds frame.samplesPerPass estimates to the running mean and the
 // running mean of squares (DESIGN §6: means, not float32 sums, so precision does not decay with the count).
 // Non-finite estimates are replaced by 0 and counted in stats.nonFiniteSamples, which must stay 0.
-// Assembled with one part per role by engine/render/kernel_assembly.cpp.
+// Assembled with one part per role by engine/render/kernel_assembly.cpp. With IBLX_RECORD_SAMPLES it
+// integrates one pixel (frame.recordPixelX/Y) through this same code and stores every sample's record
+// (lib/sample_record.glsl, engine/render/sample_recorder.h).
 #include "lib/frame_resources.glsl"
 #include "lib/hash.glsl"
 #include "lib/latlong.glsl"
 #include "lib/pixel_shading.glsl"
+#include "lib/sample_record.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 void main() {
+#ifdef IBLX_RECORD_SAMPLES
+  if (gl_GlobalInvocationID.xy != uvec2(0u)) return;  // the host dispatches one group for the one pixel
+  uvec2 pixel = uvec2(frame.recordPixelX, frame.recordPixelY);
+#else
   uvec2 pixel = gl_GlobalInvocationID.xy;
+#endif
   if (pixel.x >= frame.width || pixel.y >= frame.height) return;
   uint index = pixel.y * frame.width + pixel.x;
   GPixel g = gbuffer[index];
@@ -27,11 +35,13 @@ void main() {
     vec2 u = sequenceSample(pixel, frame.sampleOffset + k, frame.seed);
     // Padding dimensions: a hash of the sample's identity, independent of every sequence's 2D point.
     uvec4 padding = pcg4d(uvec4(pixel, frame.sampleOffset + k, frame.seed ^ 0x9e3779b9u));
+    RECORD_BEGIN();
     vec3 x = estimateRadiance(u, vec2(uintToUnitFloat(padding.x), uintToUnitFloat(padding.y)), s);
     if (any(isnan(x)) || any(isinf(x))) {
       x = vec3(0.0);
       ++nonFinite;
     }
+    RECORD_STORE(frame.sampleOffset + k, u, x);
     sum += x;
     sumSquares += x * x;
   }

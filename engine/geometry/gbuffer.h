@@ -16,7 +16,7 @@ namespace iblx {
 
 static_assert(sizeof(gpu::GPixel) == 48);
 static_assert(sizeof(gpu::AccumPixel) == 32);
-static_assert(sizeof(gpu::FrameParams) == 80);
+static_assert(sizeof(gpu::FrameParams) == 96);
 
 struct GBuffer {
   int width = 0, height = 0;

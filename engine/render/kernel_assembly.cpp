@@ -36,8 +36,13 @@ std::vector<std::pair<std::string, std::string>> brdfBindingDefines(std::size_t 
 }
 
 KernelParts integratorParts(const Scene& scene, const SceneGpu& gpu, const ResolvedMethod& method,
-                            const TechniqueData& envData, const TechniqueData& brdfTechniqueData) {
+                            const TechniqueData& envData, const TechniqueData& brdfTechniqueData,
+                            IntegratorMode mode) {
   KernelParts k{"integrate.comp", {}, paramBlockGlsl(*scene.brdf), envData.defines};
+  if (mode == IntegratorMode::RecordPixel) {
+    k.defines.emplace_back("IBLX_RECORD_SAMPLES", "1");
+    k.defines.emplace_back("SAMPLE_RECORD_BINDING", std::to_string(kSampleRecordBinding));
+  }
   k.defines.insert(k.defines.end(), brdfTechniqueData.defines.begin(), brdfTechniqueData.defines.end());
   const auto bindings = brdfBindingDefines(gpu.brdfData.size());
   k.defines.insert(k.defines.end(), bindings.begin(), bindings.end());

@@ -26,12 +26,19 @@ KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf);
 std::vector<uint32_t> compileKernel(ShaderCompiler& compiler, const KernelParts& parts,
                                     const std::string& name);
 
+// What the integrator kernel does: add samples to every pixel, or integrate one pixel through the same code
+// and store every sample's record (IBLX_RECORD_SAMPLES, shaders/lib/sample_record.glsl) in an extra set-0
+// buffer at binding kSampleRecordBinding.
+enum class IntegratorMode { Image, RecordPixel };
+inline constexpr uint32_t kSampleRecordBinding = 8;
+
 // The integrator for a scene and method, and the reference kernel for a scene, as uploaded in `gpu`. Set 3
 // holds the parameter block (binding 0), the BRDF's buffers (gpu.brdfData, from BRDF_DATA_BINDING = 1) and the
 // BRDF technique's (from BRDF_SAMPLER_BINDING); both bindings, and the environment's chunking
 // (SceneGpu::envDefines), are defined for the parts.
 KernelParts integratorParts(const Scene& scene, const SceneGpu& gpu, const ResolvedMethod& method,
-                            const TechniqueData& envData, const TechniqueData& brdfTechniqueData);
+                            const TechniqueData& envData, const TechniqueData& brdfTechniqueData,
+                            IntegratorMode mode = IntegratorMode::Image);
 KernelParts referenceParts(const Scene& scene, const SceneGpu& gpu);
 // The two set-3 binding definitions alone (for kernels assembled elsewhere, e.g. the test probes).
 std::vector<std::pair<std::string, std::string>> brdfBindingDefines(std::size_t brdfDataBuffers);

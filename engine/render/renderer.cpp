@@ -20,11 +20,12 @@ double since(Clock::time_point t) {
 }  // namespace
 
 Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
-                   const ResolvedMethod& method, uint32_t seed)
+                   const ResolvedMethod& method, uint32_t seed, IntegratorMode mode)
     : context_(context),
       scene_(scene),
       method_(method),
       gpu_(uploadScene(context, scene)),
+      mode_(mode),
       timestamps_(context),
       seed_(seed),
       params_(scene.params) {
@@ -39,18 +40,58 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
                                : TechniqueData{};
   for (size_t i = 0; i < brdfData.buffers.size(); ++i)
     brdfTechniqueBuffers_.push_back(Buffer::fromData(context, brdfData.buffers[i], brdfData.names[i]));
-  const KernelParts parts = integratorParts(scene, gpu_, method, envData, brdfData);
-  const auto spirv = compileKernel(compiler, parts, "integrate " + method.label());
+  const bool recording = mode == IntegratorMode::RecordPixel;
+  const std::string name = (recording ? "record samples " : "integrate ") + method.label();
+  const KernelParts parts = integratorParts(scene, gpu_, method, envData, brdfData, mode);
+  const auto spirv = compileKernel(compiler, parts, name);
   const auto brdfSet = gpu_.brdfSet(brdfTechniqueBuffers_);
-  kernel_ = std::make_unique<ComputeKernel>(
-      context, spirv, sceneKernelLayout(uint32_t(envBuffers_.size()), uint32_t(brdfSet.size() - 1)),
-      "integrate " + method.label());
-  kernel_->bindBuffers(0, gpu_.frameSet());
+  KernelLayout layout = sceneKernelLayout(uint32_t(envBuffers_.size()), uint32_t(brdfSet.size() - 1));
+  if (recording) layout.buffersPerSet[0] = kSampleRecordBinding + 1;
+  kernel_ = std::make_unique<ComputeKernel>(context, spirv, layout, name);
+  if (recording) {
+    sampleRecords_ = Buffer(context, 0, "sample records");
+    bindRecordingFrameSet();
+  } else {
+    kernel_->bindBuffers(0, gpu_.frameSet());
+  }
   std::vector<const Buffer*> env;
   for (const auto& b : envBuffers_) env.push_back(&b);
   kernel_->bindBuffers(2, env);
   kernel_->bindBuffers(3, brdfSet);
   setupSeconds_ = since(created_);
+}
+
+void Renderer::bindRecordingFrameSet() {
+  const auto frame = gpu_.frameSet();
+  static_assert(std::tuple_size_v<decltype(frame)> == kSampleRecordBinding, "records follow the frame set");
+  std::vector<const Buffer*> set(frame.begin(), frame.end());
+  set.push_back(&sampleRecords_);
+  kernel_->bindBuffers(0, set);
+}
+
+void Renderer::setRecordedPixel(uint32_t x, uint32_t y) {
+  if (mode_ != IntegratorMode::RecordPixel)
+    throw Error("setRecordedPixel: the renderer does not record samples");
+  if (x >= uint32_t(scene_.gbuffer.width) || y >= uint32_t(scene_.gbuffer.height))
+    throw Error("setRecordedPixel: pixel outside the image");
+  recordX_ = x;
+  recordY_ = y;
+  restart(seed_);
+}
+
+std::vector<gpu::SampleRecord> Renderer::lastPassRecords() const {
+  if (mode_ != IntegratorMode::RecordPixel)
+    throw Error("lastPassRecords: the renderer does not record samples");
+  std::vector<gpu::SampleRecord> records(lastPassSamples_);
+  sampleRecords_.read(records.data(), records.size() * sizeof(gpu::SampleRecord));
+  return records;
+}
+
+std::array<float, 3> Renderer::pixelMean(uint32_t x, uint32_t y) const {
+  gpu::AccumPixel pixel;
+  gpu_.accum.read(&pixel, sizeof pixel,
+                  (vk::DeviceSize(y) * uint32_t(scene_.gbuffer.width) + x) * sizeof pixel);
+  return {pixel.mean.x, pixel.mean.y, pixel.mean.z};
 }
 
 void Renderer::setParams(const ParamValues& values) {
@@ -73,6 +114,7 @@ void Renderer::setParams(const ParamValues& values) {
 void Renderer::restart(uint32_t seed) {
   seed_ = seed;
   samplesPerPixel_ = 0;
+  lastPassSamples_ = 0;
   gpu_.stats.fill(0);
 }
 
@@ -92,6 +134,22 @@ PassTiming Renderer::runPass(uint32_t samplesPerPass) {
   params.seed = seed_;
   params.envRotation = {float(std::cos(rotation)), float(std::sin(rotation)), 0, 0};
   params.strategy = {method_.misEnvFraction, method_.misPower ? 1.0f : 0.0f, 0, 0};
+  // Recording integrates one pixel with one invocation (integrate.comp), so one group is dispatched.
+  const bool recording = mode_ == IntegratorMode::RecordPixel;
+  const uint32_t groupsX = recording ? 1 : (params.width + 7) / 8,
+                 groupsY = recording ? 1 : (params.height + 7) / 8;
+  if (recording) {
+    if (sampleRecords_.size() < vk::DeviceSize(samplesPerPass) * sizeof(gpu::SampleRecord)) {
+      sampleRecords_ =
+          Buffer(context_, vk::DeviceSize(samplesPerPass) * sizeof(gpu::SampleRecord), "sample records");
+      bindRecordingFrameSet();
+    }
+    params.recordPixelX = recordX_;
+    params.recordPixelY = recordY_;
+    params.recordFirstSample = uint32_t(samplesPerPixel_);
+    params.recordCapacity = samplesPerPass;
+    lastPassSamples_ = samplesPerPass;
+  }
   context_.submitAndWait([&](vk::CommandBuffer cmd) {
     timestamps_.begin(cmd);
     // A pass is split into dispatches of at most kMaxSamplesPerDispatch samples: lavapipe ends loops after
@@ -102,7 +160,7 @@ PassTiming Renderer::runPass(uint32_t samplesPerPass) {
       params.samplesPerPass = std::min(kMaxSamplesPerDispatch, samplesPerPass - done);
       if (done > 0)
         recordShaderWriteBarrier(cmd, false);  // accumulation of the previous dispatch -> this one
-      kernel_->record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
+      kernel_->record(cmd, groupsX, groupsY, &params, sizeof params);
     }
     timestamps_.end(cmd);
     recordShaderWriteBarrier(cmd, true);  // -> the next pass and the host

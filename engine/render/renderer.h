@@ -7,14 +7,18 @@
 //   auto rgb = renderer.meanRgb();
 #pragma once
 
+#include "engine/render/kernel_assembly.h"
 #include "engine/render/scene.h"
 #include "engine/vk/compute_kernel.h"
 #include "engine/vk/shader_compiler.h"
 
+#include <array>
 #include <chrono>
 #include <memory>
 
 namespace iblx {
+
+static_assert(sizeof(gpu::SampleRecord) == 80);  // std430: four vec4, two floats, two uints
 
 struct PassTiming {
   double gpuSeconds = 0.0;   // the integrator dispatch alone (timestamp queries)
@@ -23,8 +27,10 @@ struct PassTiming {
 
 class Renderer {
  public:
+  // IntegratorMode::RecordPixel integrates only the pixel of setRecordedPixel and records its samples
+  // (engine/render/sample_recorder.h uses it); everything else works as for an image.
   Renderer(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
-           const ResolvedMethod& method, uint32_t seed = 1);
+           const ResolvedMethod& method, uint32_t seed = 1, IntegratorMode mode = IntegratorMode::Image);
 
   PassTiming runPass(uint32_t samplesPerPass);
   void restart(uint32_t seed);  // drops everything accumulated
@@ -42,6 +48,13 @@ class Renderer {
   uint32_t nonFiniteSamples() const;
   double setupSeconds() const { return setupSeconds_; }  // table builds + shader compile + upload
 
+  // IntegratorMode::RecordPixel only: the pixel the passes integrate (restarts accumulation; the caller
+  // checks it is an object pixel), and the records of the last pass's samples in sample order.
+  void setRecordedPixel(uint32_t x, uint32_t y);
+  std::vector<gpu::SampleRecord> lastPassRecords() const;
+  // The running mean of one pixel (meanRgb without reading the whole image).
+  std::array<float, 3> pixelMean(uint32_t x, uint32_t y) const;
+
  private:
   std::chrono::steady_clock::time_point created_ = std::chrono::steady_clock::now();  // first: setup timing
   const VulkanContext& context_;
@@ -49,7 +62,11 @@ class Renderer {
   ResolvedMethod method_;
   SceneGpu gpu_;
   std::vector<Buffer> envBuffers_, brdfTechniqueBuffers_;
-  std::unique_ptr<ComputeKernel> kernel_;
+  IntegratorMode mode_;
+  Buffer sampleRecords_;  // RecordPixel: one pass's records, grown with the samples per pass
+  uint32_t recordX_ = 0, recordY_ = 0, lastPassSamples_ = 0;
+  std::unique_ptr<ComputeKernel> kernel_;  // after the buffers its sets refer to: destroyed before them
+  void bindRecordingFrameSet();            // set 0: the frame buffers, then sampleRecords_
   TimestampPair timestamps_;
   uint64_t samplesPerPixel_ = 0;
   uint32_t seed_ = 1;

@@ -46,6 +46,32 @@ struct FrameParams {
                      // reference: z sin of the horizon band, w subdivisions per axis inside it
   vec4 quadrature;   // reference: x coarse, y fine subdivisions per texel axis, z cos of the fine-zone angle,
                      // w unused
+  // Sample recording (integrate.comp compiled with IBLX_RECORD_SAMPLES): the one pixel integrated, the first
+  // sample index of the pass (record i holds sample recordFirstSample + i) and the record buffer's length.
+  uint recordPixelX;
+  uint recordPixelY;
+  uint recordFirstSample;
+  uint recordCapacity;
+};
+
+// SampleRecord::technique: the role of the technique that drew the sample. The host maps roles to the
+// method's technique names, so no technique needs a number of its own.
+const uint kSampleTechniqueNone = 0u;  // no sample drawn (ris: no candidate kept); the record is all zero
+const uint kSampleTechniqueEnv = 1u;
+const uint kSampleTechniqueBrdf = 2u;
+
+// One sample of the recorded pixel (set 0, binding 8 of the recording integrator; lib/sample_record.glsl).
+struct SampleRecord {
+  vec4 direction;  // xyz: the sampled direction (environment frame); w: pdf of the technique that drew it,
+                   // solid angle
+  vec4 weight;     // rgb: contribution weight, estimate = radiance * weight (f cos / pdf times the MIS
+                   // weight, over the technique's share of samples); a: MIS weight (1: single technique, ris)
+  vec4 radiance;   // rgb: the environment radiance the estimate used (0 when the sample contributes nothing)
+  vec4 estimate;   // rgb: the estimate the integrator accumulated (after its NaN/Inf guard); a: unused
+  float pointX;    // the sequence's 2D point u
+  float pointY;
+  uint sampleIndex;  // in the pixel's sequence
+  uint technique;    // kSampleTechnique*
 };
 
 #ifdef __cplusplus

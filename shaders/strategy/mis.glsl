@@ -1,6 +1,8 @@
 // Strategy "mis": one-sample multiple importance sampling of the env and BRDF techniques (Veach 1997, §9.2.4).
 // The technique is chosen by u.x < c (c = frame.strategy.x, the env fraction) and u.x is rescaled, so each
 // sample uses one 2D point. Estimate = w_i f L cos / (c_i p_i) with the balance or power (beta = 2) heuristic.
+#include "lib/sample_record.glsl"
+
 float misWeightTimesInvPdf(float chosen, float other, bool power) {
   // chosen = c_i p_i, other = c_j p_j >= 0; returns w_i / (c_i p_i), 0 when chosen is 0.
   if (!(chosen > 0.0)) return 0.0;
@@ -31,6 +33,11 @@ vec3 estimateRadiance(vec2 u, vec2 uPadding, Shading s) {
   vec3 radiance = envChosen ? radianceE : radianceB;
   float chosen = envChosen ? c * pEnv : (1.0 - c) * pBrdf;
   float other = envChosen ? (1.0 - c) * pBrdf : c * pEnv;
+  RECORD_DRAW(envChosen ? kSampleTechniqueEnv : kSampleTechniqueBrdf, envChosen ? wiE : wiB,
+              envChosen ? pEnv : pBrdf);
   if (!(chosen > 0.0) || wiLocal.z <= 0.0) return vec3(0.0);
-  return radiance * brdfEval(wiLocal, s.woLocal) * (wiLocal.z * misWeightTimesInvPdf(chosen, other, power));
+  float weightOverPdf = misWeightTimesInvPdf(chosen, other, power);
+  vec3 weight = brdfEval(wiLocal, s.woLocal) * (wiLocal.z * weightOverPdf);
+  RECORD_WEIGHT(weightOverPdf * chosen, weight, radiance);
+  return radiance * weight;
 }

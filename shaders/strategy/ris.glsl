@@ -10,6 +10,7 @@
 // reservoir (Chao 1982): candidate k replaces the kept one with probability w_k / sum_{j<=k} w_j, each decision
 // with its own uniform hashed from uPadding (independent of u), so no per-candidate arrays are needed.
 #include "lib/hash.glsl"
+#include "lib/sample_record.glsl"
 
 const vec2 kRisLattice = vec2(0.7548776662466927, 0.5698402909980532);  // (1/phi2, 1/phi2^2), phi2^3 = phi2 + 1
 
@@ -34,6 +35,13 @@ vec3 estimateRadiance(vec2 u, vec2 uPadding, Shading s) {
     float r = uintToUnitFloat(decisions[k & 3u]);
     bool take = weight > 0.0 && r * weightSum < weight;
     chosen = take ? radiance / pdf * (f / meanF) : chosen;
+#ifdef IBLX_RECORD_SAMPLES
+    if (take) {  // the kept candidate is the sample; its weight gets the factor sum(w) / M below
+      RECORD_DRAW(kSampleTechniqueEnv, wi, pdf);
+      RECORD_WEIGHT(1.0, f / (meanF * pdf), radiance);
+    }
+#endif
   }
+  RECORD_SCALE_WEIGHT(weightSum / float(candidates));
   return chosen * (weightSum / float(candidates));
 }

@@ -191,6 +191,31 @@ expect_error "make-teapot subdivisions" "--subdivisions 0" make-teapot --subdivi
 expect_error "make-teapot patch file" "none.txt: no such file" make-teapot --patches "$tmp/none.txt" --out "$tmp/t.obj"
 [ ! -e "$tmp/o.png" ] && [ ! -e "$tmp/o.exr" ] && [ ! -e "$tmp/t.obj" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: output written despite a bad object or camera"; }
 
+# samples: one pixel's samples as CSV; a bad pixel, count or output names the flag, and nothing is written.
+expect_error "samples without pixel" "--pixel X,Y is required" samples --size 16x16 --out "$tmp/p.csv"
+expect_error "samples pixel format" "--pixel 3.5,2: expected X,Y" samples --size 16x16 --pixel 3.5,2 --out "$tmp/p.csv"
+expect_error "samples pixel one value" "--pixel 8: expected X,Y" samples --size 16x16 --pixel 8 --out "$tmp/p.csv"
+expect_error "samples pixel outside" "--pixel 16,8: outside the 16x16 image" samples --size 16x16 --pixel 16,8 --out "$tmp/p.csv"
+expect_error "samples pixel negative" "--pixel -1,8: outside" samples --size 16x16 --pixel -1,8 --out "$tmp/p.csv"
+expect_error "samples pixel background" "--pixel 0,0: background" samples --size 16x16 --pixel 0,0 --out "$tmp/p.csv"
+expect_error "samples count zero" "--count 0: out of range" samples --size 16x16 --pixel 8,8 --count 0 --out "$tmp/p.csv"
+expect_error "samples count too large" "--count 20000000: out of range" samples --size 16x16 --pixel 8,8 --count 20000000 --out "$tmp/p.csv"
+expect_error "samples count not a number" "--count many: not an integer" samples --size 16x16 --pixel 8,8 --count many --out "$tmp/p.csv"
+expect_error "samples output format" "use a .csv file name" samples --size 16x16 --pixel 8,8 --out "$tmp/p.txt"
+expect_error "samples output dir" "does not exist" samples --size 16x16 --pixel 8,8 --out "$tmp/no/dir/p.csv"
+expect_error "samples unknown method" "unknown --method 'bogus'" samples --size 16x16 --pixel 8,8 --method bogus --out "$tmp/p.csv"
+[ ! -e "$tmp/p.csv" ] && [ ! -e "$tmp/p.txt" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: samples wrote a file despite bad input"; }
+expect_ok "samples mis" samples --size 16x16 --pixel 8,8 --count 100 --spp 16 --mis-split 0.3 --out "$tmp/s.csv"
+# A header and one row per sample, both techniques, 7 passes of 16 (the last one of 4).
+if [ "$(wc -l < "$tmp/s.csv")" -eq 101 ] && head -1 "$tmp/s.csv" | grep -q "^index,pass,technique,dir_x,dir_y,dir_z,u,v,pdf," \
+  && grep -q ",env-cdf," "$tmp/s.csv" && grep -q ",ggx-vndf," "$tmp/s.csv" && tail -1 "$tmp/s.csv" | grep -q "^99,6,"; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: samples CSV: $(head -3 "$tmp/s.csv")"
+fi
+rows=$("$iblx" samples --size 16x16 --pixel 8,8 --count 5 --method brdf --seq sobol --out - 2>/dev/null | grep -c ",ggx-vndf,")
+[ "$rows" -eq 5 ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: samples --out - gave $rows rows"; }
+
 # converge and hardcases: bad input, a small run's files, and Ctrl-C keeping what was measured.
 export IBLX_CACHE_DIR="$tmp/cache"
 expect_error "converge unknown case" "unknown hard case 'sunny'; valid: sun-1e3" converge --case sunny

@@ -165,16 +165,20 @@ void addMethodFlags(ArgParser& p, RenderSpec& s) {
            [&] { s.listMethods = true; });
 }
 
-void addRunFlags(ArgParser& p, RenderSpec& s) {
+void addSampleFlags(ArgParser& p, RenderSpec& s) {
   // One pass is one dispatch: the cap keeps a dispatch far from GPU watchdog limits at any image size.
   p.value("--spp", "N", "samples per pixel per pass, up to 4096 (default 32)",
           [&](const std::string& v) { s.samplesPerPass = parseUint("--spp", v, 1, 4096); });
+  p.value("--seed", "N", "seed of the sample sequence (default 1)",
+          [&](const std::string& v) { s.seed = parseUint("--seed", v, 0, 0xffffffffu); });
+}
+
+void addRunFlags(ArgParser& p, RenderSpec& s) {
+  addSampleFlags(p, s);
   p.value("--passes", "N", "number of passes (default 32)",
           [&](const std::string& v) { s.passes = parseUint("--passes", v, 1, 1u << 24); });
   p.value("--time", "S", "run passes until S seconds of wall time have passed (instead of --passes)",
           [&](const std::string& v) { s.timeBudgetSeconds = parseDouble("--time", v, 1e-3, 1e7); });
-  p.value("--seed", "N", "seed of the sample sequence (default 1)",
-          [&](const std::string& v) { s.seed = parseUint("--seed", v, 0, 0xffffffffu); });
   p.value("--out", "FILE", "output image: .exr (linear float) or .png (tonemapped)",
           [&](const std::string& v) { s.out = v; });
   p.value("--exposure", "EV", "exposure for .png output (default 0)",
@@ -185,6 +189,14 @@ void addRunFlags(ArgParser& p, RenderSpec& s) {
           "like --reference, with the ground truth read from an EXR of `iblx reference`",
           [&](const std::string& v) { s.referenceFile = v; });
   p.toggle("--json", "print one JSON object with the run's figures", [&] { s.json = true; });
+}
+
+void printRegistry(const RenderSpec& spec) {
+  std::fputs(describeRegistry().c_str(), stdout);
+  if (spec.scene.brdf != SceneSpec{}.brdf && !findBrdfForArgument(spec.scene.brdf)) {
+    std::printf("--brdf %s:\n", spec.scene.brdf.c_str());
+    std::fputs(describeBrdf(*loadBrdfArgument(spec.scene.brdf).info).c_str(), stdout);
+  }
 }
 
 void addDeviceFlags(ArgParser& p, RenderSpec& s) {

@@ -57,8 +57,13 @@ void addSceneFlags(ArgParser& parser, RenderSpec& spec);
 // --param NAME=VALUE (repeatable) into `params`.
 void addParamFlag(ArgParser& parser, std::vector<std::pair<std::string, std::string>>& params);
 void addMethodFlags(ArgParser& parser, RenderSpec& spec);
+// --spp and --seed: which samples a pass draws.
+void addSampleFlags(ArgParser& parser, RenderSpec& spec);
+// addSampleFlags plus --passes, --time, --out, --exposure, --reference, --reference-file and --json.
 void addRunFlags(ArgParser& parser, RenderSpec& spec);
 void addDeviceFlags(ArgParser& parser, RenderSpec& spec);
+// --list-methods: the registry, and the parameters of a --brdf file.
+void printRegistry(const RenderSpec& spec);
 
 // Number parsing with the flag's name in every error.
 uint32_t parseUint(const std::string& flag, const std::string& text, uint32_t min, uint32_t max);

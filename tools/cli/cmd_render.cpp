@@ -30,11 +30,7 @@ int cmdRender(const Args& args) {
       [&](const std::string& v) { spec.saveBparam = v; });
   if (parser.parseOrShowHelp(args)) return 0;
   if (spec.listMethods) {
-    std::fputs(describeRegistry().c_str(), stdout);
-    if (spec.scene.brdf != SceneSpec{}.brdf && !findBrdfForArgument(spec.scene.brdf)) {
-      std::printf("--brdf %s:\n", spec.scene.brdf.c_str());
-      std::fputs(describeBrdf(*loadBrdfArgument(spec.scene.brdf).info).c_str(), stdout);
-    }
+    printRegistry(spec);
     return 0;
   }
   // Everything a user can get wrong is checked before the map is loaded and anything is rendered.

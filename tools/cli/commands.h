@@ -17,5 +17,6 @@ int cmdMakeTeapot(const Args& args);
 int cmdMerlSynth(const Args& args);
 int cmdConverge(const Args& args);
 int cmdHardCases(const Args& args);
+int cmdSamples(const Args& args);
 
 }  // namespace iblx::cli

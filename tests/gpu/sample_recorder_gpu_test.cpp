@@ -1,0 +1,218 @@
+// The sample recorder (engine/render/sample_recorder.h, `iblx samples`) on lavapipe, for every method of the
+// registry: the records are the integrator's own samples (their mean is the rendered pixel), each record's
+// pdf is its technique's pdf at its direction, directions are in world space under an environment rotation,
+// and MIS records carry both techniques in their split.
+#include "engine/core/error.h"
+#include "engine/render/sample_recorder.h"
+#include "engine/sampling/mis_compensation.h"
+#include "engine/sampling/sphere_mapping.h"
+#include "tests/gpu/gpu_fixture.h"
+#include "tests/gpu/render_checks.h"
+#include "tests/support/hard_envs.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <map>
+#include <tuple>
+
+using namespace iblx;
+using namespace iblx::test;
+
+namespace {
+
+// GGX with both lobes (so every BRDF technique applies and f is coloured) on a 24 px sphere; 32x16 maps, as
+// the other render tests use, so the kernels come from the SPIR-V cache.
+const std::vector<std::pair<std::string, std::string>> kGgxParams = {{"roughness", "0.3"},
+                                                                     {"metallic", "0.5"}};
+
+// Object pixels: the centre, near the left limb (grazing view) and high on the sphere.
+constexpr std::array<std::pair<int, int>, 3> kPixels = {{{12, 12}, {2, 11}, {15, 3}}};
+
+std::vector<RecordedSample> recordPasses(SampleRecorder& recorder, std::pair<int, int> pixel,
+                                         std::span<const uint32_t> passes) {
+  recorder.start(pixel.first, pixel.second);
+  std::vector<RecordedSample> all;
+  for (uint32_t spp : passes) {
+    const auto pass = recorder.runPass(spp);
+    all.insert(all.end(), pass.begin(), pass.end());
+  }
+  return all;
+}
+
+// The world-space shading frame of a G-buffer pixel.
+struct PixelFrame {
+  glm::dvec3 n, t, b, wo;
+  glm::dvec3 toLocal(glm::dvec3 w) const { return {glm::dot(w, t), glm::dot(w, b), glm::dot(w, n)}; }
+};
+PixelFrame pixelFrame(const Scene& scene, std::pair<int, int> pixel) {
+  const gpu::GPixel& g = scene.gbuffer.pixels[std::size_t(pixel.second * scene.gbuffer.width + pixel.first)];
+  PixelFrame f;
+  f.n = glm::normalize(glm::dvec3(g.normal.x, g.normal.y, g.normal.z));
+  f.t = glm::normalize(glm::dvec3(g.tangent.x, g.tangent.y, g.tangent.z));
+  f.b = glm::cross(f.n, f.t);
+  f.wo = glm::normalize(glm::dvec3(g.view.x, g.view.y, g.view.z));
+  return f;
+}
+
+// Every method for the GGX scene with random points, and one of each method of the registry with Sobol'
+// points (the sequence part is the same for all of them).
+std::vector<MethodSpec> methodsToRecord(const BrdfInfo& brdf) {
+  std::vector<MethodSpec> specs = allMethodSpecs(brdf, "random");
+  for (const MethodInfo& m : methodRegistry()) {
+    MethodSpec spec;
+    spec.method = m.name;
+    spec.sequence = "sobol";
+    specs.push_back(spec);
+  }
+  return specs;
+}
+
+}  // namespace
+
+TEST_CASE("samples: the records are the integrator's own samples (their mean is the rendered pixel)") {
+  // Under a 1e6 sun beside a black half, estimates spread over orders of magnitude, so records of any other
+  // pixel, seed or sample index would miss the rendered mean by far more than float rounding.
+  const Scene scene = sceneWith(sunAndZeroHalf(32, 16), "ggx", kGgxParams, 24);
+  const uint32_t passes[] = {16, 16, 5};  // a short last pass, as `iblx samples --count` may end with
+  for (const MethodSpec& spec : methodsToRecord(*scene.brdf)) {
+    const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+    INFO(method.label());
+    Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 7);
+    for (uint32_t spp : passes) renderer.runPass(spp);
+    const auto image = renderer.meanRgb();
+    SampleRecorder recorder(gpuContext(), gpuCompiler(), scene, method, 7);
+    bool anyContribution = false;
+    for (const auto& pixel : kPixels) {
+      INFO("pixel " << pixel.first << "," << pixel.second);
+      const auto samples = recordPasses(recorder, pixel, passes);
+      REQUIRE(samples.size() == 37);
+      glm::dvec3 product(0.0), estimate(0.0), magnitude(0.0);
+      for (std::size_t i = 0; i < samples.size(); ++i) {
+        const RecordedSample& s = samples[i];
+        CHECK(s.index == i);
+        CHECK(s.pass == (i < 16 ? 0u : i < 32 ? 1u : 2u));
+        // The strategy returns radiance * weight; only ris rounds differently (it scales by sum(w) / M last).
+        const glm::dvec3 p = s.radiance * s.weight;
+        for (int c = 0; c < 3; ++c) CHECK(std::abs(p[c] - s.estimate[c]) <= 1e-6 * std::abs(s.estimate[c]));
+        product += p;
+        estimate += s.estimate;
+        magnitude += glm::abs(s.estimate);
+        anyContribution = anyContribution || s.estimate.x > 0.0;
+      }
+      const std::size_t at = 3 * std::size_t(pixel.second * scene.gbuffer.width + pixel.first);
+      const glm::dvec3 recorderMean = recorder.pixelMean();
+      for (int c = 0; c < 3; ++c) {
+        // The float running mean of 37 values is within a few ulps of their sum's magnitude.
+        const double tolerance = 1e-5 * magnitude[c] / double(samples.size()) + 1e-9;
+        INFO("channel " << c << ": rendered " << image[at + c] << ", mean of radiance x weight "
+                        << product[c] / double(samples.size()));
+        CHECK(std::abs(product[c] / double(samples.size()) - image[at + c]) <= tolerance);
+        CHECK(std::abs(estimate[c] / double(samples.size()) - image[at + c]) <= tolerance);
+        CHECK(std::abs(recorderMean[c] - image[at + c]) <= tolerance);
+      }
+    }
+    CHECK(anyContribution);  // a method whose records were all 0 would pass vacuously
+    CHECK(recorder.nonFiniteSamples() == 0);
+  }
+  checkNoNewValidationErrors();
+}
+
+TEST_CASE("samples: each record's pdf is its technique's pdf at its direction; directions are world space") {
+  // A rotated map: the records' directions are world space, the techniques work in the map's frame.
+  Scene scene = sceneWith(smoothSky(32, 16), "ggx", kGgxParams, 24);
+  scene.envRotationDeg = 90.0;
+  const EnvImage compensated = misCompensated(scene.env);
+  // (technique role, technique name, compensated, pixel) -> the records it drew
+  using Key = std::tuple<bool, std::string, bool, std::size_t>;
+  std::map<Key, std::vector<RecordedSample>> drawn;
+  const uint32_t passes[] = {64, 64};
+  for (const MethodSpec& spec : allMethodSpecs(*scene.brdf, "random")) {
+    const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+    INFO(method.label());
+    SampleRecorder recorder(gpuContext(), gpuCompiler(), scene, method, 3);
+    for (std::size_t p = 0; p < kPixels.size(); ++p) {
+      const PixelFrame frame = pixelFrame(scene, kPixels[p]);
+      for (const RecordedSample& s : recordPasses(recorder, kPixels[p], passes)) {
+        if (s.technique == "none") continue;  // ris: no candidate kept
+        // World space: the map's frame turned back, and the samples that contribute lie above the surface.
+        CHECK(glm::length(worldToEnv(s.direction, scene.envRotationDeg) - s.envDirection) < 1e-6);
+        if (s.estimate.x > 0.0) CHECK(glm::dot(s.direction, frame.n) > -1e-5);
+        CHECK(glm::length(s.uv - directionToLatLong(s.envDirection)) < 1e-9);
+        const bool env = method.envTechnique && s.technique == method.envTechnique->name;
+        REQUIRE((env || (method.brdfTechnique && s.technique == method.brdfTechnique->name)));
+        drawn[{env, std::string(s.technique), env && method.misCompensation, p}].push_back(s);
+      }
+    }
+  }
+  CHECK(drawn.size() >= 2 * kPixels.size());
+  for (const auto& [key, samples] : drawn) {
+    const auto& [env, technique, isCompensated, p] = key;
+    INFO(technique << (isCompensated ? " (compensated)" : "") << " at pixel " << kPixels[p].first << ","
+                   << kPixels[p].second << ", " << samples.size() << " samples");
+    const PixelFrame frame = pixelFrame(scene, kPixels[p]);
+    std::vector<glm::dvec3> directions;
+    std::vector<double> pdfs;
+    if (env) {
+      for (const auto& s : samples) directions.push_back(s.envDirection);
+      EnvTechniqueProbe probe(technique, isCompensated ? compensated : scene.env,
+                              worldToEnv(frame.n, scene.envRotationDeg));
+      pdfs = probe.pdf(directions);
+    } else {
+      for (const auto& s : samples) directions.push_back(frame.toLocal(s.direction));
+      BrdfTechniqueProbe probe(technique, "ggx", kGgxParams, frame.toLocal(frame.wo));
+      pdfs = probe.pdf(directions);
+    }
+    std::size_t mismatches = 0;
+    for (std::size_t i = 0; i < samples.size(); ++i)
+      if (!(std::abs(samples[i].pdf - pdfs[i]) <= 1e-3 * std::max(samples[i].pdf, pdfs[i]) + 1e-6)) {
+        if (mismatches++ < 3)
+          MESSAGE("recorded pdf " << samples[i].pdf << ", technique's pdf " << pdfs[i] << " at sample "
+                                  << samples[i].index);
+      }
+    // Env techniques' pdfs are constant per texel: a direction within float rounding of a texel edge may
+    // read the neighbour's, as in the techniques' own tests.
+    CHECK(mismatches <= samples.size() / 200);
+  }
+  checkNoNewValidationErrors();
+}
+
+TEST_CASE("samples: MIS records carry both techniques in the split, with their MIS weights") {
+  const Scene scene = sceneWith(smoothSky(32, 16), "ggx", kGgxParams, 24);
+  for (const char* sequence : {"random", "sobol"}) {
+    MethodSpec spec;
+    spec.method = "mis";
+    spec.sequence = sequence;
+    spec.misEnvFraction = 0.3;
+    const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+    INFO(method.label());
+    SampleRecorder recorder(gpuContext(), gpuCompiler(), scene, method, 5);
+    const std::vector<uint32_t> passes(64, 64);
+    const auto samples = recordPasses(recorder, kPixels[0], passes);
+    std::map<std::string, std::size_t> counts;
+    for (const auto& s : samples) {
+      ++counts[std::string(s.technique)];
+      CHECK(s.misWeight >= 0.0);
+      CHECK(s.misWeight <= 1.0 + 1e-6);
+    }
+    CHECK(counts.size() == 2);
+    CHECK(counts["env-cdf"] + counts["ggx-vndf"] == samples.size());
+    // u.x < 0.3 picks the env technique: a binomial share within 5 standard deviations.
+    const double share = double(counts["env-cdf"]) / double(samples.size());
+    CHECK(std::abs(share - 0.3) < 5.0 * std::sqrt(0.3 * 0.7 / double(samples.size())));
+  }
+  checkNoNewValidationErrors();
+}
+
+TEST_CASE("samples: a pixel off the image or off the object is refused with the reason") {
+  const Scene scene = sceneWith(smoothSky(32, 16), "lambert", {}, 24);
+  MethodSpec spec;
+  spec.method = "env-cdf";
+  SampleRecorder recorder(gpuContext(), gpuCompiler(), scene, resolveMethod(spec, *scene.brdf));
+  CHECK_THROWS_WITH_AS(recorder.start(0, 0), doctest::Contains("background"), Error);
+  CHECK_THROWS_WITH_AS(recorder.start(24, 3), doctest::Contains("outside the 24x24 image"), Error);
+  CHECK_THROWS_WITH_AS(recorder.start(3, -1), doctest::Contains("outside"), Error);
+  CHECK_THROWS_AS(recorder.runPass(8), Error);  // never started
+  CHECK_FALSE(unrecordablePixel(scene.gbuffer, 12, 12).has_value());
+  checkNoNewValidationErrors();
+}
