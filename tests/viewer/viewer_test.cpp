@@ -164,3 +164,47 @@ TEST_CASE("viewer: --reference prints the error of the shown passes against the 
   CHECK(relMse == doctest::Approx(expected.relMse).epsilon(1e-6));
   CHECK(mse > 0.0);
 }
+
+namespace {
+
+// Pixels of the screenshot below the image (the analysis window) within 40 code values of a colour.
+int countNear(const Png& shot, int top, unsigned char r, unsigned char g, unsigned char b) {
+  int n = 0;
+  for (int y = top; y < shot.height; ++y)
+    for (int x = 0; x < shot.width; ++x) {
+      const unsigned char* p = shot.at(x, y);
+      n += std::abs(p[0] - r) < 40 && std::abs(p[1] - g) < 40 && std::abs(p[2] - b) < 40 ? 1 : 0;
+    }
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("viewer: the sample overlay draws the picked pixel's samples, one colour per technique") {
+  // MIS draws with both techniques: env-cdf's points are orange, ggx-vndf's blue (techniqueColor 0 and 1).
+  const Png overlay = viewerScreenshot("--size 64x64 --overlay 32,24 --overlay-count 512", 2, "overlay");
+  const Png plain = viewerScreenshot("--size 64x64", 2, "plain");
+  const int orange = countNear(overlay, 64, 255, 110, 80), blue = countNear(overlay, 64, 80, 200, 255);
+  CAPTURE(orange);
+  CAPTURE(blue);
+  CHECK(orange > 100);
+  CHECK(blue > 100);
+  CHECK(countNear(plain, 64, 255, 110, 80) < 10);
+  CHECK(countNear(plain, 64, 80, 200, 255) < 10);
+  // A single technique shows one colour only.
+  const Png single = viewerScreenshot("--size 64x64 --method brdf --overlay 32,24 --overlay-count 512", 2, "single");
+  CHECK(countNear(single, 64, 255, 110, 80) > 100);
+  CHECK(countNear(single, 64, 80, 200, 255) < 10);
+}
+
+TEST_CASE("viewer: an overlay pixel off the object is refused with the reason") {
+  const std::string command = viewCommand("--size 64x64 --overlay 0,0 --frames 1") + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+  REQUIRE(pipe != nullptr);
+  std::string out;
+  char buffer[512];
+  while (std::fgets(buffer, sizeof buffer, pipe.get())) out += buffer;
+  const int status = pclose(pipe.release());
+  CHECK(status != 0);
+  CHECK(out.find("overlay") != std::string::npos);
+}

@@ -46,6 +46,17 @@ int cmdView(const Args& args) {
                 "compute the ground truth (or read it from the cache) at start, for the convergence panel; in "
                 "scripted mode before the first frame, and the final MSE and relMSE are printed",
                 [&] { options.reference = true; });
+  parser.value("--overlay", "X,Y",
+               "show the samples of pixel X,Y (image coordinates) on the environment map and the hemisphere",
+               [&](const std::string& v) {
+                 int x = 0, y = 0;
+                 char tail = 0;
+                 if (std::sscanf(v.c_str(), "%d,%d%c", &x, &y, &tail) != 2 || x < 0 || y < 0)
+                   throw Error("--overlay " + v + ": expected X,Y with non-negative pixel coordinates, e.g. 128,96");
+                 options.overlayPixel = std::pair(x, y);
+               });
+  parser.value("--overlay-count", "N", "samples shown by the overlay (16-4096, default 256)",
+               [&](const std::string& v) { options.overlayCount = parseUint("--overlay-count", v, 16, 4096); });
   addDeviceFlags(parser, spec);
   if (parser.parseOrShowHelp(args)) return 0;
   if (spec.listMethods) {
@@ -54,6 +65,12 @@ int cmdView(const Args& args) {
   }
   if (!options.screenshot.empty() && options.screenshot.extension() != ".png")
     throw Error("--screenshot " + options.screenshot.string() + ": the file name must end in .png");
+  if (options.overlayPixel) {
+    const auto [x, y] = *options.overlayPixel;
+    if (x >= spec.scene.width || y >= spec.scene.height)
+      throw Error("--overlay " + std::to_string(x) + "," + std::to_string(y) + ": outside the " +
+                  std::to_string(spec.scene.width) + "x" + std::to_string(spec.scene.height) + " image");
+  }
   options.scene = spec.scene;
   options.method = spec.method;
   options.samplesPerPass = spec.samplesPerPass;

@@ -13,6 +13,7 @@
 #include "engine/render/renderer.h"
 #include "tools/viewer/background_job.h"
 #include "tools/viewer/file_browser.h"
+#include "tools/viewer/sample_overlay.h"
 #include "tools/viewer/window.h"
 
 #define GLFW_INCLUDE_NONE
@@ -46,14 +47,27 @@ struct ActiveRenderer {
   std::unique_ptr<Renderer> renderer;
 };
 
+// One pixel's samples for the overlay, recorded by the method's own integrator (engine/render/sample_recorder.h).
+struct Recording {
+  int x = 0, y = 0;
+  gpu::GPixel pixel{};
+  std::vector<RecordedSample> samples;
+};
+
 // Everything the viewer shows, and what it was built from.
 class ViewerApp {
  public:
   ViewerApp(ViewerOptions options, ViewerWindow& window) : options_(std::move(options)), window_(window) {
     if (loadSceneFromSpec() && options_.reference && options_.frames == 0) startReference();
+    overlayCount_ = int(options_.overlayCount);
+    if (options_.overlayPixel) {
+      overlayOn_ = true;
+      pendingPixel_ = options_.overlayPixel;
+    }
   }
   ~ViewerApp() {
     if (referenceJob_) referenceJob_->cancel();
+    if (recordJob_) recordJob_->cancel();
   }
 
   // One frame: finished background work is taken over, one pass runs, the panel and the canvas are drawn.
@@ -84,6 +98,10 @@ class ViewerApp {
     if (referenceJob_) referenceJob_->wait();
     pollJobs();
     if (withReference && !reference_) throw Error("ground truth: " + error_);
+    if (!error_.empty()) throw Error(error_);
+    if (recordJob_) recordJob_->wait();
+    pollJobs();
+    if (!error_.empty()) throw Error(error_);
   }
 
   uint32_t passes() const { return passes_; }
@@ -98,6 +116,13 @@ class ViewerApp {
   void handleMouse() {
     const ImGuiIO& io = ImGui::GetIO();
     if (io.WantCaptureMouse) return;
+    // A click without a drag (or a right click) on the image picks the overlay's pixel.
+    const bool click = (ImGui::IsMouseReleased(ImGuiMouseButton_Left) && io.MouseDragMaxDistanceSqr[0] < 9.0f) ||
+                       ImGui::IsMouseClicked(ImGuiMouseButton_Right);
+    if (click && overlayOn_) {
+      const int x = int(io.MousePos.x), y = int(io.MousePos.y);
+      if (x >= 0 && y >= 0 && x < scene_->gbuffer.width && y < scene_->gbuffer.height) startRecording(x, y);
+    }
     if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
       CameraSpec& camera = options_.scene.camera;
       camera.azimuthDeg = std::fmod(camera.azimuthDeg - 0.4 * io.MouseDelta.x + 540.0, 360.0) - 180.0;
@@ -142,6 +167,7 @@ class ViewerApp {
       auto scene = std::make_shared<Scene>(loadScene(options_.scene));
       scene_ = std::move(scene);
       params_ = scene_->params;
+      overlay_.setEnvironment(scene_->env);
       error_.clear();
       sceneChanged();
       return true;
@@ -174,6 +200,34 @@ class ViewerApp {
   void sceneChanged() {
     dropReference();
     rebuild_ = true;
+  }
+
+  // Records the first overlayCount_ samples of pixel (x, y) with the current method, in the background.
+  void startRecording(int x, int y) {
+    if (const auto why = unrecordablePixel(scene_->gbuffer, x, y)) {
+      error_ = "overlay: pixel " + std::to_string(x) + "," + std::to_string(y) + " is " + *why;
+      return;
+    }
+    if (recordJob_) recordJob_->cancel();
+    std::shared_ptr<const Scene> scene = snapshotScene();
+    const MethodSpec spec = options_.method;
+    const uint32_t seed = options_.seed, perPass = options_.samplesPerPass;
+    const std::size_t count = std::size_t(overlayCount_);
+    const VulkanContext& context = window_.context();
+    recordJob_ = std::make_unique<BackgroundJob<Recording>>(
+        "recording the pixel's samples",
+        [scene, spec, seed, perPass, count, x, y, &context](const std::function<void(double)>& progress) {
+          ShaderCompiler compiler;
+          SampleRecorder recorder(context, compiler, *scene, resolveMethod(spec, *scene->brdf), seed);
+          recorder.start(x, y);
+          Recording r{x, y, scene->gbuffer.pixels[std::size_t(y) * scene->gbuffer.width + x], {}};
+          while (r.samples.size() < count) {
+            for (RecordedSample& sample : recorder.runPass(perPass))
+              if (r.samples.size() < count) r.samples.push_back(std::move(sample));
+            progress(double(r.samples.size()) / double(count));
+          }
+          return r;
+        });
   }
 
   // The scene as the next renderer or ground truth sees it.
@@ -219,10 +273,20 @@ class ViewerApp {
         active_.renderer->setParams(params_);  // sliders moved while it was being built
         error_.clear();
         startCurve();
+        // The overlay follows the method: its pixel is recorded again with the new one.
+        if (pendingPixel_) startRecording(pendingPixel_->first, pendingPixel_->second), pendingPixel_.reset();
+        else if (overlayOn_ && !overlay_.empty()) startRecording(overlay_.pixelX(), overlay_.pixelY());
       } else {
         error_ = buildJob_->error();
       }
       buildJob_.reset();
+    }
+    if (recordJob_ && recordJob_->done()) {
+      if (auto& result = recordJob_->result())
+        overlay_.setSamples(result->x, result->y, result->pixel, std::move(result->samples));
+      else if (recordJob_->error() != "cancelled")
+        error_ = "overlay: " + recordJob_->error();
+      recordJob_.reset();
     }
     if (referenceJob_ && referenceJob_->done()) {
       if (auto& result = referenceJob_->result()) {
@@ -503,18 +567,52 @@ class ViewerApp {
     const float top = float(scene_->gbuffer.height) + 4.0f;
     ImGui::SetNextWindowPos(ImVec2(0.0f, top));
     ImGui::SetNextWindowSize(ImVec2(float(window_.width() - kPanelWidth), std::max(120.0f, float(window_.height()) - top)));
-    ImGui::Begin("convergence", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
-    if (!reference_ && !referenceJob_) {
-      if (ImGui::Button("compute the ground truth")) startReference();
-      ImGui::SameLine();
-      ImGui::TextDisabled("(cached on disk)");
-    }
-    jobLine(referenceJob_);
-    if (reference_) {
-      drawConvergencePlot();
-      if (curves_.size() > 1 && ImGui::Button("clear earlier curves")) curves_.erase(curves_.begin(), curves_.end() - 1);
+    ImGui::Begin("analysis", nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                     ImGuiWindowFlags_NoTitleBar);
+    if (ImGui::BeginTabBar("tabs")) {
+      const ImGuiTabItemFlags selectSamples = (overlayOn_ && !samplesTabShown_) ? ImGuiTabItemFlags_SetSelected : 0;
+      if (ImGui::BeginTabItem("convergence")) {
+        if (!reference_ && !referenceJob_) {
+          if (ImGui::Button("compute the ground truth")) startReference();
+          ImGui::SameLine();
+          ImGui::TextDisabled("(cached on disk)");
+        }
+        jobLine(referenceJob_);
+        if (reference_) {
+          drawConvergencePlot();
+          if (curves_.size() > 1 && ImGui::Button("clear earlier curves"))
+            curves_.erase(curves_.begin(), curves_.end() - 1);
+        }
+        ImGui::EndTabItem();
+      }
+      if (ImGui::BeginTabItem("samples", nullptr, selectSamples)) {
+        samplesTabShown_ = true;
+        drawSamplesTab();
+        ImGui::EndTabItem();
+      }
+      ImGui::EndTabBar();
     }
     ImGui::End();
+  }
+
+  void drawSamplesTab() {
+    ImGui::Checkbox("overlay: click a pixel of the object", &overlayOn_);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(120.0f);
+    ImGui::SliderInt("samples", &overlayCount_, 16, 4096, "%d", ImGuiSliderFlags_Logarithmic);
+    jobLine(recordJob_);
+    if (overlay_.empty()) {
+      ImGui::TextDisabled("no pixel picked yet");
+      return;
+    }
+    ImGui::Text("pixel %d,%d: the first %d samples of %s", overlay_.pixelX(), overlay_.pixelY(), overlayCount_,
+                active_.renderer ? active_.method.label().c_str() : "-");
+    ImGui::SameLine();
+    if (ImGui::SmallButton("record again")) startRecording(overlay_.pixelX(), overlay_.pixelY());
+    const float available = ImGui::GetContentRegionAvail().x;
+    const float side = std::min(160.0f, 0.3f * available);
+    overlay_.draw(std::min(available - side - 16.0f, 2.0f * (ImGui::GetContentRegionAvail().y - 60.0f)), side);
   }
 
   ViewerOptions options_;
@@ -527,6 +625,11 @@ class ViewerApp {
   std::optional<std::vector<float>> reference_;
   std::vector<ConvergenceCurve> curves_;
   FileBrowser browser_;
+  SampleOverlay overlay_;
+  std::unique_ptr<BackgroundJob<Recording>> recordJob_;
+  std::optional<std::pair<int, int>> pendingPixel_;  // --overlay: recorded once the first renderer exists
+  bool overlayOn_ = false, samplesTabShown_ = false;
+  int overlayCount_ = 256;
   std::vector<std::uint8_t> canvas_;
   std::string error_;
   bool rebuild_ = true;

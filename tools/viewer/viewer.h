@@ -8,6 +8,8 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
+#include <utility>
 #include <string>
 
 namespace iblx::viewer {
@@ -24,7 +26,10 @@ struct ViewerOptions {
   // Scripted mode: with frames > 0 the viewer renders exactly that many frames (one pass each), writes the
   // screenshot (if a path is given) of the last one and exits.
   uint32_t frames = 0;
-  bool reference = false;  // scripted mode: compute (or read from the cache) the ground truth first
+  bool reference = false;
+  // The sample overlay: the pixel whose samples are shown (set: the overlay is on from the start) and how many.
+  std::optional<std::pair<int, int>> overlayPixel;
+  uint32_t overlayCount = 256;  // scripted mode: compute (or read from the cache) the ground truth first
   std::filesystem::path screenshot;  // also the file name used by F12 and the menu (default iblx-view.png)
 };
 

@@ -1,0 +1,95 @@
+// The sample overlay (sample_overlay.h).
+#include "tools/viewer/sample_overlay.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace iblx::viewer {
+
+ImU32 techniqueColor(std::size_t k) {
+  static constexpr ImU32 kColors[] = {IM_COL32(255, 110, 80, 255), IM_COL32(80, 200, 255, 255),
+                                      IM_COL32(150, 255, 100, 255), IM_COL32(255, 220, 60, 255)};
+  return kColors[k % 4];
+}
+
+void SampleOverlay::setEnvironment(const EnvImage& env) {
+  // Box-average the luminance (Rec. 709) into the grid, on a log scale.
+  std::vector<double> sum(std::size_t(kGridWidth) * kGridHeight, 0.0);
+  std::vector<int> count(sum.size(), 0);
+  for (int y = 0; y < env.height; ++y)
+    for (int x = 0; x < env.width; ++x) {
+      const std::size_t t = 3 * (std::size_t(y) * env.width + x);
+      const double l = 0.2126 * env.rgb[t] + 0.7152 * env.rgb[t + 1] + 0.0722 * env.rgb[t + 2];
+      const std::size_t c = std::size_t(y * kGridHeight / env.height) * kGridWidth + x * kGridWidth / env.width;
+      sum[c] += std::max(l, 0.0), ++count[c];
+    }
+  logLuminance_.assign(sum.size(), -30.0f);
+  std::vector<float> lit;
+  for (std::size_t c = 0; c < sum.size(); ++c)
+    if (count[c] > 0 && sum[c] > 0.0) lit.push_back(logLuminance_[c] = float(std::log10(sum[c] / count[c])));
+  // The scale runs from the 5th percentile of the lit cells to the brightest, so a sun 1e4 times the sky
+  // leaves the sky's structure visible; at most 8 decades.
+  std::sort(lit.begin(), lit.end());
+  logMax_ = lit.empty() ? 0.0f : lit.back();
+  logMin_ = lit.empty() ? -1.0f : std::max(lit[lit.size() / 20], logMax_ - 8.0f);
+  if (logMin_ >= logMax_) logMin_ = logMax_ - 1.0f;
+}
+
+void SampleOverlay::setSamples(int x, int y, const gpu::GPixel& pixel, std::vector<RecordedSample> samples) {
+  x_ = x, y_ = y, pixel_ = pixel;
+  samples_ = std::move(samples);
+  techniques_.clear();
+  for (const RecordedSample& s : samples_)
+    if (std::find(techniques_.begin(), techniques_.end(), s.technique) == techniques_.end())
+      techniques_.emplace_back(s.technique);
+}
+
+void SampleOverlay::draw(float mapWidth, float hemisphereSide) const {
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  const float mapHeight = 0.5f * mapWidth;
+  // The density: one rectangle per grid cell, dark blue (4 decades down or black) to warm white.
+  const float cw = mapWidth / kGridWidth, ch = mapHeight / kGridHeight;
+  for (int gy = 0; gy < kGridHeight; ++gy)
+    for (int gx = 0; gx < kGridWidth; ++gx) {
+      const float t =
+          std::clamp((logLuminance_[std::size_t(gy) * kGridWidth + gx] - logMin_) / (logMax_ - logMin_), 0.0f, 1.0f);
+      const ImU32 c = IM_COL32(int(20 + 235 * t), int(20 + 200 * t * t), int(60 + 100 * t * (1 - t)), 255);
+      const ImVec2 a(origin.x + gx * cw, origin.y + gy * ch);
+      draw->AddRectFilled(a, ImVec2(a.x + cw + 0.5f, a.y + ch + 0.5f), c);
+    }
+  // Hemisphere: seen from above the normal, orthographic (x, y of the local direction), rings at 30 and 60 deg.
+  const ImVec2 centre(origin.x + mapWidth + 12.0f + 0.5f * hemisphereSide, origin.y + 0.5f * hemisphereSide);
+  const float radius = 0.5f * hemisphereSide - 2.0f;
+  draw->AddCircleFilled(centre, radius, IM_COL32(30, 30, 36, 255), 64);
+  for (double deg : {30.0, 60.0})
+    draw->AddCircle(centre, radius * float(std::sin(deg * 3.14159265358979 / 180.0)), IM_COL32(70, 70, 80, 255), 64);
+  draw->AddCircle(centre, radius, IM_COL32(120, 120, 130, 255), 64);
+  const auto xyz = [](const auto& v) { return glm::dvec3(v.x, v.y, v.z); };
+  const glm::dvec3 n = glm::normalize(xyz(pixel_.normal)), t = glm::normalize(xyz(pixel_.tangent));
+  const glm::dvec3 b = glm::cross(n, t);
+  const auto toDisc = [&](const glm::dvec3& d) {
+    return ImVec2(centre.x + radius * float(glm::dot(d, t)), centre.y - radius * float(glm::dot(d, b)));
+  };
+  const glm::dvec3 wo = glm::normalize(xyz(pixel_.view));
+  const glm::dvec3 mirror = 2.0 * glm::dot(n, wo) * n - wo;  // where a mirror-like lobe sits
+  draw->AddCircle(toDisc(mirror), 5.0f, IM_COL32(255, 255, 255, 200), 12, 1.5f);
+  for (const RecordedSample& s : samples_) {
+    if (s.technique == "none") continue;
+    const std::size_t k = std::size_t(std::find(techniques_.begin(), techniques_.end(), s.technique) - techniques_.begin());
+    const ImU32 color = techniqueColor(k);
+    draw->AddCircleFilled(ImVec2(origin.x + float(s.uv.x) * mapWidth, origin.y + float(s.uv.y) * mapHeight), 1.8f,
+                          color, 6);
+    if (glm::dot(s.direction, n) > 0.0) draw->AddCircleFilled(toDisc(s.direction), 1.8f, color, 6);
+  }
+  ImGui::Dummy(ImVec2(mapWidth + 12.0f + hemisphereSide, std::max(mapHeight, hemisphereSide)));
+  for (std::size_t k = 0; k < techniques_.size(); ++k) {
+    const auto count = std::count_if(samples_.begin(), samples_.end(), [&](const RecordedSample& s) { return s.technique == techniques_[k]; });
+    ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(techniqueColor(k)), "%s: %lld", techniques_[k].c_str(), static_cast<long long>(count));
+    if (k + 1 < techniques_.size()) ImGui::SameLine();
+  }
+  ImGui::TextDisabled("map: luminance, %.1f decades (log); disc: hemisphere from above, ring: mirror direction",
+                      double(logMax_ - logMin_));
+}
+
+}  // namespace iblx::viewer

@@ -1,0 +1,42 @@
+// The viewer's sample overlay: one pixel's recorded samples (engine/render/sample_recorder.h) drawn as points on
+// the lat-long environment map, over the map's luminance (the density env-cdf and env-hier sample, per solid
+// angle) on a log scale, and on a view of the pixel's hemisphere seen from above the normal, one colour per
+// technique.
+#pragma once
+
+#include "engine/render/sample_recorder.h"
+
+#include <imgui.h>
+
+#include <string>
+#include <vector>
+
+namespace iblx::viewer {
+
+class SampleOverlay {
+ public:
+  // The map whose density is shown (downsampled once per scene).
+  void setEnvironment(const EnvImage& env);
+  void setSamples(int x, int y, const gpu::GPixel& pixel, std::vector<RecordedSample> samples);
+  void clear() { samples_.clear(); }
+  bool empty() const { return samples_.empty(); }
+  int pixelX() const { return x_; }
+  int pixelY() const { return y_; }
+
+  // Draws the map panel (width w, height w/2) and the hemisphere (side h) side by side at the cursor.
+  void draw(float mapWidth, float hemisphereSide) const;
+
+ private:
+  static constexpr int kGridWidth = 128, kGridHeight = 64;
+  std::vector<float> logLuminance_;  // kGridWidth x kGridHeight, log10, row 0 at v = 0 (the top, +Y)
+  float logMin_ = -1.0f, logMax_ = 0.0f;  // the colour scale's ends
+  std::vector<RecordedSample> samples_;
+  std::vector<std::string> techniques_;  // in order of first appearance: the colour index
+  gpu::GPixel pixel_{};
+  int x_ = -1, y_ = -1;
+};
+
+// The colour of the k-th technique (also the legend's).
+ImU32 techniqueColor(std::size_t k);
+
+}  // namespace iblx::viewer
