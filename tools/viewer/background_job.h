@@ -3,6 +3,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <exception>
 #include <functional>
 #include <optional>
@@ -40,6 +41,9 @@ class BackgroundJob {
   BackgroundJob& operator=(const BackgroundJob&) = delete;
 
   const std::string& what() const { return what_; }
+  double secondsRunning() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+  }
   bool done() const { return done_.load(std::memory_order_acquire); }
   double progress() const { return progress_.load(); }
   void cancel() { cancelled_.store(true); }
@@ -50,6 +54,7 @@ class BackgroundJob {
 
  private:
   std::string what_;
+  std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
   std::atomic<double> progress_{0.0};
   std::atomic<bool> cancelled_{false}, done_{false};
   std::optional<T> result_;

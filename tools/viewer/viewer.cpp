@@ -351,10 +351,14 @@ class ViewerApp {
   template <typename T>
   void jobLine(const std::unique_ptr<BackgroundJob<T>>& job) {
     if (!job) return;
+    // Work that reports no fraction (a renderer build) shows its running time instead of a stuck 0 %.
     const double f = job->progress();
-    char text[96];
-    std::snprintf(text, sizeof text, "%s %d%%", job->what().c_str(), int(100.0 * f));
-    ImGui::ProgressBar(float(f), ImVec2(-1.0f, 0.0f), text);
+    char text[128];
+    if (f > 0.0)
+      std::snprintf(text, sizeof text, "%s %d%%", job->what().c_str(), int(100.0 * f));
+    else
+      std::snprintf(text, sizeof text, "%s (%.1f s)", job->what().c_str(), job->secondsRunning());
+    ImGui::ProgressBar(f > 0.0 ? float(f) : float(std::fmod(job->secondsRunning(), 1.0)), ImVec2(-1.0f, 0.0f), text);
   }
 
   // Log-log plot of the curves' MSE or relMSE against spp or time, drawn with ImGui's draw list.
@@ -670,7 +674,10 @@ int runViewer(const ViewerOptions& options) {
     if (gDropTarget && count > 0) gDropTarget->openFile(paths[count - 1]);
   });
   const std::filesystem::path screenshotPath = options.screenshot.empty() ? "iblx-view.png" : options.screenshot;
+  const auto loopStart = std::chrono::steady_clock::now();
+  uint32_t frames = 0;
   while (window.beginFrame()) {
+    ++frames;
     // Dear ImGui 1.86 indexes keys by the backend's codes (GLFW's here).
     if (!ImGui::GetIO().WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F12, false)) app.requestScreenshot();
     app.handleMouse();
@@ -686,8 +693,10 @@ int runViewer(const ViewerOptions& options) {
   if (scripted) {
     if (!app.lastError().empty()) throw Error(app.lastError());
     const ActiveRenderer& active = app.active();
-    std::printf("%s: %u passes, %llu spp", active.method.label().c_str(), app.passes(),
-                static_cast<unsigned long long>(active.renderer ? active.renderer->samplesPerPixel() : 0));
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loopStart).count();
+    std::printf("%s: %u passes, %llu spp, %u frames in %.2f s (%.1f frames/s)", active.method.label().c_str(),
+                app.passes(), static_cast<unsigned long long>(active.renderer ? active.renderer->samplesPerPixel() : 0),
+                frames, seconds, seconds > 0.0 ? frames / seconds : 0.0);
     if (const ConvergenceCurve* curve = app.currentCurve(); curve && !curve->mse.empty())
       std::printf(", MSE %.9g, relMSE %.9g", curve->mse.back(), curve->relMse.back());
     std::printf("\n");
