@@ -51,10 +51,12 @@ std::uint8_t toDisplayByte(float radiance, const DisplayTransform& transform) {
       mapped = std::isinf(v) ? 1.0 : v / (1.0 + v);
       break;
     case Tonemap::Aces:
-      mapped = std::isinf(v) ? 1.0 : std::clamp(v * (2.51 * v + 0.03) / (v * (2.43 * v + 0.59) + 0.14), 0.0, 1.0);
+      mapped =
+          std::isinf(v) ? 1.0 : std::clamp(v * (2.51 * v + 0.03) / (v * (2.43 * v + 0.59) + 0.14), 0.0, 1.0);
       break;
   }
-  const double encoded = transform.gamma > 0.0 ? std::pow(mapped, 1.0 / transform.gamma) : linearToSrgb(mapped);
+  const double encoded =
+      transform.gamma > 0.0 ? std::pow(mapped, 1.0 / transform.gamma) : linearToSrgb(mapped);
   return std::uint8_t(std::lround(255.0 * encoded));
 }
 

@@ -144,7 +144,8 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     for (const std::string& e : options.presentation->instanceExtensions) extensions.push_back(e.c_str());
   vk::ApplicationInfo app("iblx", 1, "iblx", 1, VK_API_VERSION_1_2);
   instance_ = vk::raii::Instance(context_, vk::InstanceCreateInfo({}, &app, layers, extensions));
-  if (options.presentation) surface_ = vk::raii::SurfaceKHR(instance_, options.presentation->createSurface(*instance_));
+  if (options.presentation)
+    surface_ = vk::raii::SurfaceKHR(instance_, options.presentation->createSurface(*instance_));
   if (validationEnabled_) {
     using S = vk::DebugUtilsMessageSeverityFlagBitsEXT;
     using T = vk::DebugUtilsMessageTypeFlagBitsEXT;
@@ -213,7 +214,8 @@ void VulkanContext::submitAndWait(const std::function<void(vk::CommandBuffer)>& 
   // background): both are locked for recording and submission, but not while the work runs.
   std::unique_lock lock(queueMutex_);
   std::optional<vk::raii::CommandBuffers> buffers(
-      std::in_place, device_, vk::CommandBufferAllocateInfo(*commandPool_, vk::CommandBufferLevel::ePrimary, 1));
+      std::in_place, device_,
+      vk::CommandBufferAllocateInfo(*commandPool_, vk::CommandBufferLevel::ePrimary, 1));
   vk::raii::CommandBuffer& cmd = (*buffers)[0];
   cmd.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
   record(*cmd);

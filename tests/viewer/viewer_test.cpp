@@ -1,6 +1,6 @@
-// The viewer, tested without a GPU: `iblx view` runs its scripted mode under Xvfb on lavapipe and its screenshot
-// is compared with a headless render of the same passes (same method, sequence, seed and spp) put through the
-// same display transform. Needs xvfb-run (tools/install.sh installs it).
+// The viewer, tested without a GPU: `iblx view` runs its scripted mode under Xvfb on lavapipe and its
+// screenshot is compared with a headless render of the same passes (same method, sequence, seed and spp) put
+// through the same display transform. Needs xvfb-run (tools/install.sh installs it).
 #include "engine/core/cache_dir.h"
 #include "engine/io/image_write.h"
 #include "engine/render/metrics.h"
@@ -81,7 +81,8 @@ struct Difference {
   double meanObject = 0.0;  // mean code value over object pixels (to see that there is an image at all)
 };
 
-Difference compareObjectRegion(const Png& shot, const std::vector<unsigned char>& expected, const Scene& scene) {
+Difference compareObjectRegion(const Png& shot, const std::vector<unsigned char>& expected,
+                               const Scene& scene) {
   Difference d;
   std::size_t count = 0;
   for (int y = 0; y < scene.gbuffer.height; ++y)
@@ -89,7 +90,8 @@ Difference compareObjectRegion(const Png& shot, const std::vector<unsigned char>
       const std::size_t p = std::size_t(y) * scene.gbuffer.width + x;
       if (scene.gbuffer.pixels[p].normal.w == 0.0f) continue;
       for (int c = 0; c < 3; ++c) {
-        d.maxDifference = std::max(d.maxDifference, std::abs(int(shot.at(x, y)[c]) - int(expected[3 * p + c])));
+        d.maxDifference =
+            std::max(d.maxDifference, std::abs(int(shot.at(x, y)[c]) - int(expected[3 * p + c])));
         d.meanObject += shot.at(x, y)[c];
       }
       ++count;
@@ -121,7 +123,8 @@ TEST_CASE("viewer: the scripted screenshot shows the same passes as a headless r
     CHECK(shot.width >= 64);
     CHECK(shot.height >= 64);
     const Scene loaded = loadScene(scene);
-    const Difference d = compareObjectRegion(shot, headless(scene, run.method, frames, spp, run.display), loaded);
+    const Difference d =
+        compareObjectRegion(shot, headless(scene, run.method, frames, spp, run.display), loaded);
     CHECK(d.maxDifference <= 1);
     CHECK(d.meanObject > 20.0);  // an image, not the window's grey
     // A different number of passes is a different image: the comparison can tell.
@@ -192,7 +195,8 @@ TEST_CASE("viewer: the sample overlay draws the picked pixel's samples, one colo
   CHECK(countNear(plain, 64, 255, 110, 80) < 10);
   CHECK(countNear(plain, 64, 80, 200, 255) < 10);
   // A single technique shows one colour only.
-  const Png single = viewerScreenshot("--size 64x64 --method brdf --overlay 32,24 --overlay-count 512", 2, "single");
+  const Png single =
+      viewerScreenshot("--size 64x64 --method brdf --overlay 32,24 --overlay-count 512", 2, "single");
   CHECK(countNear(single, 64, 255, 110, 80) > 100);
   CHECK(countNear(single, 64, 80, 200, 255) < 10);
 }

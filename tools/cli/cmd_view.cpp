@@ -21,14 +21,20 @@ int cmdView(const Args& args) {
                [&](const std::string& v) { spec.samplesPerPass = parseUint("--spp", v, 1, 4096); });
   parser.value("--seed", "N", "seed of the sample sequences (default 1)",
                [&](const std::string& v) { spec.seed = parseUint("--seed", v, 0, 0xffffffffu); });
-  parser.value("--exposure", "EV", "display exposure in stops (default 0)",
-               [&](const std::string& v) { options.display.exposureEV = parseDouble("--exposure", v, -30, 30); });
-  parser.value("--tonemap", "CURVE", "clamp (default, as render's PNG), reinhard or aces", [&](const std::string& v) {
-    if (v == "clamp") options.display.tonemap = Tonemap::Clamp;
-    else if (v == "reinhard") options.display.tonemap = Tonemap::Reinhard;
-    else if (v == "aces") options.display.tonemap = Tonemap::Aces;
-    else throw Error("--tonemap " + v + ": expected clamp, reinhard or aces");
+  parser.value("--exposure", "EV", "display exposure in stops (default 0)", [&](const std::string& v) {
+    options.display.exposureEV = parseDouble("--exposure", v, -30, 30);
   });
+  parser.value("--tonemap", "CURVE", "clamp (default, as render's PNG), reinhard or aces",
+               [&](const std::string& v) {
+                 if (v == "clamp")
+                   options.display.tonemap = Tonemap::Clamp;
+                 else if (v == "reinhard")
+                   options.display.tonemap = Tonemap::Reinhard;
+                 else if (v == "aces")
+                   options.display.tonemap = Tonemap::Aces;
+                 else
+                   throw Error("--tonemap " + v + ": expected clamp, reinhard or aces");
+               });
   parser.value("--gamma", "G", "display gamma instead of the sRGB curve (1 to 3)",
                [&](const std::string& v) { options.display.gamma = parseDouble("--gamma", v, 1, 3); });
   parser.toggle("--no-background", "show the background in grey instead of the environment",
@@ -42,21 +48,24 @@ int cmdView(const Args& args) {
                  checkImagePath("--screenshot", v);
                  options.screenshot = v;
                });
-  parser.toggle("--reference",
-                "compute the ground truth (or read it from the cache) at start, for the convergence panel; in "
-                "scripted mode before the first frame, and the final MSE and relMSE are printed",
-                [&] { options.reference = true; });
-  parser.value("--overlay", "X,Y",
-               "show the samples of pixel X,Y (image coordinates) on the environment map and the hemisphere",
-               [&](const std::string& v) {
-                 int x = 0, y = 0;
-                 char tail = 0;
-                 if (std::sscanf(v.c_str(), "%d,%d%c", &x, &y, &tail) != 2 || x < 0 || y < 0)
-                   throw Error("--overlay " + v + ": expected X,Y with non-negative pixel coordinates, e.g. 128,96");
-                 options.overlayPixel = std::pair(x, y);
-               });
-  parser.value("--overlay-count", "N", "samples shown by the overlay (16-4096, default 256)",
-               [&](const std::string& v) { options.overlayCount = parseUint("--overlay-count", v, 16, 4096); });
+  parser.toggle(
+      "--reference",
+      "compute the ground truth (or read it from the cache) at start, for the convergence panel; in "
+      "scripted mode before the first frame, and the final MSE and relMSE are printed",
+      [&] { options.reference = true; });
+  parser.value(
+      "--overlay", "X,Y",
+      "show the samples of pixel X,Y (image coordinates) on the environment map and the hemisphere",
+      [&](const std::string& v) {
+        int x = 0, y = 0;
+        char tail = 0;
+        if (std::sscanf(v.c_str(), "%d,%d%c", &x, &y, &tail) != 2 || x < 0 || y < 0)
+          throw Error("--overlay " + v + ": expected X,Y with non-negative pixel coordinates, e.g. 128,96");
+        options.overlayPixel = std::pair(x, y);
+      });
+  parser.value(
+      "--overlay-count", "N", "samples shown by the overlay (16-4096, default 256)",
+      [&](const std::string& v) { options.overlayCount = parseUint("--overlay-count", v, 16, 4096); });
   addDeviceFlags(parser, spec);
   if (parser.parseOrShowHelp(args)) return 0;
   if (spec.listMethods) {

@@ -15,7 +15,8 @@ void FileBrowser::open(std::string title, std::vector<std::string> extensions, f
   title_ = std::move(title);
   extensions_ = std::move(extensions);
   std::error_code ec;
-  if (start.empty() || !fs::is_directory(start, ec)) start = directory_.empty() ? fs::current_path(ec) : directory_;
+  if (start.empty() || !fs::is_directory(start, ec))
+    start = directory_.empty() ? fs::current_path(ec) : directory_;
   list(start);
   openRequested_ = true;
 }
@@ -34,7 +35,8 @@ void FileBrowser::list(const fs::path& directory) {
       continue;
     }
     std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
     if (extensions_.empty() || std::find(extensions_.begin(), extensions_.end(), ext) != extensions_.end())
       files_.push_back(path);
   }

@@ -20,7 +20,8 @@ void SampleOverlay::setEnvironment(const EnvImage& env) {
     for (int x = 0; x < env.width; ++x) {
       const std::size_t t = 3 * (std::size_t(y) * env.width + x);
       const double l = 0.2126 * env.rgb[t] + 0.7152 * env.rgb[t + 1] + 0.0722 * env.rgb[t + 2];
-      const std::size_t c = std::size_t(y * kGridHeight / env.height) * kGridWidth + x * kGridWidth / env.width;
+      const std::size_t c =
+          std::size_t(y * kGridHeight / env.height) * kGridWidth + x * kGridWidth / env.width;
       sum[c] += std::max(l, 0.0), ++count[c];
     }
   logLuminance_.assign(sum.size(), -30.0f);
@@ -52,18 +53,20 @@ void SampleOverlay::draw(float mapWidth, float hemisphereSide) const {
   const float cw = mapWidth / kGridWidth, ch = mapHeight / kGridHeight;
   for (int gy = 0; gy < kGridHeight; ++gy)
     for (int gx = 0; gx < kGridWidth; ++gx) {
-      const float t =
-          std::clamp((logLuminance_[std::size_t(gy) * kGridWidth + gx] - logMin_) / (logMax_ - logMin_), 0.0f, 1.0f);
+      const float t = std::clamp(
+          (logLuminance_[std::size_t(gy) * kGridWidth + gx] - logMin_) / (logMax_ - logMin_), 0.0f, 1.0f);
       const ImU32 c = IM_COL32(int(20 + 235 * t), int(20 + 200 * t * t), int(60 + 100 * t * (1 - t)), 255);
       const ImVec2 a(origin.x + gx * cw, origin.y + gy * ch);
       draw->AddRectFilled(a, ImVec2(a.x + cw + 0.5f, a.y + ch + 0.5f), c);
     }
-  // Hemisphere: seen from above the normal, orthographic (x, y of the local direction), rings at 30 and 60 deg.
+  // Hemisphere: seen from above the normal, orthographic (x, y of the local direction), rings at 30 and 60
+  // deg.
   const ImVec2 centre(origin.x + mapWidth + 12.0f + 0.5f * hemisphereSide, origin.y + 0.5f * hemisphereSide);
   const float radius = 0.5f * hemisphereSide - 2.0f;
   draw->AddCircleFilled(centre, radius, IM_COL32(30, 30, 36, 255), 64);
   for (double deg : {30.0, 60.0})
-    draw->AddCircle(centre, radius * float(std::sin(deg * 3.14159265358979 / 180.0)), IM_COL32(70, 70, 80, 255), 64);
+    draw->AddCircle(centre, radius * float(std::sin(deg * 3.14159265358979 / 180.0)),
+                    IM_COL32(70, 70, 80, 255), 64);
   draw->AddCircle(centre, radius, IM_COL32(120, 120, 130, 255), 64);
   const auto xyz = [](const auto& v) { return glm::dvec3(v.x, v.y, v.z); };
   const glm::dvec3 n = glm::normalize(xyz(pixel_.normal)), t = glm::normalize(xyz(pixel_.tangent));
@@ -76,20 +79,24 @@ void SampleOverlay::draw(float mapWidth, float hemisphereSide) const {
   draw->AddCircle(toDisc(mirror), 5.0f, IM_COL32(255, 255, 255, 200), 12, 1.5f);
   for (const RecordedSample& s : samples_) {
     if (s.technique == "none") continue;
-    const std::size_t k = std::size_t(std::find(techniques_.begin(), techniques_.end(), s.technique) - techniques_.begin());
+    const std::size_t k =
+        std::size_t(std::find(techniques_.begin(), techniques_.end(), s.technique) - techniques_.begin());
     const ImU32 color = techniqueColor(k);
-    draw->AddCircleFilled(ImVec2(origin.x + float(s.uv.x) * mapWidth, origin.y + float(s.uv.y) * mapHeight), 1.8f,
-                          color, 6);
+    draw->AddCircleFilled(ImVec2(origin.x + float(s.uv.x) * mapWidth, origin.y + float(s.uv.y) * mapHeight),
+                          1.8f, color, 6);
     if (glm::dot(s.direction, n) > 0.0) draw->AddCircleFilled(toDisc(s.direction), 1.8f, color, 6);
   }
   ImGui::Dummy(ImVec2(mapWidth + 12.0f + hemisphereSide, std::max(mapHeight, hemisphereSide)));
   for (std::size_t k = 0; k < techniques_.size(); ++k) {
-    const auto count = std::count_if(samples_.begin(), samples_.end(), [&](const RecordedSample& s) { return s.technique == techniques_[k]; });
-    ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(techniqueColor(k)), "%s: %lld", techniques_[k].c_str(), static_cast<long long>(count));
+    const auto count = std::count_if(samples_.begin(), samples_.end(),
+                                     [&](const RecordedSample& s) { return s.technique == techniques_[k]; });
+    ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(techniqueColor(k)), "%s: %lld", techniques_[k].c_str(),
+                       static_cast<long long>(count));
     if (k + 1 < techniques_.size()) ImGui::SameLine();
   }
-  ImGui::TextDisabled("map: luminance, %.1f decades (log); disc: hemisphere from above, ring: mirror direction",
-                      double(logMax_ - logMin_));
+  ImGui::TextDisabled(
+      "map: luminance, %.1f decades (log); disc: hemisphere from above, ring: mirror direction",
+      double(logMax_ - logMin_));
 }
 
 }  // namespace iblx::viewer

@@ -1,7 +1,7 @@
-// The viewer's sample overlay: one pixel's recorded samples (engine/render/sample_recorder.h) drawn as points on
-// the lat-long environment map, over the map's luminance (the density env-cdf and env-hier sample, per solid
-// angle) on a log scale, and on a view of the pixel's hemisphere seen from above the normal, one colour per
-// technique.
+// The viewer's sample overlay: one pixel's recorded samples (engine/render/sample_recorder.h) drawn as points
+// on the lat-long environment map, over the map's luminance (the density env-cdf and env-hier sample, per
+// solid angle) on a log scale, and on a view of the pixel's hemisphere seen from above the normal, one colour
+// per technique.
 #pragma once
 
 #include "engine/render/sample_recorder.h"
@@ -28,7 +28,7 @@ class SampleOverlay {
 
  private:
   static constexpr int kGridWidth = 128, kGridHeight = 64;
-  std::vector<float> logLuminance_;  // kGridWidth x kGridHeight, log10, row 0 at v = 0 (the top, +Y)
+  std::vector<float> logLuminance_;       // kGridWidth x kGridHeight, log10, row 0 at v = 0 (the top, +Y)
   float logMin_ = -1.0f, logMax_ = 0.0f;  // the colour scale's ends
   std::vector<RecordedSample> samples_;
   std::vector<std::string> techniques_;  // in order of first appearance: the colour index

@@ -1,5 +1,5 @@
-// `iblx view` (viewer.h): the viewer's state, its ImGui panel and the frame loop. Every control edits a copy of
-// the scene and method specs; a change that the running renderer cannot absorb (method, sequence, object,
+// `iblx view` (viewer.h): the viewer's state, its ImGui panel and the frame loop. Every control edits a copy
+// of the scene and method specs; a change that the running renderer cannot absorb (method, sequence, object,
 // camera, environment rotation or file) rebuilds it, and every change restarts the accumulation.
 #include "tools/viewer/viewer.h"
 
@@ -31,8 +31,9 @@ namespace iblx::viewer {
 
 namespace {
 
-constexpr int kPanelWidth = 360;         // the ImGui panel to the right of the image
-constexpr std::uint8_t kWindowGrey = 24;  // the window's own background (also behind the object without background)
+constexpr int kPanelWidth = 360;  // the ImGui panel to the right of the image
+constexpr std::uint8_t kWindowGrey =
+    24;  // the window's own background (also behind the object without background)
 
 // One curve of the convergence panel: error against spp and time for one method on the current ground truth.
 struct ConvergenceCurve {
@@ -47,7 +48,8 @@ struct ActiveRenderer {
   std::unique_ptr<Renderer> renderer;
 };
 
-// One pixel's samples for the overlay, recorded by the method's own integrator (engine/render/sample_recorder.h).
+// One pixel's samples for the overlay, recorded by the method's own integrator
+// (engine/render/sample_recorder.h).
 struct Recording {
   int x = 0, y = 0;
   gpu::GPixel pixel{};
@@ -117,8 +119,9 @@ class ViewerApp {
     const ImGuiIO& io = ImGui::GetIO();
     if (io.WantCaptureMouse) return;
     // A click without a drag (or a right click) on the image picks the overlay's pixel.
-    const bool click = (ImGui::IsMouseReleased(ImGuiMouseButton_Left) && io.MouseDragMaxDistanceSqr[0] < 9.0f) ||
-                       ImGui::IsMouseClicked(ImGuiMouseButton_Right);
+    const bool click =
+        (ImGui::IsMouseReleased(ImGuiMouseButton_Left) && io.MouseDragMaxDistanceSqr[0] < 9.0f) ||
+        ImGui::IsMouseClicked(ImGuiMouseButton_Right);
     if (click && overlayOn_) {
       const int x = int(io.MousePos.x), y = int(io.MousePos.y);
       if (x >= 0 && y >= 0 && x < scene_->gbuffer.width && y < scene_->gbuffer.height) startRecording(x, y);
@@ -139,7 +142,8 @@ class ViewerApp {
   // A file dropped on the window: an environment map, a BRDF or an object.
   void openFile(const std::filesystem::path& path) {
     std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
     SceneSpec next = options_.scene;
     if (ext == ".exr" || ext == ".hdr")
       next.envPath = path;
@@ -148,7 +152,8 @@ class ViewerApp {
     else if (ext == ".obj")
       next.object = path.string();
     else {
-      error_ = path.string() + ": not an environment (.exr, .hdr), BRDF (.brdf, .binary, .bparam) or object (.obj)";
+      error_ = path.string() +
+               ": not an environment (.exr, .hdr), BRDF (.brdf, .binary, .bparam) or object (.obj)";
       return;
     }
     const SceneSpec previous = options_.scene;
@@ -180,8 +185,8 @@ class ViewerApp {
   // Camera and object changes: only the G-buffer (the environment stays loaded).
   void reloadGeometry() {
     try {
-      auto next = std::make_shared<Scene>(
-          makeScene(scene_->env, options_.scene, LoadedBrdf{scene_->brdf, scene_->measured, scene_->brdfFile}));
+      auto next = std::make_shared<Scene>(makeScene(
+          scene_->env, options_.scene, LoadedBrdf{scene_->brdf, scene_->measured, scene_->brdfFile}));
       next->params = params_;
       scene_ = std::move(next);
       sceneChanged();
@@ -274,8 +279,10 @@ class ViewerApp {
         error_.clear();
         startCurve();
         // The overlay follows the method: its pixel is recorded again with the new one.
-        if (pendingPixel_) startRecording(pendingPixel_->first, pendingPixel_->second), pendingPixel_.reset();
-        else if (overlayOn_ && !overlay_.empty()) startRecording(overlay_.pixelX(), overlay_.pixelY());
+        if (pendingPixel_)
+          startRecording(pendingPixel_->first, pendingPixel_->second), pendingPixel_.reset();
+        else if (overlayOn_ && !overlay_.empty())
+          startRecording(overlay_.pixelX(), overlay_.pixelY());
       } else {
         error_ = buildJob_->error();
       }
@@ -358,7 +365,8 @@ class ViewerApp {
       std::snprintf(text, sizeof text, "%s %d%%", job->what().c_str(), int(100.0 * f));
     else
       std::snprintf(text, sizeof text, "%s (%.1f s)", job->what().c_str(), job->secondsRunning());
-    ImGui::ProgressBar(f > 0.0 ? float(f) : float(std::fmod(job->secondsRunning(), 1.0)), ImVec2(-1.0f, 0.0f), text);
+    ImGui::ProgressBar(f > 0.0 ? float(f) : float(std::fmod(job->secondsRunning(), 1.0)), ImVec2(-1.0f, 0.0f),
+                       text);
   }
 
   // Log-log plot of the curves' MSE or relMSE against spp or time, drawn with ImGui's draw list.
@@ -389,7 +397,8 @@ class ViewerApp {
       return;
     }
     // Whole decades on both axes, so slopes can be read off (-1 is 1/N).
-    x0 = std::floor(x0), x1 = std::max(std::ceil(x1), x0 + 1), y0 = std::floor(y0), y1 = std::max(std::ceil(y1), y0 + 1);
+    x0 = std::floor(x0), x1 = std::max(std::ceil(x1), x0 + 1), y0 = std::floor(y0),
+    y1 = std::max(std::ceil(y1), y0 + 1);
     const float left = 44.0f, bottom = 18.0f;
     const auto toScreen = [&](double lx, double ly) {
       return ImVec2(origin.x + left + float((lx - x0) / (x1 - x0)) * (size.x - left - 6.0f),
@@ -408,7 +417,7 @@ class ViewerApp {
       std::snprintf(label, sizeof label, "1e%d", int(d));
       draw->AddText(ImVec2(origin.x + 2, a.y - 7), IM_COL32(160, 160, 160, 255), label);
     }
-    static constexpr ImU32 kColors[] = {IM_COL32(255, 120, 90, 255), IM_COL32(90, 180, 255, 255),
+    static constexpr ImU32 kColors[] = {IM_COL32(255, 120, 90, 255),  IM_COL32(90, 180, 255, 255),
                                         IM_COL32(130, 220, 110, 255), IM_COL32(240, 200, 80, 255),
                                         IM_COL32(200, 130, 255, 255), IM_COL32(240, 240, 240, 255)};
     for (std::size_t k = 0; k < curves_.size(); ++k) {
@@ -417,16 +426,20 @@ class ViewerApp {
       const ImU32 color = k + 1 == curves_.size() ? kColors[5] : kColors[k % 5];
       std::vector<ImVec2> points;
       for (std::size_t i = 0; i < c.spp.size(); ++i)
-        if (xs(c)[i] > 0.0 && ys(c)[i] > 0.0) points.push_back(toScreen(std::log10(xs(c)[i]), std::log10(ys(c)[i])));
-      if (points.size() >= 2) draw->AddPolyline(points.data(), int(points.size()), color, ImDrawFlags_None, 1.5f);
-      else if (points.size() == 1) draw->AddCircleFilled(points[0], 2.0f, color);
+        if (xs(c)[i] > 0.0 && ys(c)[i] > 0.0)
+          points.push_back(toScreen(std::log10(xs(c)[i]), std::log10(ys(c)[i])));
+      if (points.size() >= 2)
+        draw->AddPolyline(points.data(), int(points.size()), color, ImDrawFlags_None, 1.5f);
+      else if (points.size() == 1)
+        draw->AddCircleFilled(points[0], 2.0f, color);
       ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(color), "%s: %s %.3g", c.label.c_str(),
                          plotRelative_ ? "relMSE" : "MSE", ys(c).empty() ? 0.0 : ys(c).back());
     }
   }
 
   template <typename Info>
-  bool combo(const char* label, std::string& value, std::span<const Info> registry, const std::string& unset = {}) {
+  bool combo(const char* label, std::string& value, std::span<const Info> registry,
+             const std::string& unset = {}) {
     bool changed = false;
     const std::string shown = value.empty() ? unset : value;
     if (ImGui::BeginCombo(label, shown.c_str())) {
@@ -444,7 +457,8 @@ class ViewerApp {
     const float x = float(std::max(scene_->gbuffer.width, window_.width() - kPanelWidth));
     ImGui::SetNextWindowPos(ImVec2(std::min(x, float(window_.width() - kPanelWidth)), 0.0f));
     ImGui::SetNextWindowSize(ImVec2(float(kPanelWidth), float(window_.height())));
-    ImGui::Begin("iblx", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+    ImGui::Begin("iblx", nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
 
     // Progress first: what a user looks at.
     const Renderer* renderer = active_.renderer.get();
@@ -452,8 +466,9 @@ class ViewerApp {
     const uint64_t spp = renderer ? renderer->samplesPerPixel() : 0;
     ImGui::Text("%s", renderer ? active_.method.label().c_str() : "(no method yet)");
     ImGui::Text("pass %u, %llu spp, %.2f s", passes_, static_cast<unsigned long long>(spp), wallSeconds_);
-    // Wall clock only: once the device also draws the window, lavapipe's timestamps around a dispatch no longer
-    // enclose its work (measured: 22 us for passes of 18 ms after the first frame), so a GPU figure would lie.
+    // Wall clock only: once the device also draws the window, lavapipe's timestamps around a dispatch no
+    // longer enclose its work (measured: 22 us for passes of 18 ms after the first frame), so a GPU figure
+    // would lie.
     ImGui::Text("%.2f M samples/s (wall, pass by pass)",
                 wallSeconds_ > 0 ? objectPixels * double(spp) / wallSeconds_ * 1e-6 : 0.0);
     ImGui::Text("device: %s", window_.context().deviceName().c_str());
@@ -471,22 +486,27 @@ class ViewerApp {
       const MethodInfo& info = findMethod(m.method);
       if (info.strategy == Strategy::Mis || info.strategy == Strategy::Ris)
         rebuild |= combo("env technique", m.envSampler, envTechniqueRegistry(), "(default)");
-      if (info.strategy == Strategy::SingleBrdf || info.strategy == Strategy::Mis || info.strategy == Strategy::Ris)
+      if (info.strategy == Strategy::SingleBrdf || info.strategy == Strategy::Mis ||
+          info.strategy == Strategy::Ris)
         rebuild |= combo("BRDF technique", m.brdfSampler, brdfTechniqueRegistry(), "(default)");
       rebuild |= combo("sequence", m.sequence, sequenceRegistry());
       if (info.strategy == Strategy::Mis) {
         float fraction = float(m.misEnvFraction.value_or(0.5));
-        if (ImGui::SliderFloat("env fraction", &fraction, 0.0f, 1.0f)) m.misEnvFraction = fraction, rebuild = true;
+        if (ImGui::SliderFloat("env fraction", &fraction, 0.0f, 1.0f))
+          m.misEnvFraction = fraction, rebuild = true;
         bool power = m.misHeuristic == "power";
-        if (ImGui::Checkbox("power heuristic", &power)) m.misHeuristic = power ? "power" : "balance", rebuild = true;
+        if (ImGui::Checkbox("power heuristic", &power))
+          m.misHeuristic = power ? "power" : "balance", rebuild = true;
         if (ImGui::Checkbox("compensated env technique", &m.misCompensation)) rebuild = true;
       }
       if (info.strategy == Strategy::Ris) {
         int candidates = m.risCandidates.value_or(8);
-        if (ImGui::SliderInt("candidates M", &candidates, 1, kMaxRisCandidates)) m.risCandidates = candidates, rebuild = true;
+        if (ImGui::SliderInt("candidates M", &candidates, 1, kMaxRisCandidates))
+          m.risCandidates = candidates, rebuild = true;
       }
       int perPass = int(options_.samplesPerPass);
-      if (ImGui::SliderInt("spp per pass", &perPass, 1, 256)) options_.samplesPerPass = uint32_t(perPass), restart();
+      if (ImGui::SliderInt("spp per pass", &perPass, 1, 256))
+        options_.samplesPerPass = uint32_t(perPass), restart();
       if (rebuild) rebuild_ = true;
     }
 
@@ -509,7 +529,8 @@ class ViewerApp {
             float f = float(v[0]);
             if (ImGui::SliderFloat(p.name.c_str(), &f, float(p.min), float(p.max))) v[0] = f, changed = true;
           }
-          if (ImGui::IsItemHovered() && !p.description.empty()) ImGui::SetTooltip("%s", p.description.c_str());
+          if (ImGui::IsItemHovered() && !p.description.empty())
+            ImGui::SetTooltip("%s", p.description.c_str());
         }
       if (changed) {
         // New values change the ground truth, not the method: the renderer keeps its tables and shaders.
@@ -525,8 +546,9 @@ class ViewerApp {
     }
 
     if (ImGui::CollapsingHeader("scene", ImGuiTreeNodeFlags_DefaultOpen)) {
-      ImGui::TextWrapped("environment: %s", options_.scene.envPath.empty() ? "(default sky)"
-                                                                            : options_.scene.envPath.string().c_str());
+      ImGui::TextWrapped("environment: %s", options_.scene.envPath.empty()
+                                                ? "(default sky)"
+                                                : options_.scene.envPath.string().c_str());
       float rotation = float(options_.scene.envRotationDeg);
       if (ImGui::SliderFloat("env rotation", &rotation, -180.0f, 180.0f, "%.1f deg")) {
         options_.scene.envRotationDeg = rotation;
@@ -550,7 +572,8 @@ class ViewerApp {
 
     if (ImGui::CollapsingHeader("display", ImGuiTreeNodeFlags_DefaultOpen)) {
       float exposure = float(options_.display.exposureEV);
-      if (ImGui::SliderFloat("exposure (EV)", &exposure, -10.0f, 10.0f)) options_.display.exposureEV = exposure;
+      if (ImGui::SliderFloat("exposure (EV)", &exposure, -10.0f, 10.0f))
+        options_.display.exposureEV = exposure;
       static const char* curves[] = {"clamp", "Reinhard", "ACES (fit)"};
       int curve = int(options_.display.tonemap);
       if (ImGui::Combo("tonemap", &curve, curves, 3)) options_.display.tonemap = Tonemap(curve);
@@ -570,12 +593,14 @@ class ViewerApp {
   void drawConvergenceWindow() {
     const float top = float(scene_->gbuffer.height) + 4.0f;
     ImGui::SetNextWindowPos(ImVec2(0.0f, top));
-    ImGui::SetNextWindowSize(ImVec2(float(window_.width() - kPanelWidth), std::max(120.0f, float(window_.height()) - top)));
+    ImGui::SetNextWindowSize(
+        ImVec2(float(window_.width() - kPanelWidth), std::max(120.0f, float(window_.height()) - top)));
     ImGui::Begin("analysis", nullptr,
                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
                      ImGuiWindowFlags_NoTitleBar);
     if (ImGui::BeginTabBar("tabs")) {
-      const ImGuiTabItemFlags selectSamples = (overlayOn_ && !samplesTabShown_) ? ImGuiTabItemFlags_SetSelected : 0;
+      const ImGuiTabItemFlags selectSamples =
+          (overlayOn_ && !samplesTabShown_) ? ImGuiTabItemFlags_SetSelected : 0;
       if (ImGui::BeginTabItem("convergence")) {
         if (!reference_ && !referenceJob_) {
           if (ImGui::Button("compute the ground truth")) startReference();
@@ -610,13 +635,14 @@ class ViewerApp {
       ImGui::TextDisabled("no pixel picked yet");
       return;
     }
-    ImGui::Text("pixel %d,%d: the first %d samples of %s", overlay_.pixelX(), overlay_.pixelY(), overlayCount_,
-                active_.renderer ? active_.method.label().c_str() : "-");
+    ImGui::Text("pixel %d,%d: the first %d samples of %s", overlay_.pixelX(), overlay_.pixelY(),
+                overlayCount_, active_.renderer ? active_.method.label().c_str() : "-");
     ImGui::SameLine();
     if (ImGui::SmallButton("record again")) startRecording(overlay_.pixelX(), overlay_.pixelY());
     const float available = ImGui::GetContentRegionAvail().x;
     const float side = std::min(160.0f, 0.3f * available);
-    overlay_.draw(std::min(available - side - 16.0f, 2.0f * (ImGui::GetContentRegionAvail().y - 60.0f)), side);
+    overlay_.draw(std::min(available - side - 16.0f, 2.0f * (ImGui::GetContentRegionAvail().y - 60.0f)),
+                  side);
   }
 
   ViewerOptions options_;
@@ -673,13 +699,15 @@ int runViewer(const ViewerOptions& options) {
   glfwSetDropCallback(window.handle(), [](GLFWwindow*, int count, const char** paths) {
     if (gDropTarget && count > 0) gDropTarget->openFile(paths[count - 1]);
   });
-  const std::filesystem::path screenshotPath = options.screenshot.empty() ? "iblx-view.png" : options.screenshot;
+  const std::filesystem::path screenshotPath =
+      options.screenshot.empty() ? "iblx-view.png" : options.screenshot;
   const auto loopStart = std::chrono::steady_clock::now();
   uint32_t frames = 0;
   while (window.beginFrame()) {
     ++frames;
     // Dear ImGui 1.86 indexes keys by the backend's codes (GLFW's here).
-    if (!ImGui::GetIO().WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F12, false)) app.requestScreenshot();
+    if (!ImGui::GetIO().WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F12, false))
+      app.requestScreenshot();
     app.handleMouse();
     const bool lastScripted = scripted && app.passes() + 1 >= options.frames;
     const bool readback = app.wantsScreenshot() || (lastScripted && !options.screenshot.empty());
@@ -693,9 +721,11 @@ int runViewer(const ViewerOptions& options) {
   if (scripted) {
     if (!app.lastError().empty()) throw Error(app.lastError());
     const ActiveRenderer& active = app.active();
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loopStart).count();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - loopStart).count();
     std::printf("%s: %u passes, %llu spp, %u frames in %.2f s (%.1f frames/s)", active.method.label().c_str(),
-                app.passes(), static_cast<unsigned long long>(active.renderer ? active.renderer->samplesPerPixel() : 0),
+                app.passes(),
+                static_cast<unsigned long long>(active.renderer ? active.renderer->samplesPerPixel() : 0),
                 frames, seconds, seconds > 0.0 ? frames / seconds : 0.0);
     if (const ConvergenceCurve* curve = app.currentCurve(); curve && !curve->mse.empty())
       std::printf(", MSE %.9g, relMSE %.9g", curve->mse.back(), curve->relMse.back());

@@ -1,6 +1,7 @@
-// `iblx view`: the desktop viewer. The object converges pass by pass in a window; method, sequence, samples per
-// pass, MIS settings, BRDF parameters and display settings switch live from a Dear ImGui panel, and any change
-// restarts the accumulation. A scripted mode (--frames, --screenshot) runs it unattended, e.g. under Xvfb.
+// `iblx view`: the desktop viewer. The object converges pass by pass in a window; method, sequence, samples
+// per pass, MIS settings, BRDF parameters and display settings switch live from a Dear ImGui panel, and any
+// change restarts the accumulation. A scripted mode (--frames, --screenshot) runs it unattended, e.g. under
+// Xvfb.
 #pragma once
 
 #include "engine/io/image_write.h"
@@ -27,9 +28,10 @@ struct ViewerOptions {
   // screenshot (if a path is given) of the last one and exits.
   uint32_t frames = 0;
   bool reference = false;
-  // The sample overlay: the pixel whose samples are shown (set: the overlay is on from the start) and how many.
+  // The sample overlay: the pixel whose samples are shown (set: the overlay is on from the start) and how
+  // many.
   std::optional<std::pair<int, int>> overlayPixel;
-  uint32_t overlayCount = 256;  // scripted mode: compute (or read from the cache) the ground truth first
+  uint32_t overlayCount = 256;       // scripted mode: compute (or read from the cache) the ground truth first
   std::filesystem::path screenshot;  // also the file name used by F12 and the menu (default iblx-view.png)
 };
 

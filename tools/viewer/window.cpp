@@ -1,5 +1,5 @@
-// The viewer's window (window.h): GLFW, the swapchain, one render pass that loads the uploaded canvas and draws
-// Dear ImGui over it, and an optional read-back of the presented image.
+// The viewer's window (window.h): GLFW, the swapchain, one render pass that loads the uploaded canvas and
+// draws Dear ImGui over it, and an optional read-back of the presented image.
 #include "tools/viewer/window.h"
 
 #include "engine/core/error.h"
@@ -19,7 +19,8 @@ namespace iblx::viewer {
 namespace {
 
 void checkImguiVk(VkResult result) {
-  if (result < 0) throw Error("Dear ImGui's Vulkan backend failed (VkResult " + std::to_string(int(result)) + ")");
+  if (result < 0)
+    throw Error("Dear ImGui's Vulkan backend failed (VkResult " + std::to_string(int(result)) + ")");
 }
 
 std::string glfwErrorText() {
@@ -30,7 +31,8 @@ std::string glfwErrorText() {
 
 }  // namespace
 
-ViewerWindow::ViewerWindow(const std::string& title, int width, int height, const ContextOptions& contextOptions) {
+ViewerWindow::ViewerWindow(const std::string& title, int width, int height,
+                           const ContextOptions& contextOptions) {
   if (!glfwInit())
     throw Error("cannot open a window: " + glfwErrorText() +
                 " (no display? run under a desktop session or `xvfb-run -a iblx view ...`)");
@@ -62,7 +64,8 @@ ViewerWindow::ViewerWindow(const std::string& title, int width, int height, cons
 
     const auto& device = context_->device();
     commandPool_ = vk::raii::CommandPool(
-        device, vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer, context_->queueFamily()));
+        device, vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer,
+                                          context_->queueFamily()));
     commands_ = vk::raii::CommandBuffers(
         device, vk::CommandBufferAllocateInfo(*commandPool_, vk::CommandBufferLevel::ePrimary, 1));
     imageAvailable_ = vk::raii::Semaphore(device, vk::SemaphoreCreateInfo());
@@ -72,7 +75,8 @@ ViewerWindow::ViewerWindow(const std::string& title, int width, int height, cons
     // Dear ImGui's own descriptor sets (its font texture): a small pool, as in its Vulkan example.
     const vk::DescriptorPoolSize poolSize(vk::DescriptorType::eCombinedImageSampler, 16);
     imguiPool_ = vk::raii::DescriptorPool(
-        device, vk::DescriptorPoolCreateInfo(vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, 16, poolSize));
+        device,
+        vk::DescriptorPoolCreateInfo(vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, 16, poolSize));
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the user's files
@@ -137,14 +141,15 @@ void ViewerWindow::createSwapchain() {
   glfwGetFramebufferSize(window_, &fbWidth, &fbHeight);
   extent_ = caps.currentExtent.width != std::numeric_limits<uint32_t>::max()
                 ? caps.currentExtent
-                : vk::Extent2D(std::clamp(uint32_t(fbWidth), caps.minImageExtent.width, caps.maxImageExtent.width),
-                               std::clamp(uint32_t(fbHeight), caps.minImageExtent.height,
-                                          caps.maxImageExtent.height));
+                : vk::Extent2D(
+                      std::clamp(uint32_t(fbWidth), caps.minImageExtent.width, caps.maxImageExtent.width),
+                      std::clamp(uint32_t(fbHeight), caps.minImageExtent.height, caps.maxImageExtent.height));
   // The canvas and ImGui's colours are already display-encoded bytes: a UNORM format shows them as they are.
   const auto formats = physical.getSurfaceFormatsKHR(surface);
   vk::SurfaceFormatKHR chosen = formats.front();
   for (const auto& f : formats)
-    if (f.format == vk::Format::eB8G8R8A8Unorm && f.colorSpace == vk::ColorSpaceKHR::eSrgbNonlinear) chosen = f;
+    if (f.format == vk::Format::eB8G8R8A8Unorm && f.colorSpace == vk::ColorSpaceKHR::eSrgbNonlinear)
+      chosen = f;
   if (chosen.format != vk::Format::eB8G8R8A8Unorm)
     throw Error("the window system offers no B8G8R8A8_UNORM swapchain format, which the viewer needs");
   format_ = chosen.format;
@@ -163,24 +168,25 @@ void ViewerWindow::createSwapchain() {
 
   if (!*renderPass_) {
     // The canvas is copied in first, so the pass loads it (TRANSFER_DST) and ImGui draws over it.
-    const vk::AttachmentDescription color({}, format_, vk::SampleCountFlagBits::e1, vk::AttachmentLoadOp::eLoad,
-                                          vk::AttachmentStoreOp::eStore, vk::AttachmentLoadOp::eDontCare,
-                                          vk::AttachmentStoreOp::eDontCare, vk::ImageLayout::eTransferDstOptimal,
-                                          vk::ImageLayout::ePresentSrcKHR);
+    const vk::AttachmentDescription color(
+        {}, format_, vk::SampleCountFlagBits::e1, vk::AttachmentLoadOp::eLoad, vk::AttachmentStoreOp::eStore,
+        vk::AttachmentLoadOp::eDontCare, vk::AttachmentStoreOp::eDontCare,
+        vk::ImageLayout::eTransferDstOptimal, vk::ImageLayout::ePresentSrcKHR);
     const vk::AttachmentReference ref(0, vk::ImageLayout::eColorAttachmentOptimal);
     const vk::SubpassDescription subpass({}, vk::PipelineBindPoint::eGraphics, {}, ref);
     using S = vk::PipelineStageFlagBits;
     using A = vk::AccessFlagBits;
     const vk::SubpassDependency dependency(VK_SUBPASS_EXTERNAL, 0, S::eTransfer, S::eColorAttachmentOutput,
-                                           A::eTransferWrite, A::eColorAttachmentRead | A::eColorAttachmentWrite);
+                                           A::eTransferWrite,
+                                           A::eColorAttachmentRead | A::eColorAttachmentWrite);
     renderPass_ = vk::raii::RenderPass(device, vk::RenderPassCreateInfo({}, color, subpass, dependency));
   }
   renderFinished_.clear();
   for (vk::Image image : images_) {
     views_.emplace_back(device, vk::ImageViewCreateInfo({}, image, vk::ImageViewType::e2D, format_, {},
                                                         {vk::ImageAspectFlagBits::eColor, 0, 1, 0, 1}));
-    framebuffers_.emplace_back(
-        device, vk::FramebufferCreateInfo({}, *renderPass_, *views_.back(), extent_.width, extent_.height, 1));
+    framebuffers_.emplace_back(device, vk::FramebufferCreateInfo({}, *renderPass_, *views_.back(),
+                                                                 extent_.width, extent_.height, 1));
     renderFinished_.emplace_back(device, vk::SemaphoreCreateInfo());
   }
   const vk::DeviceSize bytes = vk::DeviceSize(extent_.width) * extent_.height * 4;
@@ -215,7 +221,8 @@ std::optional<Screenshot> ViewerWindow::endFrame(std::span<const std::uint8_t> c
 
   uint32_t index = 0;
   try {
-    const auto [result, i] = swapchain_.acquireNextImage(std::numeric_limits<uint64_t>::max(), *imageAvailable_);
+    const auto [result, i] =
+        swapchain_.acquireNextImage(std::numeric_limits<uint64_t>::max(), *imageAvailable_);
     if (result == vk::Result::eSuboptimalKHR) needsRecreate_ = true;
     index = i;
   } catch (const vk::OutOfDateKHRError&) {
@@ -228,7 +235,8 @@ std::optional<Screenshot> ViewerWindow::endFrame(std::span<const std::uint8_t> c
   // The canvas: dark grey, with the render at the top left (clipped to the window).
   const int width = int(extent_.width), height = int(extent_.height);
   std::vector<std::uint8_t> pixels(std::size_t(width) * height * 4);
-  for (std::size_t p = 0; p < pixels.size(); p += 4) pixels[p] = pixels[p + 1] = pixels[p + 2] = 24, pixels[p + 3] = 255;  // the viewer's kWindowGrey
+  for (std::size_t p = 0; p < pixels.size(); p += 4)
+    pixels[p] = pixels[p + 1] = pixels[p + 2] = 24, pixels[p + 3] = 255;  // the viewer's kWindowGrey
   const int copyWidth = std::min(width, canvasWidth), copyHeight = std::min(height, canvasHeight);
   for (int y = 0; y < copyHeight; ++y)
     std::memcpy(&pixels[std::size_t(y) * width * 4], &canvas[std::size_t(y) * canvasWidth * 4],

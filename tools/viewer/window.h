@@ -1,5 +1,6 @@
 // The viewer's window: a GLFW window, its Vulkan swapchain and render pass, and Dear ImGui drawn on top of an
-// image uploaded from the CPU each frame. Knows nothing about rendering methods (tools/viewer/viewer.cpp does).
+// image uploaded from the CPU each frame. Knows nothing about rendering methods (tools/viewer/viewer.cpp
+// does).
 //
 //   ViewerWindow window("iblx", 800, 600, {.device = "llvmpipe"});
 //   while (window.beginFrame()) { ImGui::Text("..."); window.endFrame(bgra, w, h, /*readback=*/false); }
@@ -59,7 +60,8 @@ class ViewerWindow {
   vk::raii::RenderPass renderPass_ = nullptr;
   std::vector<vk::raii::Framebuffer> framebuffers_;
   vk::raii::DescriptorPool imguiPool_ = nullptr;
-  vk::raii::CommandPool commandPool_ = nullptr;  // the window's own: the context's is shared with other threads
+  vk::raii::CommandPool commandPool_ =
+      nullptr;  // the window's own: the context's is shared with other threads
   vk::raii::CommandBuffers commands_ = nullptr;
   vk::raii::Semaphore imageAvailable_ = nullptr;
   std::vector<vk::raii::Semaphore> renderFinished_;  // one per swapchain image
