@@ -17,7 +17,8 @@ struct ReferenceOptions {
       1;  // per texel axis, each with 2x2 Gauss-Legendre points (unless the midpoint suffices)
   int maxFineSubdivisions = 512;
   bool allowMidpoint = true;  // false: the Gauss rule everywhere (for checking the midpoint rule)
-  std::function<void(double fraction)> progress;  // called after each chunk of rows
+  // Called after each dispatch (a run of texels); an exception thrown from it abandons the computation.
+  std::function<void(double fraction)> progress;
 };
 
 struct ReferenceImage {

@@ -210,5 +210,5 @@ TEST_CASE("viewer: an overlay pixel off the object is refused with the reason") 
   while (std::fgets(buffer, sizeof buffer, pipe.get())) out += buffer;
   const int status = pclose(pipe.release());
   CHECK(status != 0);
-  CHECK(out.find("overlay") != std::string::npos);
+  CHECK(out.find("overlay: pixel 0,0 is background") != std::string::npos);
 }

@@ -5,6 +5,7 @@
 
 #include "engine/core/error.h"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -197,6 +198,20 @@ void printRegistry(const RenderSpec& spec) {
     std::printf("--brdf %s:\n", spec.scene.brdf.c_str());
     std::fputs(describeBrdf(*loadBrdfArgument(spec.scene.brdf).info).c_str(), stdout);
   }
+}
+
+std::pair<long long, long long> parsePixel(const std::string& flag, const std::string& text) {
+  const auto comma = text.find(',');
+  auto integer = [&](const std::string& part, long long& value) {
+    char* end = nullptr;
+    errno = 0;
+    value = std::strtoll(part.c_str(), &end, 10);
+    return !part.empty() && end == part.c_str() + part.size() && errno == 0;
+  };
+  long long x = 0, y = 0;
+  if (comma == std::string::npos || !integer(text.substr(0, comma), x) || !integer(text.substr(comma + 1), y))
+    throw Error(flag + " " + text + ": expected X,Y in whole pixels from the top-left corner, e.g. 128,96");
+  return {x, y};
 }
 
 void addDeviceFlags(ArgParser& p, RenderSpec& s) {

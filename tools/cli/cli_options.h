@@ -68,6 +68,8 @@ void printRegistry(const RenderSpec& spec);
 // Number parsing with the flag's name in every error.
 uint32_t parseUint(const std::string& flag, const std::string& text, uint32_t min, uint32_t max);
 double parseDouble(const std::string& flag, const std::string& text, double min, double max);
+// "X,Y" in whole pixels from the top-left corner (range checks are the caller's: they need the image size).
+std::pair<long long, long long> parsePixel(const std::string& flag, const std::string& text);
 void parseSize(const std::string& flag, const std::string& text, int& width, int& height);
 
 }  // namespace iblx::cli

@@ -27,19 +27,6 @@ constexpr const char* kCsvHeader =
     "radiance_g,radiance_b,estimate_r,estimate_g,estimate_b,seq_x,seq_y\n";
 
 // "X,Y" as two integers; the range is checked against the image later.
-std::pair<long long, long long> parsePixel(const std::string& text) {
-  const auto comma = text.find(',');
-  auto integer = [&](const std::string& part, long long& value) {
-    char* end = nullptr;
-    errno = 0;
-    value = std::strtoll(part.c_str(), &end, 10);
-    return !part.empty() && end == part.c_str() + part.size() && errno == 0;
-  };
-  long long x = 0, y = 0;
-  if (comma == std::string::npos || !integer(text.substr(0, comma), x) || !integer(text.substr(comma + 1), y))
-    throw Error("--pixel " + text + ": expected X,Y in whole pixels from the top-left corner, e.g. 128,96");
-  return {x, y};
-}
 
 // One CSV row. Every value is written as the shortest text that reads back as the same float: the records
 // are float, and the derived values (world direction, uv) carry no more precision than that. std::to_chars
@@ -101,7 +88,7 @@ int cmdSamples(const Args& args) {
   if (pixelText.empty())
     throw Error("--pixel X,Y is required: the pixel whose samples are written, e.g. --pixel " +
                 std::to_string(spec.scene.width / 2) + "," + std::to_string(spec.scene.height / 2));
-  const auto [pixelX, pixelY] = parsePixel(pixelText);
+  const auto [pixelX, pixelY] = parsePixel("--pixel", pixelText);
   const bool toStdout = spec.out == "-";
   if (!toStdout) {
     const std::filesystem::path out(spec.out);

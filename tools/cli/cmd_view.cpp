@@ -57,11 +57,10 @@ int cmdView(const Args& args) {
       "--overlay", "X,Y",
       "show the samples of pixel X,Y (image coordinates) on the environment map and the hemisphere",
       [&](const std::string& v) {
-        int x = 0, y = 0;
-        char tail = 0;
-        if (std::sscanf(v.c_str(), "%d,%d%c", &x, &y, &tail) != 2 || x < 0 || y < 0)
-          throw Error("--overlay " + v + ": expected X,Y with non-negative pixel coordinates, e.g. 128,96");
-        options.overlayPixel = std::pair(x, y);
+        const auto [x, y] = parsePixel("--overlay", v);
+        if (x < 0 || y < 0 || x >= (1 << 16) || y >= (1 << 16))
+          throw Error("--overlay " + v + ": outside any image (coordinates from 0 at the top-left corner)");
+        options.overlayPixel = std::pair(int(x), int(y));
       });
   parser.value(
       "--overlay-count", "N", "samples shown by the overlay (16-4096, default 256)",
@@ -69,7 +68,7 @@ int cmdView(const Args& args) {
   addDeviceFlags(parser, spec);
   if (parser.parseOrShowHelp(args)) return 0;
   if (spec.listMethods) {
-    std::fputs(describeRegistry().c_str(), stdout);
+    printRegistry(spec);
     return 0;
   }
   if (!options.screenshot.empty() && options.screenshot.extension() != ".png")

@@ -6,6 +6,8 @@
 #include <chrono>
 #include <exception>
 #include <functional>
+#include <memory>
+#include <vector>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -18,8 +20,17 @@ struct JobCancelled : std::runtime_error {
   JobCancelled() : std::runtime_error("cancelled") {}
 };
 
+// What the viewer needs of any job it no longer wants: cancel it and drop it once it has stopped, without
+// joining its thread on the UI thread.
+class JobBase {
+ public:
+  virtual ~JobBase() = default;
+  virtual bool done() const = 0;
+  virtual void cancel() = 0;
+};
+
 template <typename T>
-class BackgroundJob {
+class BackgroundJob final : public JobBase {
  public:
   // work(progress) runs on its own thread; progress(fraction in [0, 1]) may be called at any rate.
   BackgroundJob(std::string what, std::function<T(const std::function<void(double)>&)> work)
@@ -33,10 +44,12 @@ class BackgroundJob {
             error_ = "cancelled";
           } catch (const std::exception& e) {
             error_ = e.what();
+          } catch (...) {
+            error_ = "unknown error";
           }
           done_.store(true, std::memory_order_release);
         }) {}
-  ~BackgroundJob() { cancel(); }  // std::jthread joins
+  ~BackgroundJob() override { cancel(); }  // std::jthread joins
   BackgroundJob(const BackgroundJob&) = delete;
   BackgroundJob& operator=(const BackgroundJob&) = delete;
 
@@ -44,9 +57,9 @@ class BackgroundJob {
   double secondsRunning() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
   }
-  bool done() const { return done_.load(std::memory_order_acquire); }
+  bool done() const override { return done_.load(std::memory_order_acquire); }
   double progress() const { return progress_.load(); }
-  void cancel() { cancelled_.store(true); }
+  void cancel() override { cancelled_.store(true); }
   void wait() { thread_.join(); }
   // After done(): the result, or nullopt with error() saying why.
   std::optional<T>& result() { return result_; }
@@ -60,6 +73,27 @@ class BackgroundJob {
   std::optional<T> result_;
   std::string error_;
   std::jthread thread_;  // last: starts once everything above exists, joins before it goes
+};
+
+}  // namespace iblx::viewer
+
+namespace iblx::viewer {
+
+// Cancelled jobs wait here until their threads have stopped, so that dropping one never blocks the caller.
+class RetiredJobs {
+ public:
+  template <typename T>
+  void retire(std::unique_ptr<BackgroundJob<T>>& job) {
+    if (!job) return;
+    job->cancel();
+    jobs_.push_back(std::move(job));
+  }
+  void collect() {
+    std::erase_if(jobs_, [](const std::unique_ptr<JobBase>& job) { return job->done(); });
+  }
+
+ private:
+  std::vector<std::unique_ptr<JobBase>> jobs_;
 };
 
 }  // namespace iblx::viewer

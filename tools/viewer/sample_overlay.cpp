@@ -36,8 +36,10 @@ void SampleOverlay::setEnvironment(const EnvImage& env) {
   if (logMin_ >= logMax_) logMin_ = logMax_ - 1.0f;
 }
 
-void SampleOverlay::setSamples(int x, int y, const gpu::GPixel& pixel, std::vector<RecordedSample> samples) {
+void SampleOverlay::setSamples(int x, int y, const gpu::GPixel& pixel, std::vector<RecordedSample> samples,
+                               std::string methodLabel) {
   x_ = x, y_ = y, pixel_ = pixel;
+  methodLabel_ = std::move(methodLabel);
   samples_ = std::move(samples);
   techniques_.clear();
   for (const RecordedSample& s : samples_)
@@ -78,7 +80,8 @@ void SampleOverlay::draw(float mapWidth, float hemisphereSide) const {
   const glm::dvec3 mirror = 2.0 * glm::dot(n, wo) * n - wo;  // where a mirror-like lobe sits
   draw->AddCircle(toDisc(mirror), 5.0f, IM_COL32(255, 255, 255, 200), 12, 1.5f);
   for (const RecordedSample& s : samples_) {
-    if (s.technique == "none") continue;
+    // "none" (ris kept no candidate) and failed draws (pdf 0, a placeholder direction) are not samples to show.
+    if (s.technique == "none" || !(s.pdf > 0.0)) continue;
     const std::size_t k =
         std::size_t(std::find(techniques_.begin(), techniques_.end(), s.technique) - techniques_.begin());
     const ImU32 color = techniqueColor(k);

@@ -17,11 +17,15 @@ class SampleOverlay {
  public:
   // The map whose density is shown (downsampled once per scene).
   void setEnvironment(const EnvImage& env);
-  void setSamples(int x, int y, const gpu::GPixel& pixel, std::vector<RecordedSample> samples);
+  // methodLabel: the method that drew them (ResolvedMethod::label()).
+  void setSamples(int x, int y, const gpu::GPixel& pixel, std::vector<RecordedSample> samples,
+                  std::string methodLabel);
   void clear() { samples_.clear(); }
   bool empty() const { return samples_.empty(); }
   int pixelX() const { return x_; }
   int pixelY() const { return y_; }
+  std::size_t sampleCount() const { return samples_.size(); }
+  const std::string& methodLabel() const { return methodLabel_; }
 
   // Draws the map panel (width w, height w/2) and the hemisphere (side h) side by side at the cursor.
   void draw(float mapWidth, float hemisphereSide) const;
@@ -34,6 +38,7 @@ class SampleOverlay {
   std::vector<std::string> techniques_;  // in order of first appearance: the colour index
   gpu::GPixel pixel_{};
   int x_ = -1, y_ = -1;
+  std::string methodLabel_;
 };
 
 // The colour of the k-th technique (also the legend's).

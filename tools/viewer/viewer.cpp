@@ -32,8 +32,6 @@ namespace iblx::viewer {
 namespace {
 
 constexpr int kPanelWidth = 360;  // the ImGui panel to the right of the image
-constexpr std::uint8_t kWindowGrey =
-    24;  // the window's own background (also behind the object without background)
 
 // One curve of the convergence panel: error against spp and time for one method on the current ground truth.
 struct ConvergenceCurve {
@@ -46,14 +44,35 @@ struct ActiveRenderer {
   std::shared_ptr<const Scene> scene;
   ResolvedMethod method;
   std::unique_ptr<Renderer> renderer;
+  uint64_t generation = 0;  // of the scene and parameters it renders (ViewerApp::generation_)
+
+  // The renderer holds a reference to the scene: it goes first.
+  ActiveRenderer& operator=(ActiveRenderer&& other) noexcept {
+    renderer = std::move(other.renderer);
+    scene = std::move(other.scene);
+    method = other.method;
+    generation = other.generation;
+    return *this;
+  }
+  ActiveRenderer() = default;
+  ActiveRenderer(ActiveRenderer&&) noexcept = default;
+  ~ActiveRenderer() { renderer.reset(); }
 };
 
 // One pixel's samples for the overlay, recorded by the method's own integrator
 // (engine/render/sample_recorder.h).
 struct Recording {
+  uint64_t generation = 0;
   int x = 0, y = 0;
   gpu::GPixel pixel{};
   std::vector<RecordedSample> samples;
+  std::string methodLabel;
+};
+
+// A scene read in the background, with the spec it was read from.
+struct LoadedScene {
+  SceneSpec spec;  // what was read
+  std::shared_ptr<Scene> scene;
 };
 
 // Everything the viewer shows, and what it was built from.
@@ -68,8 +87,9 @@ class ViewerApp {
     }
   }
   ~ViewerApp() {
-    if (referenceJob_) referenceJob_->cancel();
-    if (recordJob_) recordJob_->cancel();
+    for (JobBase* job : std::initializer_list<JobBase*>{referenceJob_.get(), recordJob_.get(), buildJob_.get(),
+                                                        loadJob_.get()})
+      if (job) job->cancel();
   }
 
   // One frame: finished background work is taken over, one pass runs, the panel and the canvas are drawn.
@@ -78,13 +98,15 @@ class ViewerApp {
   std::optional<Screenshot> frame(bool readback) {
     pollJobs();
     if (rebuild_ && !buildJob_) startBuild();
+    std::vector<float> rgb;  // read back once per frame, for the canvas and the error
     if (active_.renderer && !paused_) {
       const PassTiming t = active_.renderer->runPass(options_.samplesPerPass);
       wallSeconds_ += t.wallSeconds;
       ++passes_;
-      recordError();
     }
-    updateCanvas();
+    if (active_.renderer && active_.renderer->samplesPerPixel() > 0) rgb = active_.renderer->meanRgb();
+    if (!paused_ && !rgb.empty()) recordError(rgb);
+    updateCanvas(rgb);
     drawPanel();
     const GBuffer& g = active_.scene ? active_.scene->gbuffer : scene_->gbuffer;
     auto shot = window_.endFrame(canvas_, g.width, g.height, readback);
@@ -111,6 +133,7 @@ class ViewerApp {
   void clearScreenshotRequest() { screenshotRequested_ = false; }
   void requestScreenshot() { screenshotRequested_ = true; }
   const std::string& lastError() const { return error_; }
+  void showError(std::string message) { error_ = std::move(message); }
   const ActiveRenderer& active() const { return active_; }
   const ConvergenceCurve* currentCurve() const { return curves_.empty() ? nullptr : &curves_.back(); }
 
@@ -156,30 +179,41 @@ class ViewerApp {
                ": not an environment (.exr, .hdr), BRDF (.brdf, .binary, .bparam) or object (.obj)";
       return;
     }
-    const SceneSpec previous = options_.scene;
-    options_.scene = next;
-    if (!loadSceneFromSpec()) {
-      const std::string why = error_;
-      options_.scene = previous;
-      error_ = why;
-    }
+    startLoad(next, path.filename().string());
   }
 
  private:
-  // (Re)loads the scene from options_.scene; on failure keeps the message and returns false.
+  // Loads the scene from options_.scene on this thread (at start, before the window shows anything); on
+  // failure keeps the message and returns false.
   bool loadSceneFromSpec() {
     try {
-      auto scene = std::make_shared<Scene>(loadScene(options_.scene));
-      scene_ = std::move(scene);
-      params_ = scene_->params;
-      overlay_.setEnvironment(scene_->env);
-      error_.clear();
-      sceneChanged();
+      applyScene(std::make_shared<Scene>(loadScene(options_.scene)));
       return true;
     } catch (const std::exception& e) {
       error_ = e.what();
       return false;
     }
+  }
+
+  void applyScene(std::shared_ptr<Scene> scene) {
+    scene_ = std::move(scene);
+    params_ = scene_->params;
+    overlay_.setEnvironment(scene_->env);
+    overlay_.clear();
+    error_.clear();
+    sceneChanged();
+  }
+
+  // A file opened from the UI: read in the background (a large EXR or MERL file takes a while); the current
+  // scene stays until it is ready, and stays for good if the file is bad.
+  void startLoad(const SceneSpec& spec, const std::string& name) {
+    if (loadJob_) {
+      error_ = "still opening the previous file; try again when it is open";
+      return;
+    }
+    loadJob_ = std::make_unique<BackgroundJob<LoadedScene>>("opening " + name, [spec](const auto&) {
+      return LoadedScene{spec, std::make_shared<Scene>(loadScene(spec))};
+    });
   }
 
   // Camera and object changes: only the G-buffer (the environment stays loaded).
@@ -197,8 +231,8 @@ class ViewerApp {
 
   // What the ground truth depends on changed: it and every curve measured against it go.
   void dropReference() {
-    if (referenceJob_) referenceJob_->cancel();
-    referenceJob_.reset();
+    ++generation_;
+    retired_.retire(referenceJob_);
     reference_.reset();
     curves_.clear();
   }
@@ -213,19 +247,23 @@ class ViewerApp {
       error_ = "overlay: pixel " + std::to_string(x) + "," + std::to_string(y) + " is " + *why;
       return;
     }
-    if (recordJob_) recordJob_->cancel();
+    retired_.retire(recordJob_);
     std::shared_ptr<const Scene> scene = snapshotScene();
+    const uint64_t generation = generation_;
     const MethodSpec spec = options_.method;
     const uint32_t seed = options_.seed, perPass = options_.samplesPerPass;
     const std::size_t count = std::size_t(overlayCount_);
     const VulkanContext& context = window_.context();
     recordJob_ = std::make_unique<BackgroundJob<Recording>>(
         "recording the pixel's samples",
-        [scene, spec, seed, perPass, count, x, y, &context](const std::function<void(double)>& progress) {
+        [scene, spec, seed, perPass, count, x, y, generation,
+         &context](const std::function<void(double)>& progress) {
           ShaderCompiler compiler;
-          SampleRecorder recorder(context, compiler, *scene, resolveMethod(spec, *scene->brdf), seed);
+          const ResolvedMethod method = resolveMethod(spec, *scene->brdf);
+          SampleRecorder recorder(context, compiler, *scene, method, seed);
           recorder.start(x, y);
-          Recording r{x, y, scene->gbuffer.pixels[std::size_t(y) * scene->gbuffer.width + x], {}};
+          Recording r{generation, x, y, scene->gbuffer.pixels[std::size_t(y) * scene->gbuffer.width + x], {},
+                      method.label()};
           while (r.samples.size() < count) {
             for (RecordedSample& sample : recorder.runPass(perPass))
               if (r.samples.size() < count) r.samples.push_back(std::move(sample));
@@ -248,10 +286,12 @@ class ViewerApp {
     std::shared_ptr<const Scene> scene = snapshotScene();
     const MethodSpec spec = options_.method;
     const uint32_t seed = options_.seed;
+    const uint64_t generation = generation_;
     const VulkanContext& context = window_.context();
     buildJob_ = std::make_unique<BackgroundJob<ActiveRenderer>>(
-        "building the method (tables, shaders)", [scene, spec, seed, &context](const auto&) {
-          ActiveRenderer next{scene, resolveMethod(spec, *scene->brdf), nullptr};
+        "building the method (tables, shaders)", [scene, spec, seed, generation, &context](const auto&) {
+          ActiveRenderer next;
+          next.scene = scene, next.method = resolveMethod(spec, *scene->brdf), next.generation = generation;
           ShaderCompiler compiler;
           next.renderer = std::make_unique<Renderer>(context, compiler, *scene, next.method, seed);
           return next;
@@ -262,6 +302,7 @@ class ViewerApp {
     if (referenceJob_) return;
     std::shared_ptr<const Scene> scene = snapshotScene();
     const VulkanContext& context = window_.context();
+    referenceGeneration_ = generation_;  // dropReference() retires this job when the scene changes
     referenceJob_ = std::make_unique<BackgroundJob<std::vector<float>>>(
         "ground truth", [scene, &context](const std::function<void(double)>& progress) {
           ShaderCompiler compiler;
@@ -274,9 +315,16 @@ class ViewerApp {
   void pollJobs() {
     if (buildJob_ && buildJob_->done()) {
       if (auto& result = buildJob_->result()) {
-        active_ = std::move(*result);
-        active_.renderer->setParams(params_);  // sliders moved while it was being built
-        error_.clear();
+        // Taken even if the scene changed meanwhile (rebuild_: a newer build follows), so the image keeps
+        // moving; only a renderer of the current scene counts for the convergence plot (its generation).
+        try {
+          result->renderer->setParams(params_);  // sliders moved while it was being built
+          if (!rebuild_) result->generation = generation_;
+          active_ = std::move(*result);
+          error_.clear();
+        } catch (const std::exception& e) {
+          if (!rebuild_) error_ = e.what();  // else: a build for the previous BRDF, dropped
+        }
         startCurve();
         // The overlay follows the method: its pixel is recorded again with the new one.
         if (pendingPixel_)
@@ -288,13 +336,26 @@ class ViewerApp {
       }
       buildJob_.reset();
     }
+    if (loadJob_ && loadJob_->done()) {
+      if (auto& result = loadJob_->result()) {
+        options_.scene = result->spec;
+        applyScene(std::move(result->scene));
+      } else {
+        error_ = loadJob_->error();
+      }
+      loadJob_.reset();
+    }
     if (recordJob_ && recordJob_->done()) {
-      if (auto& result = recordJob_->result())
-        overlay_.setSamples(result->x, result->y, result->pixel, std::move(result->samples));
+      if (auto& result = recordJob_->result()) {
+        if (result->generation == generation_)  // else a newer recording was or will be started
+          overlay_.setSamples(result->x, result->y, result->pixel, std::move(result->samples),
+                              std::move(result->methodLabel));
+      }
       else if (recordJob_->error() != "cancelled")
         error_ = "overlay: " + recordJob_->error();
       recordJob_.reset();
     }
+    retired_.collect();
     if (referenceJob_ && referenceJob_->done()) {
       if (auto& result = referenceJob_->result()) {
         reference_ = std::move(*result);
@@ -325,9 +386,8 @@ class ViewerApp {
     if (curves_.size() > kMaxCurves) curves_.erase(curves_.begin());
   }
 
-  void recordError() {
-    if (!reference_ || curves_.empty() || !active_.renderer) return;
-    const std::vector<float> rgb = active_.renderer->meanRgb();
+  void recordError(std::span<const float> rgb) {
+    if (!reference_ || curves_.empty() || !active_.renderer || active_.generation != referenceGeneration_) return;
     const ErrorMetrics e = compareToReference(active_.scene->gbuffer, rgb, *reference_);
     ConvergenceCurve& c = curves_.back();
     c.spp.push_back(double(active_.renderer->samplesPerPixel()));
@@ -336,11 +396,9 @@ class ViewerApp {
     c.relMse.push_back(e.relMse);
   }
 
-  void updateCanvas() {
+  void updateCanvas(std::span<const float> rgb) {
     const GBuffer& g = active_.scene ? active_.scene->gbuffer : scene_->gbuffer;
     canvas_.assign(std::size_t(g.width) * g.height * 4, 0);
-    std::vector<float> rgb;
-    if (active_.renderer && active_.renderer->samplesPerPixel() > 0) rgb = active_.renderer->meanRgb();
     for (std::size_t p = 0; p < std::size_t(g.width) * g.height; ++p) {
       std::uint8_t* out = &canvas_[4 * p];
       out[3] = 255;
@@ -473,6 +531,7 @@ class ViewerApp {
                 wallSeconds_ > 0 ? objectPixels * double(spp) / wallSeconds_ * 1e-6 : 0.0);
     ImGui::Text("device: %s", window_.context().deviceName().c_str());
     if (!error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "%s", error_.c_str());
+    jobLine(loadJob_);
     jobLine(buildJob_);
     ImGui::Checkbox("pause", &paused_);
     ImGui::SameLine();
@@ -535,13 +594,16 @@ class ViewerApp {
       if (changed) {
         // New values change the ground truth, not the method: the renderer keeps its tables and shaders.
         scene_->params = params_;
+        const bool wasCurrent = active_.renderer && active_.generation == generation_;
         dropReference();
         try {
           if (active_.renderer) active_.renderer->setParams(params_);
+          if (wasCurrent) active_.generation = generation_;
         } catch (const std::exception& e) {
           error_ = e.what();
         }
         restart();
+        if (overlayOn_ && !overlay_.empty()) startRecording(overlay_.pixelX(), overlay_.pixelY());
       }
     }
 
@@ -635,8 +697,8 @@ class ViewerApp {
       ImGui::TextDisabled("no pixel picked yet");
       return;
     }
-    ImGui::Text("pixel %d,%d: the first %d samples of %s", overlay_.pixelX(), overlay_.pixelY(),
-                overlayCount_, active_.renderer ? active_.method.label().c_str() : "-");
+    ImGui::Text("pixel %d,%d: the first %zu samples of %s", overlay_.pixelX(), overlay_.pixelY(),
+                overlay_.sampleCount(), overlay_.methodLabel().c_str());
     ImGui::SameLine();
     if (ImGui::SmallButton("record again")) startRecording(overlay_.pixelX(), overlay_.pixelY());
     const float available = ImGui::GetContentRegionAvail().x;
@@ -653,10 +715,14 @@ class ViewerApp {
   std::unique_ptr<BackgroundJob<ActiveRenderer>> buildJob_;
   std::unique_ptr<BackgroundJob<std::vector<float>>> referenceJob_;
   std::optional<std::vector<float>> reference_;
+  uint64_t generation_ = 0;           // counts changes of the scene or its parameters (dropReference)
+  uint64_t referenceGeneration_ = 0;  // the generation reference_ (or its job) belongs to
+  RetiredJobs retired_;
   std::vector<ConvergenceCurve> curves_;
   FileBrowser browser_;
   SampleOverlay overlay_;
   std::unique_ptr<BackgroundJob<Recording>> recordJob_;
+  std::unique_ptr<BackgroundJob<LoadedScene>> loadJob_;
   std::optional<std::pair<int, int>> pendingPixel_;  // --overlay: recorded once the first renderer exists
   bool overlayOn_ = false, samplesTabShown_ = false;
   int overlayCount_ = 256;
@@ -703,19 +769,28 @@ int runViewer(const ViewerOptions& options) {
       options.screenshot.empty() ? "iblx-view.png" : options.screenshot;
   const auto loopStart = std::chrono::steady_clock::now();
   uint32_t frames = 0;
+  bool screenshotWritten = false;
   while (window.beginFrame()) {
     ++frames;
     // Dear ImGui 1.86 indexes keys by the backend's codes (GLFW's here).
-    if (!ImGui::GetIO().WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F12, false))
-      app.requestScreenshot();
+    if (!ImGui::GetIO().WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F12, false)) app.requestScreenshot();
     app.handleMouse();
     const bool lastScripted = scripted && app.passes() + 1 >= options.frames;
-    const bool readback = app.wantsScreenshot() || (lastScripted && !options.screenshot.empty());
-    if (const auto shot = app.frame(readback)) {
-      writeScreenshot(*shot, screenshotPath);
+    const bool wantShot = !options.screenshot.empty() && lastScripted;
+    if (const auto shot = app.frame(app.wantsScreenshot() || wantShot)) {
+      try {
+        writeScreenshot(*shot, screenshotPath);
+        screenshotWritten = true;
+      } catch (const std::exception& e) {
+        if (scripted) throw;
+        app.showError(e.what());  // an unwritable directory is no reason to end the session
+      }
       app.clearScreenshotRequest();
     }
-    if (lastScripted) break;
+    // A scripted run ends with its screenshot; a frame lost to a swapchain rebuild is simply drawn again.
+    if (lastScripted && (!wantShot || screenshotWritten)) break;
+    if (scripted && frames > options.frames + 100)
+      throw Error("the window system presented no frame to read the screenshot from");
   }
   gDropTarget = nullptr;
   if (scripted) {

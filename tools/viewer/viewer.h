@@ -27,11 +27,13 @@ struct ViewerOptions {
   // Scripted mode: with frames > 0 the viewer renders exactly that many frames (one pass each), writes the
   // screenshot (if a path is given) of the last one and exits.
   uint32_t frames = 0;
+  // Compute the ground truth (or read it from the cache) at start; the scripted mode waits for it and prints
+  // the final MSE and relMSE.
   bool reference = false;
   // The sample overlay: the pixel whose samples are shown (set: the overlay is on from the start) and how
   // many.
   std::optional<std::pair<int, int>> overlayPixel;
-  uint32_t overlayCount = 256;       // scripted mode: compute (or read from the cache) the ground truth first
+  uint32_t overlayCount = 256;
   std::filesystem::path screenshot;  // also the file name used by F12 and the menu (default iblx-view.png)
 };
 

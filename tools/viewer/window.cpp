@@ -98,12 +98,14 @@ ViewerWindow::ViewerWindow(const std::string& title, int width, int height,
     context_->submitAndWait([](vk::CommandBuffer cmd) { ImGui_ImplVulkan_CreateFontsTexture(cmd); });
     ImGui_ImplVulkan_DestroyFontUploadObjects();
   } catch (...) {
-    this->~ViewerWindow();
+    release();  // members are destroyed again by the unwinding, harmlessly: release() left them empty
     throw;
   }
 }
 
-ViewerWindow::~ViewerWindow() {
+ViewerWindow::~ViewerWindow() { release(); }
+
+void ViewerWindow::release() {
   if (context_) {
     const auto lock = context_->lockQueue();
     context_->device().waitIdle();
@@ -130,15 +132,15 @@ void ViewerWindow::createSwapchain() {
   const auto& device = context_->device();
   const auto& physical = context_->physicalDevice();
   const vk::SurfaceKHR surface = *context_->surface();
-  {
-    const auto lock = context_->lockQueue();
-    device.waitIdle();
-  }
+  // Only this window's frame uses the images and framebuffers; waiting for the whole device would also wait
+  // for a ground truth computing in the background.
+  (void)device.waitForFences(*frameDone_, VK_TRUE, std::numeric_limits<uint64_t>::max());
   framebuffers_.clear(), views_.clear();
 
   const auto caps = physical.getSurfaceCapabilitiesKHR(surface);
   int fbWidth = 0, fbHeight = 0;
   glfwGetFramebufferSize(window_, &fbWidth, &fbHeight);
+  builtForWidth_ = fbWidth, builtForHeight_ = fbHeight;
   extent_ = caps.currentExtent.width != std::numeric_limits<uint32_t>::max()
                 ? caps.currentExtent
                 : vk::Extent2D(
@@ -206,7 +208,8 @@ bool ViewerWindow::beginFrame() {
     if (glfwWindowShouldClose(window_)) return false;
     glfwGetFramebufferSize(window_, &w, &h);
   }
-  if (needsRecreate_ || uint32_t(w) != extent_.width || uint32_t(h) != extent_.height) createSwapchain();
+  // Compared with the framebuffer size of the last rebuild, not with the extent: the surface may clamp it.
+  if (needsRecreate_ || w != builtForWidth_ || h != builtForHeight_) createSwapchain();
   ImGui_ImplVulkan_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGui::NewFrame();
@@ -236,7 +239,7 @@ std::optional<Screenshot> ViewerWindow::endFrame(std::span<const std::uint8_t> c
   const int width = int(extent_.width), height = int(extent_.height);
   std::vector<std::uint8_t> pixels(std::size_t(width) * height * 4);
   for (std::size_t p = 0; p < pixels.size(); p += 4)
-    pixels[p] = pixels[p + 1] = pixels[p + 2] = 24, pixels[p + 3] = 255;  // the viewer's kWindowGrey
+    pixels[p] = pixels[p + 1] = pixels[p + 2] = kWindowGrey, pixels[p + 3] = 255;
   const int copyWidth = std::min(width, canvasWidth), copyHeight = std::min(height, canvasHeight);
   for (int y = 0; y < copyHeight; ++y)
     std::memcpy(&pixels[std::size_t(y) * width * 4], &canvas[std::size_t(y) * canvasWidth * 4],
@@ -269,6 +272,8 @@ std::optional<Screenshot> ViewerWindow::endFrame(std::span<const std::uint8_t> c
             S::eColorAttachmentOutput, S::eTransfer);
     cmd.copyImageToBuffer(images_[index], L::eTransferSrcOptimal, readback_.handle(), region);
     barrier(L::eTransferSrcOptimal, L::ePresentSrcKHR, A::eTransferRead, {}, S::eTransfer, S::eBottomOfPipe);
+    // The fence alone does not make the copy visible to the host.
+    cmd.pipelineBarrier(S::eTransfer, S::eHost, {}, vk::MemoryBarrier(A::eTransferWrite, A::eHostRead), {}, {});
   }
   cmd.end();
   const vk::PipelineStageFlags waitStage = S::eTransfer;

@@ -19,6 +19,8 @@ struct GLFWwindow;
 
 namespace iblx::viewer {
 
+inline constexpr std::uint8_t kWindowGrey = 24;  // the window's own background (around and behind the image)
+
 // The image the viewer reads back from the swapchain (F12, the menu, --screenshot): what was on screen.
 struct Screenshot {
   int width = 0, height = 0;
@@ -49,6 +51,7 @@ class ViewerWindow {
 
  private:
   void createSwapchain();
+  void release();  // everything, in dependency order; idempotent
 
   GLFWwindow* window_ = nullptr;
   std::unique_ptr<VulkanContext> context_;
@@ -69,6 +72,7 @@ class ViewerWindow {
   Buffer upload_, readback_;
   bool imguiReady_ = false;
   bool needsRecreate_ = false;
+  int builtForWidth_ = 0, builtForHeight_ = 0;  // the framebuffer size the swapchain was made for
 };
 
 }  // namespace iblx::viewer
