@@ -122,7 +122,8 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
       kernel.record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
       recordShaderWriteBarrier(cmd, true);  // -> the next run and the host
     });
-    // After every run: the viewer cancels a ground truth by throwing from here, so this is also how soon it stops.
+    // After every run: the viewer cancels a ground truth by throwing from here, so this is also how soon it
+    // stops.
     if (options.progress) options.progress(double(runs[r].second) / double(runs.back().second));
   }
 

@@ -133,11 +133,11 @@ TEST_CASE("linearToSrgb: exact piecewise sRGB OETF") {
 
 TEST_CASE("toDisplayByte: the viewer's curves, worked out by hand") {
   const DisplayTransform clamp{}, reinhard{.tonemap = Tonemap::Reinhard}, aces{.tonemap = Tonemap::Aces};
-  CHECK(toDisplayByte(0.5f, clamp) == 188);      // sRGB(0.5) = 0.7354 -> 187.5
+  CHECK(toDisplayByte(0.5f, clamp) == 188);                                 // sRGB(0.5) = 0.7354 -> 187.5
   CHECK(toDisplayByte(0.25f, DisplayTransform{.exposureEV = 1.0}) == 188);  // 0.25 * 2^1 = 0.5
-  CHECK(toDisplayByte(1.0f, reinhard) == 188);   // 1 / (1 + 1) = 0.5
-  CHECK(toDisplayByte(3.0f, reinhard) == 225);   // 0.75 -> sRGB 0.8808 -> 224.6
-  CHECK(toDisplayByte(1.0f, aces) == 232);       // 2.54 / 3.16 = 0.8038 -> sRGB 0.9082 -> 231.6
+  CHECK(toDisplayByte(1.0f, reinhard) == 188);                              // 1 / (1 + 1) = 0.5
+  CHECK(toDisplayByte(3.0f, reinhard) == 225);                              // 0.75 -> sRGB 0.8808 -> 224.6
+  CHECK(toDisplayByte(1.0f, aces) == 232);  // 2.54 / 3.16 = 0.8038 -> sRGB 0.9082 -> 231.6
   CHECK(toDisplayByte(0.5f, DisplayTransform{.gamma = 2.2}) == 186);  // 0.5^(1/2.2) = 0.7297 -> 186.1
   for (const DisplayTransform& t : {clamp, reinhard, aces, DisplayTransform{.gamma = 2.2}}) {
     CHECK(toDisplayByte(std::numeric_limits<float>::quiet_NaN(), t) == 0);

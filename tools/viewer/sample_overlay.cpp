@@ -80,7 +80,8 @@ void SampleOverlay::draw(float mapWidth, float hemisphereSide) const {
   const glm::dvec3 mirror = 2.0 * glm::dot(n, wo) * n - wo;  // where a mirror-like lobe sits
   draw->AddCircle(toDisc(mirror), 5.0f, IM_COL32(255, 255, 255, 200), 12, 1.5f);
   for (const RecordedSample& s : samples_) {
-    // "none" (ris kept no candidate) and failed draws (pdf 0, a placeholder direction) are not samples to show.
+    // "none" (ris kept no candidate) and failed draws (pdf 0, a placeholder direction) are not samples to
+    // show.
     if (s.technique == "none" || !(s.pdf > 0.0)) continue;
     const std::size_t k =
         std::size_t(std::find(techniques_.begin(), techniques_.end(), s.technique) - techniques_.begin());

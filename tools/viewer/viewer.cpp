@@ -87,8 +87,8 @@ class ViewerApp {
     }
   }
   ~ViewerApp() {
-    for (JobBase* job : std::initializer_list<JobBase*>{referenceJob_.get(), recordJob_.get(), buildJob_.get(),
-                                                        loadJob_.get()})
+    for (JobBase* job : std::initializer_list<JobBase*>{referenceJob_.get(), recordJob_.get(),
+                                                        buildJob_.get(), loadJob_.get()})
       if (job) job->cancel();
   }
 
@@ -255,15 +255,15 @@ class ViewerApp {
     const std::size_t count = std::size_t(overlayCount_);
     const VulkanContext& context = window_.context();
     recordJob_ = std::make_unique<BackgroundJob<Recording>>(
-        "recording the pixel's samples",
-        [scene, spec, seed, perPass, count, x, y, generation,
-         &context](const std::function<void(double)>& progress) {
+        "recording the pixel's samples", [scene, spec, seed, perPass, count, x, y, generation,
+                                          &context](const std::function<void(double)>& progress) {
           ShaderCompiler compiler;
           const ResolvedMethod method = resolveMethod(spec, *scene->brdf);
           SampleRecorder recorder(context, compiler, *scene, method, seed);
           recorder.start(x, y);
-          Recording r{generation, x, y, scene->gbuffer.pixels[std::size_t(y) * scene->gbuffer.width + x], {},
-                      method.label()};
+          Recording r{generation, x,
+                      y,          scene->gbuffer.pixels[std::size_t(y) * scene->gbuffer.width + x],
+                      {},         method.label()};
           while (r.samples.size() < count) {
             for (RecordedSample& sample : recorder.runPass(perPass))
               if (r.samples.size() < count) r.samples.push_back(std::move(sample));
@@ -350,8 +350,7 @@ class ViewerApp {
         if (result->generation == generation_)  // else a newer recording was or will be started
           overlay_.setSamples(result->x, result->y, result->pixel, std::move(result->samples),
                               std::move(result->methodLabel));
-      }
-      else if (recordJob_->error() != "cancelled")
+      } else if (recordJob_->error() != "cancelled")
         error_ = "overlay: " + recordJob_->error();
       recordJob_.reset();
     }
@@ -387,7 +386,8 @@ class ViewerApp {
   }
 
   void recordError(std::span<const float> rgb) {
-    if (!reference_ || curves_.empty() || !active_.renderer || active_.generation != referenceGeneration_) return;
+    if (!reference_ || curves_.empty() || !active_.renderer || active_.generation != referenceGeneration_)
+      return;
     const ErrorMetrics e = compareToReference(active_.scene->gbuffer, rgb, *reference_);
     ConvergenceCurve& c = curves_.back();
     c.spp.push_back(double(active_.renderer->samplesPerPixel()));
@@ -773,7 +773,8 @@ int runViewer(const ViewerOptions& options) {
   while (window.beginFrame()) {
     ++frames;
     // Dear ImGui 1.86 indexes keys by the backend's codes (GLFW's here).
-    if (!ImGui::GetIO().WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F12, false)) app.requestScreenshot();
+    if (!ImGui::GetIO().WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F12, false))
+      app.requestScreenshot();
     app.handleMouse();
     const bool lastScripted = scripted && app.passes() + 1 >= options.frames;
     const bool wantShot = !options.screenshot.empty() && lastScripted;

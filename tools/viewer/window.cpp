@@ -103,7 +103,9 @@ ViewerWindow::ViewerWindow(const std::string& title, int width, int height,
   }
 }
 
-ViewerWindow::~ViewerWindow() { release(); }
+ViewerWindow::~ViewerWindow() {
+  release();
+}
 
 void ViewerWindow::release() {
   if (context_) {
@@ -273,7 +275,8 @@ std::optional<Screenshot> ViewerWindow::endFrame(std::span<const std::uint8_t> c
     cmd.copyImageToBuffer(images_[index], L::eTransferSrcOptimal, readback_.handle(), region);
     barrier(L::eTransferSrcOptimal, L::ePresentSrcKHR, A::eTransferRead, {}, S::eTransfer, S::eBottomOfPipe);
     // The fence alone does not make the copy visible to the host.
-    cmd.pipelineBarrier(S::eTransfer, S::eHost, {}, vk::MemoryBarrier(A::eTransferWrite, A::eHostRead), {}, {});
+    cmd.pipelineBarrier(S::eTransfer, S::eHost, {}, vk::MemoryBarrier(A::eTransferWrite, A::eHostRead), {},
+                        {});
   }
   cmd.end();
   const vk::PipelineStageFlags waitStage = S::eTransfer;
