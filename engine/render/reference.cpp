@@ -106,7 +106,7 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
       const double k = energies[i] >= brightEnergy ? std::max(kCommon, double(brightFine)) : kCommon;
       const double cost = 1.0 + k * k;
       if (i > begin &&
-          (iterations + cost > kIterationBudget || (iterations + cost) * workPerIteration > 4e8)) {
+          (iterations + cost > kIterationBudget || (iterations + cost) * workPerIteration > options.maxWorkPerDispatch)) {
         runs.emplace_back(begin, uint32_t(i));
         begin = uint32_t(i);
         iterations = 0;

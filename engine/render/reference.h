@@ -17,6 +17,10 @@ struct ReferenceOptions {
       1;  // per texel axis, each with 2x2 Gauss-Legendre points (unless the midpoint suffices)
   int maxFineSubdivisions = 512;
   bool allowMidpoint = true;  // false: the Gauss rule everywhere (for checking the midpoint rule)
+  // Upper bound on a dispatch's work (loop iterations x object pixels). Smaller keeps a shared queue responsive
+  // (the viewer's frames wait behind each dispatch on a CPU device) at a little more overhead. It only changes
+  // the order of float additions, so it is not part of the cache key.
+  double maxWorkPerDispatch = 4e8;
   // Called after each dispatch (a run of texels); an exception thrown from it abandons the computation.
   std::function<void(double fraction)> progress;
 };

@@ -99,13 +99,18 @@ class ViewerApp {
     pollJobs();
     if (rebuild_ && !buildJob_) startBuild();
     std::vector<float> rgb;  // read back once per frame, for the canvas and the error
-    if (active_.renderer && !paused_) {
+    // While a ground truth computes (minutes for a real map on lavapipe), passes compete with it for the device
+    // and are discarded when it arrives (the curve starts from the first pass): a few give a picture to look at,
+    // then they wait.
+    constexpr uint32_t kPassesWhileComputing = 16;
+    const bool computing = referenceJob_ != nullptr;
+    if (active_.renderer && !paused_ && !(computing && passes_ >= kPassesWhileComputing)) {
       const PassTiming t = active_.renderer->runPass(options_.samplesPerPass);
       wallSeconds_ += t.wallSeconds;
       ++passes_;
     }
     if (active_.renderer && active_.renderer->samplesPerPixel() > 0) rgb = active_.renderer->meanRgb();
-    if (!paused_ && !rgb.empty()) recordError(rgb);
+    if (!paused_ && !computing && !rgb.empty()) recordError(rgb);
     updateCanvas(rgb);
     drawPanel();
     const GBuffer& g = active_.scene ? active_.scene->gbuffer : scene_->gbuffer;
@@ -294,6 +299,10 @@ class ViewerApp {
           next.scene = scene, next.method = resolveMethod(spec, *scene->brdf), next.generation = generation;
           ShaderCompiler compiler;
           next.renderer = std::make_unique<Renderer>(context, compiler, *scene, next.method, seed);
+          // One warm-up pass here: lavapipe compiles the pipeline on first use, which would otherwise sit in the
+          // first pass's time and bend the start of the curve against time (as converge's warm-up avoids).
+          next.renderer->runPass(1);
+          next.renderer->restart(seed);
           return next;
         });
   }
@@ -308,6 +317,7 @@ class ViewerApp {
           ShaderCompiler compiler;
           ReferenceOptions options;
           options.progress = progress;
+          options.maxWorkPerDispatch = 2e7;  // about 0.1 s per dispatch on lavapipe: frames keep coming
           return cachedReference(context, compiler, *scene, defaultCacheDir(), options).rgb;
         });
   }
@@ -533,6 +543,7 @@ class ViewerApp {
     if (!error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "%s", error_.c_str());
     jobLine(loadJob_);
     jobLine(buildJob_);
+    if (referenceJob_) ImGui::TextDisabled("after 16 passes, passes wait for the ground truth (below)");
     ImGui::Checkbox("pause", &paused_);
     ImGui::SameLine();
     if (ImGui::Button("restart")) restart();
