@@ -42,16 +42,26 @@ std::string viewCommand(const std::string& args) {
   return "xvfb-run -a -s '-screen 0 1280x1024x24' " + std::string(IBLX_BINARY) + " view " + args;
 }
 
-// Runs a command and returns its standard output; fails the test on a non-zero exit.
-std::string runCapturing(const std::string& command) {
+struct CommandResult {
+  int status = 0;
+  std::string out;
+};
+
+CommandResult run(const std::string& command) {
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
   REQUIRE(pipe != nullptr);
-  std::string out;
+  CommandResult result;
   char buffer[512];
-  while (std::fgets(buffer, sizeof buffer, pipe.get())) out += buffer;
-  const int status = pclose(pipe.release());
-  REQUIRE_MESSAGE(status == 0, "failed: " << command << "\n" << out);
-  return out;
+  while (std::fgets(buffer, sizeof buffer, pipe.get())) result.out += buffer;
+  result.status = pclose(pipe.release());
+  return result;
+}
+
+// Runs a command and returns its standard output; fails the test on a non-zero exit.
+std::string runCapturing(const std::string& command) {
+  const CommandResult result = run(command);
+  REQUIRE_MESSAGE(result.status == 0, "failed: " << command << "\n" << result.out);
+  return result.out;
 }
 
 // Runs `iblx view ARGS --frames N --screenshot OUT` under Xvfb and returns the screenshot.
@@ -202,13 +212,7 @@ TEST_CASE("viewer: the sample overlay draws the picked pixel's samples, one colo
 }
 
 TEST_CASE("viewer: an overlay pixel off the object is refused with the reason") {
-  const std::string command = viewCommand("--size 64x64 --overlay 0,0 --frames 1") + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  REQUIRE(pipe != nullptr);
-  std::string out;
-  char buffer[512];
-  while (std::fgets(buffer, sizeof buffer, pipe.get())) out += buffer;
-  const int status = pclose(pipe.release());
-  CHECK(status != 0);
-  CHECK(out.find("overlay: pixel 0,0 is background") != std::string::npos);
+  const CommandResult result = run(viewCommand("--size 64x64 --overlay 0,0 --frames 1") + " 2>&1");
+  CHECK(result.status != 0);
+  CHECK(result.out.find("overlay: pixel 0,0 is background") != std::string::npos);
 }
