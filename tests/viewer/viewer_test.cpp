@@ -4,12 +4,16 @@
 #include "engine/core/cache_dir.h"
 #include "engine/io/image_write.h"
 #include "engine/render/metrics.h"
+#include "engine/render/brdf_tabulation.h"
 #include "engine/render/reference.h"
+#include "tools/viewer/sample_overlay.h"
 #include "engine/render/renderer.h"
 
 #include <doctest/doctest.h>
 #include <stb/stb_image.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -215,4 +219,56 @@ TEST_CASE("viewer: an overlay pixel off the object is refused with the reason") 
   const CommandResult result = run(viewCommand("--size 64x64 --overlay 0,0 --frames 1") + " 2>&1");
   CHECK(result.status != 0);
   CHECK(result.out.find("overlay: pixel 0,0 is background") != std::string::npos);
+}
+
+TEST_CASE("sample overlay: the lobe on the disc peaks at the mirror direction, and Lambert's is cos") {
+  using viewer::SampleOverlay;
+  constexpr int kGrid = SampleOverlay::kLobeGrid;
+  VulkanContext context;
+  ShaderCompiler compiler;
+  SceneSpec spec;
+  spec.width = spec.height = 64;
+  spec.params = {{"roughness", "0.05"}, {"metallic", "1"}};
+  const Scene ggx = loadScene(spec);
+  const auto evaluateOn = [&](const Scene& scene) {
+    return [&](std::span<const glm::dvec3> wi, std::span<const glm::dvec3> wo) {
+      return evaluateBrdf(context, compiler, scene, wi, wo);
+    };
+  };
+  // Off both axes, so that a flip of either disc axis would show.
+  for (const auto& [px, py] : {std::pair(32, 32), std::pair(44, 20), std::pair(20, 50), std::pair(54, 40)}) {
+    CAPTURE(px);
+    CAPTURE(py);
+    const gpu::GPixel& pixel = ggx.gbuffer.pixels[std::size_t(py) * 64 + px];
+    REQUIRE(pixel.normal.w != 0.0f);
+    const std::vector<double> lobe = SampleOverlay::lobeOnDisc(pixel, evaluateOn(ggx));
+    const auto peak = std::size_t(std::max_element(lobe.begin(), lobe.end()) - lobe.begin());
+    // The mirror direction in the pixel's frame (normal, tangent, n x t), placed as lobeOnDisc places cells.
+    const glm::dvec3 n(pixel.normal.x, pixel.normal.y, pixel.normal.z), t(pixel.tangent.x, pixel.tangent.y,
+                                                                          pixel.tangent.z);
+    const glm::dvec3 wo(pixel.view.x, pixel.view.y, pixel.view.z), mirror = 2.0 * glm::dot(n, wo) * n - wo;
+    const double mx = glm::dot(mirror, t), my = glm::dot(mirror, glm::cross(n, t));
+    const int i = int((mx + 1.0) / 2.0 * kGrid), j = int((1.0 - my) / 2.0 * kGrid);
+    CAPTURE(i);
+    CAPTURE(j);
+    CHECK(std::abs(i - kGrid / 2) + std::abs(j - kGrid / 2) > (px == 32 ? -1 : 4));  // not at the centre
+    CHECK(std::abs(int(peak % kGrid) - i) <= 1);
+    CHECK(std::abs(int(peak / kGrid) - j) <= 1);
+  }
+  spec.brdf = "lambert";
+  spec.params.clear();
+  const Scene lambert = loadScene(spec);
+  const gpu::GPixel& pixel = lambert.gbuffer.pixels[std::size_t(32) * 64 + 32];
+  const std::vector<double> lobe = SampleOverlay::lobeOnDisc(pixel, evaluateOn(lambert));
+  // Cell (i, j) has its centre at disc radius r: f cos = rho/pi sqrt(1 - r^2).
+  const auto at = [&](int i, int j) { return lobe[std::size_t(j) * kGrid + i]; };
+  const auto radius = [&](int i, int j) {
+    const double x = 2.0 * (i + 0.5) / kGrid - 1.0, y = 1.0 - 2.0 * (j + 0.5) / kGrid;
+    return std::sqrt(x * x + y * y);
+  };
+  const int c = kGrid / 2, e = kGrid - 5;
+  CHECK(at(c, c) / at(e, c) ==
+        doctest::Approx(std::sqrt(1.0 - std::pow(radius(c, c), 2)) / std::sqrt(1.0 - std::pow(radius(e, c), 2)))
+            .epsilon(1e-4));
+  CHECK(at(0, 0) == -1.0);  // outside the disc
 }

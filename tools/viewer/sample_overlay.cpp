@@ -36,10 +36,56 @@ void SampleOverlay::setEnvironment(const EnvImage& env) {
   if (logMin_ >= logMax_) logMin_ = logMax_ - 1.0f;
 }
 
+namespace {
+
+// The pixel's shading frame (normal, tangent, bitangent = n x t), as the integrator builds it from the G-buffer.
+struct Frame {
+  glm::dvec3 n, t, b;
+};
+Frame pixelFrame(const gpu::GPixel& pixel) {
+  const glm::dvec3 n = glm::normalize(glm::dvec3(pixel.normal.x, pixel.normal.y, pixel.normal.z));
+  const glm::dvec3 t = glm::normalize(glm::dvec3(pixel.tangent.x, pixel.tangent.y, pixel.tangent.z));
+  return {n, t, glm::cross(n, t)};
+}
+
+}  // namespace
+
+std::vector<double> SampleOverlay::lobeOnDisc(
+    const gpu::GPixel& pixel,
+    const std::function<std::vector<glm::dvec3>(std::span<const glm::dvec3>, std::span<const glm::dvec3>)>&
+        evaluate) {
+  const Frame f = pixelFrame(pixel);
+  const glm::dvec3 view(pixel.view.x, pixel.view.y, pixel.view.z);
+  const glm::dvec3 woLocal =
+      glm::normalize(glm::dvec3(glm::dot(view, f.t), glm::dot(view, f.b), glm::dot(view, f.n)));
+  std::vector<glm::dvec3> wi, wo;
+  std::vector<std::size_t> cells;
+  std::vector<double> lobe(std::size_t(kLobeGrid) * kLobeGrid, -1.0);
+  for (int j = 0; j < kLobeGrid; ++j)
+    for (int i = 0; i < kLobeGrid; ++i) {
+      // The cell's centre on the disc; up on the screen is +bitangent, as draw() places the samples.
+      const double x = 2.0 * (i + 0.5) / kLobeGrid - 1.0, y = 1.0 - 2.0 * (j + 0.5) / kLobeGrid;
+      const double r2 = x * x + y * y;
+      if (r2 >= 1.0) continue;
+      wi.emplace_back(x, y, std::sqrt(1.0 - r2));
+      wo.push_back(woLocal);
+      cells.push_back(std::size_t(j) * kLobeGrid + i);
+    }
+  const std::vector<glm::dvec3> values = evaluate(wi, wo);
+  for (std::size_t k = 0; k < cells.size(); ++k)
+    lobe[cells[k]] =
+        std::max(0.0, (0.2126 * values[k].x + 0.7152 * values[k].y + 0.0722 * values[k].z) * wi[k].z);
+  return lobe;
+}
+
 void SampleOverlay::setSamples(int x, int y, const gpu::GPixel& pixel, std::vector<RecordedSample> samples,
-                               std::string methodLabel) {
+                               std::string methodLabel, std::vector<double> lobe) {
   x_ = x, y_ = y, pixel_ = pixel;
   methodLabel_ = std::move(methodLabel);
+  lobe_ = std::move(lobe);
+  lobeLogMax_ = -300.0;
+  for (double v : lobe_)
+    if (v > 0.0) lobeLogMax_ = std::max(lobeLogMax_, std::log10(v));
   samples_ = std::move(samples);
   techniques_.clear();
   for (const RecordedSample& s : samples_)
@@ -66,13 +112,26 @@ void SampleOverlay::draw(float mapWidth, float hemisphereSide) const {
   const ImVec2 centre(origin.x + mapWidth + 12.0f + 0.5f * hemisphereSide, origin.y + 0.5f * hemisphereSide);
   const float radius = 0.5f * hemisphereSide - 2.0f;
   draw->AddCircleFilled(centre, radius, IM_COL32(30, 30, 36, 255), 64);
+  // The lobe f cos under the points, 3 decades down from its peak.
+  if (lobe_.size() == std::size_t(kLobeGrid) * kLobeGrid) {
+    const float cell = 2.0f * radius / kLobeGrid;
+    for (int j = 0; j < kLobeGrid; ++j)
+      for (int i = 0; i < kLobeGrid; ++i) {
+        const double v = lobe_[std::size_t(j) * kLobeGrid + i];
+        if (!(v > 0.0)) continue;
+        const float level = std::clamp(float((std::log10(v) - (lobeLogMax_ - 3.0)) / 3.0), 0.0f, 1.0f);
+        const ImVec2 a(centre.x - radius + float(i) * cell, centre.y - radius + float(j) * cell);
+        draw->AddRectFilled(a, ImVec2(a.x + cell + 0.5f, a.y + cell + 0.5f),
+                            IM_COL32(int(30 + 120 * level), int(30 + 90 * level), int(36 + 150 * level), 255));
+      }
+  }
   for (double deg : {30.0, 60.0})
     draw->AddCircle(centre, radius * float(std::sin(deg * 3.14159265358979 / 180.0)),
                     IM_COL32(70, 70, 80, 255), 64);
   draw->AddCircle(centre, radius, IM_COL32(120, 120, 130, 255), 64);
   const auto xyz = [](const auto& v) { return glm::dvec3(v.x, v.y, v.z); };
-  const glm::dvec3 n = glm::normalize(xyz(pixel_.normal)), t = glm::normalize(xyz(pixel_.tangent));
-  const glm::dvec3 b = glm::cross(n, t);
+  const Frame frame = pixelFrame(pixel_);
+  const glm::dvec3 n = frame.n, t = frame.t, b = frame.b;
   const auto toDisc = [&](const glm::dvec3& d) {
     return ImVec2(centre.x + radius * float(glm::dot(d, t)), centre.y - radius * float(glm::dot(d, b)));
   };
@@ -99,7 +158,7 @@ void SampleOverlay::draw(float mapWidth, float hemisphereSide) const {
     if (k + 1 < techniques_.size()) ImGui::SameLine();
   }
   ImGui::TextDisabled(
-      "map: luminance, %.1f decades (log); disc: hemisphere from above, ring: mirror direction",
+      "map: luminance, %.1f decades (log); disc: hemisphere from above over f cos, ring: mirror direction",
       double(logMax_ - logMin_));
 }
 

@@ -8,6 +8,8 @@
 
 #include <imgui.h>
 
+#include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -17,9 +19,18 @@ class SampleOverlay {
  public:
   // The map whose density is shown (downsampled once per scene).
   void setEnvironment(const EnvImage& env);
-  // methodLabel: the method that drew them (ResolvedMethod::label()).
+  // methodLabel: the method that drew them (ResolvedMethod::label()); lobe: lobeOnDisc's values.
   void setSamples(int x, int y, const gpu::GPixel& pixel, std::vector<RecordedSample> samples,
-                  std::string methodLabel);
+                  std::string methodLabel, std::vector<double> lobe);
+
+  // The BRDF lobe f cos (luminance) of the pixel's view over the hemisphere disc, kLobeGrid^2 cells seen from
+  // above the normal (orthographic); -1 outside the disc. evaluate(wi, wo) gives f in the local frame (normal
+  // +z), as engine/render/brdf_tabulation.h's evaluateBrdf does.
+  static constexpr int kLobeGrid = 48;
+  static std::vector<double> lobeOnDisc(
+      const gpu::GPixel& pixel,
+      const std::function<std::vector<glm::dvec3>(std::span<const glm::dvec3>, std::span<const glm::dvec3>)>&
+          evaluate);
   void clear() { samples_.clear(); }
   bool empty() const { return samples_.empty(); }
   int pixelX() const { return x_; }
@@ -35,6 +46,8 @@ class SampleOverlay {
   std::vector<float> logLuminance_;       // kGridWidth x kGridHeight, log10, row 0 at v = 0 (the top, +Y)
   float logMin_ = -1.0f, logMax_ = 0.0f;  // the colour scale's ends
   std::vector<RecordedSample> samples_;
+  std::vector<double> lobe_;
+  double lobeLogMax_ = 0.0;
   std::vector<std::string> techniques_;  // in order of first appearance: the colour index
   gpu::GPixel pixel_{};
   int x_ = -1, y_ = -1;

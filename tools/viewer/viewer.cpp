@@ -7,6 +7,7 @@
 #include "engine/core/log.h"
 #include "engine/io/brdf_file.h"
 #include "engine/core/cache_dir.h"
+#include "engine/render/brdf_tabulation.h"
 #include "engine/render/methods.h"
 #include "engine/render/metrics.h"
 #include "engine/render/reference.h"
@@ -67,6 +68,7 @@ struct Recording {
   gpu::GPixel pixel{};
   std::vector<RecordedSample> samples;
   std::string methodLabel;
+  std::vector<double> lobe;  // f cos over the hemisphere disc (SampleOverlay::lobeOnDisc)
 };
 
 // A scene read in the background, with the spec it was read from.
@@ -266,9 +268,13 @@ class ViewerApp {
           const ResolvedMethod method = resolveMethod(spec, *scene->brdf);
           SampleRecorder recorder(context, compiler, *scene, method, seed);
           recorder.start(x, y);
-          Recording r{generation, x,
-                      y,          scene->gbuffer.pixels[std::size_t(y) * scene->gbuffer.width + x],
-                      {},         method.label()};
+          Recording r;
+          r.generation = generation, r.x = x, r.y = y, r.methodLabel = method.label();
+          r.pixel = scene->gbuffer.pixels[std::size_t(y) * scene->gbuffer.width + x];
+          r.lobe = SampleOverlay::lobeOnDisc(
+              r.pixel, [&](std::span<const glm::dvec3> wi, std::span<const glm::dvec3> wo) {
+                return evaluateBrdf(context, compiler, *scene, wi, wo);
+              });
           while (r.samples.size() < count) {
             for (RecordedSample& sample : recorder.runPass(perPass))
               if (r.samples.size() < count) r.samples.push_back(std::move(sample));
@@ -359,7 +365,7 @@ class ViewerApp {
       if (auto& result = recordJob_->result()) {
         if (result->generation == generation_)  // else a newer recording was or will be started
           overlay_.setSamples(result->x, result->y, result->pixel, std::move(result->samples),
-                              std::move(result->methodLabel));
+                              std::move(result->methodLabel), std::move(result->lobe));
       } else if (recordJob_->error() != "cancelled")
         error_ = "overlay: " + recordJob_->error();
       recordJob_.reset();
