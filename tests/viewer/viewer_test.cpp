@@ -244,8 +244,8 @@ TEST_CASE("sample overlay: the lobe on the disc peaks at the mirror direction, a
     const std::vector<double> lobe = SampleOverlay::lobeOnDisc(pixel, evaluateOn(ggx));
     const auto peak = std::size_t(std::max_element(lobe.begin(), lobe.end()) - lobe.begin());
     // The mirror direction in the pixel's frame (normal, tangent, n x t), placed as lobeOnDisc places cells.
-    const glm::dvec3 n(pixel.normal.x, pixel.normal.y, pixel.normal.z), t(pixel.tangent.x, pixel.tangent.y,
-                                                                          pixel.tangent.z);
+    const glm::dvec3 n(pixel.normal.x, pixel.normal.y, pixel.normal.z),
+        t(pixel.tangent.x, pixel.tangent.y, pixel.tangent.z);
     const glm::dvec3 wo(pixel.view.x, pixel.view.y, pixel.view.z), mirror = 2.0 * glm::dot(n, wo) * n - wo;
     const double mx = glm::dot(mirror, t), my = glm::dot(mirror, glm::cross(n, t));
     const int i = int((mx + 1.0) / 2.0 * kGrid), j = int((1.0 - my) / 2.0 * kGrid);
@@ -267,8 +267,8 @@ TEST_CASE("sample overlay: the lobe on the disc peaks at the mirror direction, a
     return std::sqrt(x * x + y * y);
   };
   const int c = kGrid / 2, e = kGrid - 5;
-  CHECK(at(c, c) / at(e, c) ==
-        doctest::Approx(std::sqrt(1.0 - std::pow(radius(c, c), 2)) / std::sqrt(1.0 - std::pow(radius(e, c), 2)))
-            .epsilon(1e-4));
+  CHECK(at(c, c) / at(e, c) == doctest::Approx(std::sqrt(1.0 - std::pow(radius(c, c), 2)) /
+                                               std::sqrt(1.0 - std::pow(radius(e, c), 2)))
+                                   .epsilon(1e-4));
   CHECK(at(0, 0) == -1.0);  // outside the disc
 }

@@ -38,7 +38,8 @@ void SampleOverlay::setEnvironment(const EnvImage& env) {
 
 namespace {
 
-// The pixel's shading frame (normal, tangent, bitangent = n x t), as the integrator builds it from the G-buffer.
+// The pixel's shading frame (normal, tangent, bitangent = n x t), as the integrator builds it from the
+// G-buffer.
 struct Frame {
   glm::dvec3 n, t, b;
 };
@@ -121,8 +122,9 @@ void SampleOverlay::draw(float mapWidth, float hemisphereSide) const {
         if (!(v > 0.0)) continue;
         const float level = std::clamp(float((std::log10(v) - (lobeLogMax_ - 3.0)) / 3.0), 0.0f, 1.0f);
         const ImVec2 a(centre.x - radius + float(i) * cell, centre.y - radius + float(j) * cell);
-        draw->AddRectFilled(a, ImVec2(a.x + cell + 0.5f, a.y + cell + 0.5f),
-                            IM_COL32(int(30 + 120 * level), int(30 + 90 * level), int(36 + 150 * level), 255));
+        draw->AddRectFilled(
+            a, ImVec2(a.x + cell + 0.5f, a.y + cell + 0.5f),
+            IM_COL32(int(30 + 120 * level), int(30 + 90 * level), int(36 + 150 * level), 255));
       }
   }
   for (double deg : {30.0, 60.0})
