@@ -1,0 +1,28 @@
+// The viewer's convergence plot: error curves of the methods tried on one ground truth, drawn log-log with
+// Dear ImGui's draw list, whole decades on both axes so slopes can be read off (-1 is 1/N).
+#pragma once
+
+#include <imgui.h>
+
+#include <span>
+#include <string>
+#include <vector>
+
+namespace iblx::viewer {
+
+// Error against spp and time for one method on the current ground truth, one entry per pass.
+struct ConvergenceCurve {
+  std::string label;
+  std::vector<double> spp, seconds, mse, relMse;
+};
+
+struct PlotSettings {
+  bool againstTime = false;  // x: wall seconds instead of spp
+  bool relative = false;     // y: relMSE instead of MSE
+};
+
+// Draws its two toggles, the plot (180 px high, the available width) and one legend line per curve; the last
+// curve is the current one.
+void drawConvergencePlot(std::span<const ConvergenceCurve> curves, PlotSettings& settings);
+
+}  // namespace iblx::viewer
