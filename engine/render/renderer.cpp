@@ -22,7 +22,7 @@ double since(Clock::time_point t) {
 Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                    const ResolvedMethod& method, uint32_t seed, IntegratorMode mode)
     : context_(context),
-      scene_(scene),
+      scene_(&scene),
       method_(method),
       gpu_(uploadScene(context, scene)),
       mode_(mode),
@@ -72,7 +72,7 @@ void Renderer::bindRecordingFrameSet() {
 void Renderer::setRecordedPixel(uint32_t x, uint32_t y) {
   if (mode_ != IntegratorMode::RecordPixel)
     throw Error("setRecordedPixel: the renderer does not record samples");
-  if (x >= uint32_t(scene_.gbuffer.width) || y >= uint32_t(scene_.gbuffer.height))
+  if (x >= uint32_t(scene_->gbuffer.width) || y >= uint32_t(scene_->gbuffer.height))
     throw Error("setRecordedPixel: pixel outside the image");
   recordX_ = x;
   recordY_ = y;
@@ -90,12 +90,12 @@ std::vector<gpu::SampleRecord> Renderer::lastPassRecords() const {
 std::array<float, 3> Renderer::pixelMean(uint32_t x, uint32_t y) const {
   gpu::AccumPixel pixel;
   gpu_.accum.read(&pixel, sizeof pixel,
-                  (vk::DeviceSize(y) * uint32_t(scene_.gbuffer.width) + x) * sizeof pixel);
+                  (vk::DeviceSize(y) * uint32_t(scene_->gbuffer.width) + x) * sizeof pixel);
   return {pixel.mean.x, pixel.mean.y, pixel.mean.z};
 }
 
 void Renderer::setParams(const ParamValues& values) {
-  for (const ParamDecl& p : scene_.brdf->params) {
+  for (const ParamDecl& p : scene_->brdf->params) {
     const auto it = values.find(p.name);
     if (it == values.end()) throw Error("setParams: no value for parameter '" + p.name + "'");
     for (int c = 0; c < (p.type == ParamType::Color ? 3 : 1); ++c)
@@ -103,11 +103,24 @@ void Renderer::setParams(const ParamValues& values) {
         throw Error("setParams: '" + p.name + "' out of range [" + std::to_string(p.min) + ", " +
                     std::to_string(p.max) + "]");
   }
-  if (values.size() != scene_.brdf->params.size())
-    throw Error("setParams: a value for a parameter BRDF '" + scene_.brdf->name + "' does not have");
-  const std::vector<float> packed = packParams(*scene_.brdf, values);
+  if (values.size() != scene_->brdf->params.size())
+    throw Error("setParams: a value for a parameter BRDF '" + scene_->brdf->name + "' does not have");
+  const std::vector<float> packed = packParams(*scene_->brdf, values);
   gpu_.brdfParams.write(packed.data(), packed.size() * sizeof(float));
   params_ = values;
+  restart(seed_);
+}
+
+void Renderer::setView(const Scene& scene) {
+  if (scene.gbuffer.width != scene_->gbuffer.width || scene.gbuffer.height != scene_->gbuffer.height)
+    throw Error("setView: the image size changed (" + std::to_string(scene_->gbuffer.width) + "x" +
+                std::to_string(scene_->gbuffer.height) + " to " + std::to_string(scene.gbuffer.width) + "x" +
+                std::to_string(scene.gbuffer.height) + "); build a new renderer");
+  if (scene.env.width != scene_->env.width || scene.env.height != scene_->env.height ||
+      scene.envRotationDeg != scene_->envRotationDeg || scene.brdf != scene_->brdf)
+    throw Error("setView: only the G-buffer may change; build a new renderer for another environment or BRDF");
+  gpu_.gbuffer.write(scene.gbuffer.pixels.data(), scene.gbuffer.pixels.size() * sizeof(gpu::GPixel));
+  scene_ = &scene;
   restart(seed_);
 }
 
@@ -123,12 +136,12 @@ PassTiming Renderer::runPass(uint32_t samplesPerPass) {
   if (samplesPerPixel_ + samplesPerPass > std::numeric_limits<uint32_t>::max())
     throw Error("more than 2^32 samples per pixel: the sample index would wrap");
   const auto start = Clock::now();
-  const double rotation = scene_.envRotationDeg * kPi / 180.0;
+  const double rotation = scene_->envRotationDeg * kPi / 180.0;
   gpu::FrameParams params{};
-  params.width = uint32_t(scene_.gbuffer.width);
-  params.height = uint32_t(scene_.gbuffer.height);
-  params.envWidth = uint32_t(scene_.env.width);
-  params.envHeight = uint32_t(scene_.env.height);
+  params.width = uint32_t(scene_->gbuffer.width);
+  params.height = uint32_t(scene_->gbuffer.height);
+  params.envWidth = uint32_t(scene_->env.width);
+  params.envHeight = uint32_t(scene_->env.height);
   params.sampleOffset = uint32_t(samplesPerPixel_);
   params.samplesPerPass = samplesPerPass;
   params.seed = seed_;

@@ -41,6 +41,11 @@ class Renderer {
   // still unbiased, though brdf-tab may fit the new lobe less well until a new renderer rebuilds them.
   void setParams(const ParamValues& values);
   const ParamValues& params() const { return params_; }
+  // Another view of the same scene: `scene` may differ from the current one only in its G-buffer (camera or
+  // object moved), with the same image size. Uploads the G-buffer and restarts accumulation; tables, shaders
+  // and the environment stay (the viewer's orbit). `scene` must outlive the renderer, as in the constructor.
+  // Throws iblx::Error on a different image size or environment.
+  void setView(const Scene& scene);
 
   uint64_t samplesPerPixel() const { return samplesPerPixel_; }
   std::vector<float> meanRgb() const;      // width*height*3
@@ -58,7 +63,7 @@ class Renderer {
  private:
   std::chrono::steady_clock::time_point created_ = std::chrono::steady_clock::now();  // first: setup timing
   const VulkanContext& context_;
-  const Scene& scene_;
+  const Scene* scene_;  // a pointer, not a reference: setView rebinds it
   ResolvedMethod method_;
   SceneGpu gpu_;
   std::vector<Buffer> envBuffers_, brdfTechniqueBuffers_;

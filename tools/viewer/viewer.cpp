@@ -226,9 +226,23 @@ class ViewerApp {
           scene_->env, options_.scene, LoadedBrdf{scene_->brdf, scene_->measured, scene_->brdfFile}));
       next->params = params_;
       scene_ = std::move(next);
-      sceneChanged();
+      // The running renderer takes the new G-buffer when it renders this scene's environment and BRDF and no
+      // rebuild is pending: no tables, no compile, so orbiting stays smooth. Otherwise a rebuild.
+      const bool current = active_.renderer && !buildJob_ && !rebuild_ && active_.generation == generation_;
+      dropReference();
+      if (!current) {
+        rebuild_ = true;
+        return;
+      }
+      std::shared_ptr<const Scene> view = snapshotScene();
+      active_.renderer->setView(*view);
+      active_.scene = std::move(view);
+      active_.generation = generation_;
+      restart();
+      if (overlayOn_ && !overlay_.empty()) startRecording(overlay_.pixelX(), overlay_.pixelY());
     } catch (const std::exception& e) {
       error_ = e.what();
+      rebuild_ = true;
     }
   }
 
