@@ -118,7 +118,8 @@ void Renderer::setView(const Scene& scene) {
                 std::to_string(scene.gbuffer.height) + "); build a new renderer");
   if (scene.env.width != scene_->env.width || scene.env.height != scene_->env.height ||
       scene.envRotationDeg != scene_->envRotationDeg || scene.brdf != scene_->brdf)
-    throw Error("setView: only the G-buffer may change; build a new renderer for another environment or BRDF");
+    throw Error(
+        "setView: only the G-buffer may change; build a new renderer for another environment or BRDF");
   gpu_.gbuffer.write(scene.gbuffer.pixels.data(), scene.gbuffer.pixels.size() * sizeof(gpu::GPixel));
   scene_ = &scene;
   restart(seed_);

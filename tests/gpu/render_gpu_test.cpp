@@ -259,7 +259,8 @@ TEST_CASE("setView: a renderer given another camera renders what a new renderer 
   MethodSpec methodSpec;
   methodSpec.method = "env-cdf";
   const ResolvedMethod method = resolveMethod(methodSpec, *front.brdf);
-  Renderer moved(gpuContext(), gpuCompiler(), front, method, 5), fresh(gpuContext(), gpuCompiler(), orbited, method, 5);
+  Renderer moved(gpuContext(), gpuCompiler(), front, method, 5),
+      fresh(gpuContext(), gpuCompiler(), orbited, method, 5);
   for (int i = 0; i < 3; ++i) moved.runPass(16);
   moved.setView(orbited);
   CHECK(moved.samplesPerPixel() == 0);
