@@ -3,6 +3,7 @@
 
 #include "engine/core/assets.h"
 #include "engine/core/error.h"
+#include "engine/core/file_names.h"
 #include "engine/geometry/obj_file.h"
 #include "engine/geometry/rasterizer.h"
 #include "engine/sampling/sphere_mapping.h"
@@ -63,10 +64,7 @@ TriMesh loadObjectMesh(const std::string& object) {
                   ": no such file (make it with `iblx make-teapot --out " + path.string() + "`)");
     return loadObjMesh(path);
   }
-  std::string extension = std::filesystem::path(object).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  if (extension == ".obj") return loadObjMesh(object);
+  if (lowerExtension(object) == ".obj") return loadObjMesh(object);
   throw Error("unknown --object '" + object + "'; valid: sphere, plane, teapot, or a file ending in .obj");
 }
 

@@ -3,6 +3,7 @@
 #include "engine/io/env_image.h"
 
 #include "engine/core/error.h"
+#include "engine/core/file_names.h"
 #include "engine/core/log.h"
 
 #include <ImfArray.h>
@@ -32,12 +33,6 @@ namespace fs = std::filesystem;
 // Per-side limit on image dimensions: far above any real lat-long map (2^24 texels is 8192 x 2048), low
 // enough that a corrupt header cannot request an absurd allocation.
 constexpr long kMaxDimension = 1L << 20;
-
-std::string lowerExtension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
-}
 
 [[noreturn]] void throwCannotOpen(const fs::path& path, const std::string& reason) {
   throw Error("cannot open " + path.string() + ": " + reason);

@@ -2,6 +2,7 @@
 #include "engine/io/image_write.h"
 
 #include "engine/core/error.h"
+#include "engine/core/file_names.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -100,8 +101,7 @@ void writePngRgb8(const fs::path& path, int width, int height, std::span<const s
 }
 
 void writeImage(const fs::path& path, int width, int height, std::span<const float> rgb, double exposureEV) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = lowerExtension(path);
   if (ext == ".exr")
     writeExr(path, width, height, rgb);
   else if (ext == ".png")

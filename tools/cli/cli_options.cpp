@@ -4,6 +4,7 @@
 #include "engine/io/env_image.h"
 
 #include "engine/core/error.h"
+#include "engine/core/file_names.h"
 
 #include <cerrno>
 #include <cmath>
@@ -229,8 +230,7 @@ namespace iblx::cli {
 
 void checkImagePath(const std::string& flag, const std::string& path, bool exrOnly) {
   std::filesystem::path p(path);
-  std::string ext = p.extension().string();
-  for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lowerExtension(p);
   if (ext != ".exr" && (exrOnly || ext != ".png"))
     throw Error(flag + " " + path + ": unsupported image format '" + ext + "'; use " +
                 (exrOnly ? ".exr" : ".exr or .png"));

@@ -1,6 +1,8 @@
 // The viewer's file browser (file_browser.h).
 #include "tools/viewer/file_browser.h"
 
+#include "engine/core/file_names.h"
+
 #include <imgui.h>
 
 #include <algorithm>
@@ -34,9 +36,7 @@ void FileBrowser::list(const fs::path& directory) {
       directories_.push_back(path);
       continue;
     }
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string ext = lowerExtension(path);
     if (extensions_.empty() || std::find(extensions_.begin(), extensions_.end(), ext) != extensions_.end())
       files_.push_back(path);
   }

@@ -4,8 +4,7 @@
 #include "tools/viewer/viewer.h"
 
 #include "engine/core/error.h"
-#include "engine/core/log.h"
-#include "engine/io/brdf_file.h"
+#include "engine/core/file_names.h"
 #include "engine/core/cache_dir.h"
 #include "engine/render/brdf_tabulation.h"
 #include "engine/render/methods.h"
@@ -35,7 +34,6 @@ namespace {
 
 constexpr int kPanelWidth = 360;  // the ImGui panel to the right of the image
 
-// One curve of the convergence panel: error against spp and time for one method on the current ground truth.
 // A renderer and the scene and method it was built from (the renderer keeps a reference to the scene).
 struct ActiveRenderer {
   std::shared_ptr<const Scene> scene;
@@ -53,7 +51,6 @@ struct ActiveRenderer {
   }
   ActiveRenderer() = default;
   ActiveRenderer(ActiveRenderer&&) noexcept = default;
-  ~ActiveRenderer() { renderer.reset(); }
 };
 
 // One pixel's samples for the overlay, recorded by the method's own integrator
@@ -96,7 +93,6 @@ class ViewerApp {
   std::optional<Screenshot> frame(bool readback) {
     pollJobs();
     if (rebuild_ && !buildJob_) startBuild();
-    std::vector<float> rgb;  // read back once per frame, for the canvas and the error
     // While a ground truth computes (minutes for a real map on lavapipe), passes compete with it for the device
     // and are discarded when it arrives (the curve starts from the first pass): a few give a picture to look at,
     // then they wait.
@@ -106,14 +102,16 @@ class ViewerApp {
       const PassTiming t = active_.renderer->runPass(options_.samplesPerPass);
       wallSeconds_ += t.wallSeconds;
       ++passes_;
+      // Read back only after a pass: paused or waiting, the image has not changed.
+      shown_ = active_.renderer->meanRgb();
+      if (!computing) recordError(shown_);
+    } else if (!active_.renderer || active_.renderer->samplesPerPixel() == 0) {
+      shown_.clear();  // restarted, or nothing built yet
     }
-    if (active_.renderer && active_.renderer->samplesPerPixel() > 0) rgb = active_.renderer->meanRgb();
-    if (!paused_ && !computing && !rgb.empty()) recordError(rgb);
-    updateCanvas(rgb);
+    updateCanvas(shown_);
     drawPanel();
     const GBuffer& g = active_.scene ? active_.scene->gbuffer : scene_->gbuffer;
-    auto shot = window_.endFrame(canvas_, g.width, g.height, readback);
-    return shot;
+    return window_.endFrame(canvas_, g.width, g.height, readback);
   }
 
   // Scripted mode: finishes the renderer build (and the ground truth with --reference) before any frame, so
@@ -167,9 +165,7 @@ class ViewerApp {
 
   // A file dropped on the window: an environment map, a BRDF or an object.
   void openFile(const std::filesystem::path& path) {
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string ext = lowerExtension(path);
     SceneSpec next = options_.scene;
     if (ext == ".exr" || ext == ".hdr")
       next.envPath = path;
@@ -198,7 +194,7 @@ class ViewerApp {
     }
   }
 
-  void applyScene(std::shared_ptr<Scene> scene) {
+  void applyScene(std::shared_ptr<const Scene> scene) {
     scene_ = std::move(scene);
     params_ = scene_->params;
     overlay_.setEnvironment(scene_->env);
@@ -222,22 +218,23 @@ class ViewerApp {
   // Camera and object changes: only the G-buffer (the environment stays loaded).
   void reloadGeometry() {
     try {
+      // options_.scene holds the rotation; the parameters live in params_ (snapshotScene).
       auto next = std::make_shared<Scene>(makeScene(
           scene_->env, options_.scene, LoadedBrdf{scene_->brdf, scene_->measured, scene_->brdfFile}));
-      next->params = params_;
-      scene_ = std::move(next);
       // The running renderer takes the new G-buffer when it renders this scene's environment and BRDF and no
       // rebuild is pending: no tables, no compile, so orbiting stays smooth. Otherwise a rebuild.
       const bool current = active_.renderer && !buildJob_ && !rebuild_ && active_.generation == generation_;
       dropReference();
+      if (current) {
+        active_.renderer->setView(*next);  // scenes are not changed once made, so both may share this one
+        active_.scene = next;
+        active_.generation = generation_;
+      }
+      scene_ = std::move(next);
       if (!current) {
         rebuild_ = true;
         return;
       }
-      std::shared_ptr<const Scene> view = snapshotScene();
-      active_.renderer->setView(*view);
-      active_.scene = std::move(view);
-      active_.generation = generation_;
       restart();
       if (overlayOn_ && !overlay_.empty()) startRecording(overlay_.pixelX(), overlay_.pixelY());
     } catch (const std::exception& e) {
@@ -397,10 +394,10 @@ class ViewerApp {
   // Restarts accumulation; the current curve restarts too (the earlier methods' curves stay).
   void restart() {
     if (active_.renderer) active_.renderer->restart(options_.seed);
-    restartCounters();
     startCurve();
   }
 
+  // Also restarts the counters: a curve covers passes from the first.
   void startCurve() {
     restartCounters();
     if (!reference_ || !active_.renderer) return;
@@ -552,7 +549,6 @@ class ViewerApp {
         }
       if (changed) {
         // New values change the ground truth, not the method: the renderer keeps its tables and shaders.
-        scene_->params = params_;
         const bool wasCurrent = active_.renderer && active_.generation == generation_;
         dropReference();
         try {
@@ -668,7 +664,9 @@ class ViewerApp {
 
   ViewerOptions options_;
   ViewerWindow& window_;
-  std::shared_ptr<Scene> scene_;  // what the controls edit; renderers and ground truths get snapshots
+  // The scene as loaded with the current camera (never changed once made); snapshotScene adds the rotation
+  // and the parameters (params_) for a new renderer or ground truth.
+  std::shared_ptr<const Scene> scene_;
   ParamValues params_;
   ActiveRenderer active_;
   std::unique_ptr<BackgroundJob<ActiveRenderer>> buildJob_;
@@ -685,6 +683,7 @@ class ViewerApp {
   std::optional<std::pair<int, int>> pendingPixel_;  // --overlay: recorded once the first renderer exists
   bool overlayOn_ = false, samplesTabShown_ = false;
   int overlayCount_ = 256;
+  std::vector<float> shown_;  // the mean image on screen (read back after each pass)
   std::vector<std::uint8_t> canvas_;
   std::string error_;
   bool rebuild_ = true;
