@@ -1,0 +1,638 @@
+// The OT map solver of ot_solver.h: density from an environment, coarse-to-fine levels, and per level the chord-
+// Newton iteration with conjugate-Jacobian directions and an exact, fold-free quartic line search.
+#include "engine/sampling/ot_solver.h"
+
+#include "engine/core/error.h"
+#include "engine/sampling/latlong_texel.h"
+#include "engine/sampling/ot_dct.h"
+#include "engine/sampling/sphere_mapping.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <string>
+
+namespace iblx {
+
+namespace {
+
+using Vec2 = glm::dvec2;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
+
+// Deterministic parallel reduction: fn(lo, hi) -> K partial sums/maxima, combined in chunk order.
+template <int K, typename F>
+std::array<double, K> reduceChunks(int threads, int count, int minChunk, F fn,
+                                   std::array<bool, K> isMax = {}) {
+  std::mutex mutex;
+  std::vector<std::pair<int, std::array<double, K>>> parts;
+  parallelChunks(threads, count, minChunk, [&](int lo, int hi) {
+    const std::array<double, K> p = fn(lo, hi);
+    const std::lock_guard lock(mutex);
+    parts.emplace_back(lo, p);
+  });
+  std::sort(parts.begin(), parts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::array<double, K> total{};
+  for (int k = 0; k < K; ++k)
+    if (isMax[std::size_t(k)]) total[std::size_t(k)] = -kInf;
+  for (const auto& [lo, p] : parts)
+    for (std::size_t k = 0; k < K; ++k) total[k] = isMax[k] ? std::max(total[k], p[k]) : total[k] + p[k];
+  return total;
+}
+
+// Smallest t > 0 with c0 + c1 t + c2 t^2 = 0, for c0 > 0 (infinity if the quadratic stays positive).
+double firstPositiveRoot(double c0, double c1, double c2) {
+  if (c2 == 0.0) return c1 < 0.0 ? -c0 / c1 : kInf;
+  const double disc = c1 * c1 - 4.0 * c2 * c0;
+  if (disc < 0.0) return kInf;
+  const double q = -0.5 * (c1 + std::copysign(std::sqrt(disc), c1));  // stable roots q/c2 and c0/q
+  double best = kInf;
+  for (double r : {q / c2, q != 0.0 ? c0 / q : kInf})
+    if (r > 0.0) best = std::min(best, r);
+  return best;
+}
+
+// Quartic E(t) = sum_k e[k] t^k and its derivatives.
+struct Quartic {
+  std::array<double, 5> e{};
+  double value(double t) const { return (((e[4] * t + e[3]) * t + e[2]) * t + e[1]) * t + e[0]; }
+  double slope(double t) const { return ((4.0 * e[4] * t + 3.0 * e[3]) * t + 2.0 * e[2]) * t + e[1]; }
+};
+
+// argmin of E on [lo, hi] (lo <= 0 <= hi): E'' (a quadratic) splits the interval into pieces where E' is
+// monotone; each sign change of E' is bisected. Exact up to rounding, no cubic formula (otmap.md §2.3 step 3
+// uses companion-matrix eigenvalues instead).
+double minimiseQuartic(const Quartic& q, double lo, double hi) {
+  std::vector<double> cuts{lo, hi};
+  const double a = 12.0 * q.e[4], b = 6.0 * q.e[3], c = 2.0 * q.e[2];
+  if (a != 0.0) {
+    const double disc = b * b - 4.0 * a * c;
+    if (disc >= 0.0) {
+      const double s = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+      cuts.push_back(s / a);
+      if (s != 0.0) cuts.push_back(c / s);
+    }
+  } else if (b != 0.0) {
+    cuts.push_back(-c / b);
+  }
+  std::erase_if(cuts, [&](double t) { return !(t >= lo && t <= hi); });
+  std::sort(cuts.begin(), cuts.end());
+  double bestT = 0.0, bestE = q.value(0.0);
+  const auto consider = [&](double t) {
+    const double v = q.value(t);
+    if (v < bestE) bestE = v, bestT = t;
+  };
+  for (std::size_t i = 0; i < cuts.size(); ++i) {
+    consider(cuts[i]);
+    if (i + 1 == cuts.size()) break;
+    double l = cuts[i], r = cuts[i + 1];
+    double sl = q.slope(l);
+    if ((sl > 0.0) == (q.slope(r) > 0.0)) continue;
+    for (int it = 0; it < 100 && r - l > 1e-15 * std::max(1.0, std::abs(l)); ++it) {
+      const double m = 0.5 * (l + r), sm = q.slope(m);
+      if ((sm > 0.0) == (sl > 0.0)) l = m, sl = sm;
+      else r = m;
+    }
+    consider(0.5 * (l + r));
+  }
+  return bestT;
+}
+
+// One grid level: the fixed pseudo-Laplacian's DCT solver and the iteration of otmap.md §2.3.
+class LevelSolver {
+ public:
+  LevelSolver(int n, std::span<const double> rho, const OtSolverOptions& options)
+      : n_(n), v_(n + 1), threads_(options.threads), options_(options), dct_(n), mass_(rho.size()) {
+    const double h2 = 1.0 / (double(n) * n);
+    for (std::size_t c = 0; c < rho.size(); ++c) mass_[c] = rho[c] * h2;
+    // Eigenvalues of -L = 2 (I - A (x) A), A the clamped 1-D average with eigenvalues cos(pi k / n) (DCT-II).
+    inverseEigen_.resize(std::size_t(n) * n);
+    for (int k = 0; k < n; ++k)
+      for (int l = 0; l < n; ++l) {
+        const double lambda = 2.0 * (1.0 - std::cos(kPi * k / n) * std::cos(kPi * l / n));
+        inverseEigen_[std::size_t(k) * n + l] = (k == 0 && l == 0) ? 0.0 : 1.0 / lambda;  // mean of d is 0
+      }
+    const std::size_t nv = std::size_t(v_) * v_;
+    pos_.resize(nv), gradHat_.resize(nv), gradPrev_.resize(nv), gradDir_.resize(nv);
+    residual_.resize(mass_.size()), dirHat_.resize(mass_.size()), dirPrev_.resize(mass_.size());
+    pad_.resize(std::size_t(n + 2) * (n + 2));
+    scratch_.resize(mass_.size());
+  }
+
+  struct Stats {
+    int iterations = 0;
+    double l2 = 0.0, l1 = 0.0, linf = 0.0;
+  };
+
+  // Homotopy in the target (a continuation method): the masses go from the starting map's own areas A0 (s = 0,
+  // solved by the start) to the target (s = 1) in stages m_s = (1 - s) A0 + s m. A stage that stalls (the guarded
+  // line search cannot decrease E) is undone and retried with half the step in s; a stage that converges
+  // doubles it. Easy densities take the single stage s = 1.
+  Stats run(std::vector<double>& psi, double targetL2, int maxIterations,
+            const std::function<void(int, double)>& progress) {
+    const int n = n_;
+    gradient(psi, pos_);
+    for (int j = 0; j < v_; ++j)
+      for (int i = 0; i < v_; ++i) pos_[vi(i, j)] += Vec2(double(i) / n, double(j) / n);
+    const std::vector<double> target = mass_;
+    Stats s;
+    evaluateResidual(s);
+    std::vector<double> startAreas(target.size());
+    for (std::size_t c = 0; c < target.size(); ++c) startAreas[c] = std::max(residual_[c] + target[c], 0.0);
+    double reached = 0.0, step = 1.0;
+    std::vector<double> savedPsi;
+    std::vector<Vec2> savedPos;
+    while (s.iterations < maxIterations) {
+      const double next = std::min(1.0, reached + step);
+      for (std::size_t c = 0; c < target.size(); ++c) mass_[c] = (1.0 - next) * startAreas[c] + next * target[c];
+      savedPsi = psi, savedPos = pos_;
+      const bool last = next == 1.0;
+      const int budget = last ? maxIterations - s.iterations : std::min(options_.stageIterations,
+                                                                          maxIterations - s.iterations);
+      const bool ok = iterate(psi, s, last ? targetL2 : std::max(targetL2, options_.stageTargetL2), budget,
+                              last ? progress : std::function<void(int, double)>{});
+      if (ok) {
+        reached = next;
+        if (last) break;
+        step = std::min(1.0, 2.0 * step);
+        continue;
+      }
+      if (last && step <= options_.minStageStep) break;  // keep the best map reached at s = 1
+      if (step <= options_.minStageStep) break;
+      psi = savedPsi, pos_ = savedPos;  // undo the stage and take a smaller one
+      step *= 0.25;
+    }
+    mass_ = target;
+    evaluateResidual(s);
+    return s;
+  }
+
+  // The iteration of otmap.md §2.3 until E <= targetL2 and L1 <= targetL1 (true), or a stall or the budget
+  // (false). s.iterations counts every iteration.
+  bool iterate(std::vector<double>& psi, Stats& s, double targetL2, int budget,
+               const std::function<void(int, double)>& progress) {
+    const int n = n_;
+    evaluateResidual(s);
+    bool havePrev = false;
+    for (int k = 0;; ++k) {
+      if (s.l2 <= targetL2 && s.l1 <= options_.targetL1) return true;
+      if (k >= budget) return false;
+      // 1. Chord-Newton direction: d^ = -L^-1 r, L the Jacobian of the areas at the identity (otmap.md §2.2);
+      //    or, with krylovSteps > 0, an inexact Newton direction J d = -r by GMRES preconditioned with L^-1.
+      if (options_.krylovSteps > 0) {
+        newtonDirection(dirHat_);
+      } else {
+        solveLaplacian(residual_, dirHat_);
+      }
+      gradient(dirHat_, gradHat_);
+      // 2. Conjugate Jacobian: d = d^ + beta d_prev with J d _|_ J d_prev, J the exact Jacobian at the current
+      //    map (the areas are quadratic in psi, so J d is the linear coefficient of A(psi + t d)).
+      double beta = 0.0;
+      if (havePrev && options_.conjugateJacobian) {
+        const auto dots = reduceChunks<2>(threads_, n, 8, [&](int lo, int hi) {
+          std::array<double, 2> acc{};
+          for (int j = lo; j < hi; ++j)
+            for (int i = 0; i < n; ++i) {
+              const double jp = linearCoefficient(i, j, gradPrev_), jh = linearCoefficient(i, j, gradHat_);
+              acc[0] += jp * jh, acc[1] += jp * jp;
+            }
+          return acc;
+        });
+        if (dots[1] > 0.0) beta = std::max(-1.0, -dots[0] / dots[1]);
+        if (!std::isfinite(beta)) beta = 0.0;
+      }
+      double t = 0.0;
+      for (int attempt = 0; attempt < 2; ++attempt) {
+        for (std::size_t v = 0; v < gradDir_.size(); ++v) gradDir_[v] = gradHat_[v] + beta * gradPrev_[v];
+        t = lineSearch();
+        if (t != 0.0 || beta == 0.0) break;
+        beta = 0.0;  // the conjugate direction made no progress: fall back to the chord direction
+      }
+      if (t == 0.0) return false;  // stalled
+      // 3. Step: psi += t d; the vertices move by t grad d.
+      for (std::size_t c = 0; c < psi.size(); ++c) {
+        dirPrev_[c] = dirHat_[c] + beta * dirPrev_[c];
+        psi[c] += t * dirPrev_[c];
+      }
+      for (std::size_t v = 0; v < pos_.size(); ++v) pos_[v] += t * gradDir_[v];
+      gradPrev_.swap(gradDir_);
+      havePrev = true;
+      ++s.iterations;
+      evaluateResidual(s);  // recomputed from the vertices, not updated, so rounding cannot drift
+      if (progress) progress(s.iterations, s.l2);
+    }
+  }
+
+  const std::vector<Vec2>& positions() const { return pos_; }
+
+  // True when the map of psi has every quad area > 0 (and every quad strictly convex under the Convex guard).
+  bool startIsUnfolded(std::span<const double> psi) {
+    gradient(psi, pos_);
+    for (int j = 0; j < v_; ++j)
+      for (int i = 0; i < v_; ++i) pos_[vi(i, j)] += Vec2(double(i) / n_, double(j) / n_);
+    if (options_.foldGuard == OtFoldGuard::Convex) return otFoldedQuads(pos_, n_) == 0;
+    for (double a : otQuadAreas(pos_, n_))
+      if (!(a > 0.0)) return false;
+    return true;
+  }
+
+ private:
+  std::size_t vi(int i, int j) const { return std::size_t(j) * v_ + i; }
+
+  // Vertex gradients (otmap.md §2.1): the 2x2 difference of the four cells around a vertex, with cell indices
+  // clamped to the grid. Clamping gives exactly the boundary rule (normal component 0, tangential 1-D
+  // difference, corners 0), so boundary vertices slide along the boundary.
+  void gradient(std::span<const double> f, std::vector<Vec2>& g) {
+    const int n = n_, w = n + 2;
+    for (int j = 0; j < w; ++j) {
+      const int sj = std::clamp(j - 1, 0, n - 1);
+      for (int i = 0; i < w; ++i) pad_[std::size_t(j) * w + i] = f[std::size_t(sj) * n + std::clamp(i - 1, 0, n - 1)];
+    }
+    const double half = 0.5 * n;
+    parallelChunks(threads_, v_, 16, [&](int lo, int hi) {
+      for (int j = lo; j < hi; ++j) {
+        const double* top = &pad_[std::size_t(j) * w];
+        const double* bottom = top + w;
+        for (int i = 0; i < v_; ++i) {
+          const double a = top[i], b = top[i + 1], c = bottom[i], d = bottom[i + 1];
+          // Differences first, so that equal clamped neighbours give an exact 0 on the boundary.
+          g[vi(i, j)] = Vec2(half * ((b - a) + (d - c)), half * ((c - a) + (d - b)));
+        }
+      }
+    });
+  }
+
+  // out = -L^-1 r in the DCT-II basis; the transposed layout in between is harmless because the spectrum
+  // 1/lambda(k, l) is symmetric.
+  void solveLaplacian(std::span<const double> r, std::vector<double>& out) {
+    std::copy(r.begin(), r.end(), out.begin());
+    dct_.forwardRows(out, threads_);
+    transposeSquare(out, n_);
+    dct_.forwardRows(out, threads_);
+    for (std::size_t c = 0; c < out.size(); ++c) out[c] *= inverseEigen_[c];
+    dct_.inverseRows(out, threads_);
+    transposeSquare(out, n_);
+    dct_.inverseRows(out, threads_);
+  }
+
+  // out = J x: the exact Jacobian of the areas at the current map applied to a potential x.
+  void applyJacobian(std::span<const double> x, std::vector<double>& out) {
+    gradient(x, gradDir_);
+    parallelChunks(threads_, n_, 8, [&](int lo, int hi) {
+      for (int j = lo; j < hi; ++j)
+        for (int i = 0; i < n_; ++i) out[std::size_t(j) * n_ + i] = linearCoefficient(i, j, gradDir_);
+    });
+  }
+
+  static double dot(std::span<const double> a, std::span<const double> b) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
+    return s;
+  }
+
+  // Inexact Newton: GMRES(m) on J x = r, right-preconditioned by L^-1 (the DCT solve), x0 = 0 (Saad & Schultz
+  // 1986); d = -x. The first Krylov vector is the chord direction, so this is never worse than it in ||r + J d||.
+  void newtonDirection(std::vector<double>& d) {
+    const int m = options_.krylovSteps;
+    const std::size_t size = residual_.size();
+    basis_.resize(std::size_t(m + 1));
+    for (auto& v : basis_) v.resize(size);
+    std::vector<double> h(std::size_t((m + 1) * m), 0.0), cs(static_cast<std::size_t>(m)), sn(static_cast<std::size_t>(m)),
+        g(std::size_t(m + 1), 0.0);
+    const auto H = [&](int row, int col) -> double& { return h[std::size_t(row * m + col)]; };
+    const double beta0 = std::sqrt(dot(residual_, residual_));
+    if (!(beta0 > 0.0)) {
+      std::fill(d.begin(), d.end(), 0.0);
+      return;
+    }
+    for (std::size_t c = 0; c < size; ++c) basis_[0][c] = residual_[c] / beta0;
+    g[0] = beta0;
+    int k = 0;
+    for (; k < m; ++k) {
+      solveLaplacian(basis_[std::size_t(k)], scratch_);  // -L^-1 v
+      for (double& v : scratch_) v = -v;
+      applyJacobian(scratch_, basis_[std::size_t(k + 1)]);
+      auto& w = basis_[std::size_t(k + 1)];
+      for (int i = 0; i <= k; ++i) {  // modified Gram-Schmidt
+        const double hik = dot(w, basis_[std::size_t(i)]);
+        H(i, k) = hik;
+        for (std::size_t c = 0; c < size; ++c) w[c] -= hik * basis_[std::size_t(i)][c];
+      }
+      const double norm = std::sqrt(dot(w, w));
+      H(k + 1, k) = norm;
+      for (int i = 0; i < k; ++i) {  // previous Givens rotations
+        const double a = H(i, k), b = H(i + 1, k);
+        H(i, k) = cs[std::size_t(i)] * a + sn[std::size_t(i)] * b;
+        H(i + 1, k) = -sn[std::size_t(i)] * a + cs[std::size_t(i)] * b;
+      }
+      const double a = H(k, k), b = H(k + 1, k), rr = std::hypot(a, b);
+      cs[std::size_t(k)] = rr > 0.0 ? a / rr : 1.0, sn[std::size_t(k)] = rr > 0.0 ? b / rr : 0.0;
+      H(k, k) = rr, H(k + 1, k) = 0.0;
+      g[std::size_t(k + 1)] = -sn[std::size_t(k)] * g[std::size_t(k)];
+      g[std::size_t(k)] = cs[std::size_t(k)] * g[std::size_t(k)];
+      if (!(norm > 1e-300)) {
+        ++k;
+        break;
+      }
+      for (double& v : w) v /= norm;
+      if (std::abs(g[std::size_t(k + 1)]) <= options_.krylovTolerance * beta0) {
+        ++k;
+        break;
+      }
+    }
+    std::vector<double> y(std::size_t(k), 0.0);
+    for (int i = k - 1; i >= 0; --i) {
+      double s = g[std::size_t(i)];
+      for (int j = i + 1; j < k; ++j) s -= H(i, j) * y[std::size_t(j)];
+      y[std::size_t(i)] = H(i, i) != 0.0 ? s / H(i, i) : 0.0;
+    }
+    std::fill(scratch_.begin(), scratch_.end(), 0.0);
+    for (int i = 0; i < k; ++i)
+      for (std::size_t c = 0; c < size; ++c) scratch_[c] += y[std::size_t(i)] * basis_[std::size_t(i)][c];
+    solveLaplacian(scratch_, d);  // x = L^-1 V y and d = -x = -L^-1 V y
+  }
+
+  // Linear coefficient of the area of cell (i, j) when the vertices move by t * g: with diagonals D1 = P11 - P00,
+  // D2 = P01 - P10, A(t) = ½ (D1 + t E1) x (D2 + t E2) (otmap.md §2.1, §2.3 step 3).
+  double linearCoefficient(int i, int j, const std::vector<Vec2>& g) const {
+    const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
+    const Vec2 d1 = pos_[p11] - pos_[p00], d2 = pos_[p01] - pos_[p10];
+    const Vec2 e1 = g[p11] - g[p00], e2 = g[p01] - g[p10];
+    return 0.5 * (cross(d1, e2) + cross(e1, d2));
+  }
+
+  void evaluateResidual(Stats& s) {
+    const int n = n_;
+    const auto sums = reduceChunks<3>(
+        threads_, n, 8,
+        [&](int lo, int hi) {
+          std::array<double, 3> acc{0.0, 0.0, 0.0};
+          for (int j = lo; j < hi; ++j)
+            for (int i = 0; i < n; ++i) {
+              const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
+              const double area = 0.5 * cross(pos_[p11] - pos_[p00], pos_[p01] - pos_[p10]);
+              const std::size_t c = std::size_t(j) * n + i;
+              const double r = area - mass_[c];
+              residual_[c] = r;
+              acc[0] += r * r, acc[1] += std::abs(r), acc[2] = std::max(acc[2], std::abs(r));
+            }
+          return acc;
+        },
+        {false, false, true});
+    const double cells = double(n) * n;
+    s.l2 = sums[0] * cells, s.l1 = sums[1], s.linf = sums[2] * cells;
+  }
+
+  // Exact line search along the vertex motion gradDir_: every area is r + b t + a t^2, so E(t) is a quartic
+  // (otmap.md §2.3 step 3). The step is kept within boundaryFraction of the first t at which some quad corner's
+  // cross product (P_next - P) x (P_prev - P), also quadratic in t, reaches 0: a convex quad stays convex.
+  double lineSearch() {
+    const int n = n_;
+    const OtFoldGuard guard = options_.foldGuard;
+    // e0..e4, then the positive and negative step bounds (as minima of t and of -t).
+    const auto sums = reduceChunks<7>(
+        threads_, n, 8,
+        [&](int lo, int hi) {
+          std::array<double, 7> acc{0, 0, 0, 0, 0, -kInf, -kInf};
+          double tPos = kInf, tNeg = kInf;
+          for (int j = lo; j < hi; ++j)
+            for (int i = 0; i < n; ++i) {
+              const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
+              const Vec2 d1 = pos_[p11] - pos_[p00], d2 = pos_[p01] - pos_[p10];
+              const Vec2 e1 = gradDir_[p11] - gradDir_[p00], e2 = gradDir_[p01] - gradDir_[p10];
+              const double b = 0.5 * (cross(d1, e2) + cross(e1, d2)), a = 0.5 * cross(e1, e2);
+              const double r = residual_[std::size_t(j) * n + i];
+              acc[0] += r * r, acc[1] += 2.0 * r * b, acc[2] += b * b + 2.0 * a * r, acc[3] += 2.0 * a * b;
+              acc[4] += a * a;
+              if (guard == OtFoldGuard::Area) {
+                const double area = r + mass_[std::size_t(j) * n + i];
+                if (area > 0.0) {
+                  tPos = std::min(tPos, firstPositiveRoot(area, b, a));
+                  tNeg = std::min(tNeg, firstPositiveRoot(area, -b, a));
+                }
+                continue;
+              }
+              if (guard == OtFoldGuard::None) continue;
+              // Corners counter-clockwise: 00, 10, 11, 01.
+              const std::array<std::size_t, 4> ring{p00, p10, p11, p01};
+              for (int k = 0; k < 4; ++k) {
+                const std::size_t pc = ring[std::size_t(k)], pn = ring[std::size_t((k + 1) & 3)],
+                                  pp = ring[std::size_t((k + 3) & 3)];
+                const Vec2 u = pos_[pn] - pos_[pc], du = gradDir_[pn] - gradDir_[pc];
+                const Vec2 w = pos_[pp] - pos_[pc], dw = gradDir_[pp] - gradDir_[pc];
+                const double c0 = cross(u, w);
+                if (!(c0 > 0.0)) continue;  // already degenerate (a folded start): not a constraint
+                const double c1 = cross(u, dw) + cross(du, w), c2 = cross(du, dw);
+                tPos = std::min(tPos, firstPositiveRoot(c0, c1, c2));
+                tNeg = std::min(tNeg, firstPositiveRoot(c0, -c1, c2));
+              }
+            }
+          acc[5] = -tPos, acc[6] = -tNeg;
+          return acc;
+        },
+        {false, false, false, false, false, true, true});
+    Quartic q;
+    for (int k = 0; k < 5; ++k) q.e[std::size_t(k)] = sums[std::size_t(k)];
+    constexpr double kMaxStep = 10.0;  // as otmap.md §2.3
+    const double hi = std::min(kMaxStep, options_.boundaryFraction * -sums[5]);
+    const double lo = -std::min(kMaxStep, options_.boundaryFraction * -sums[6]);
+    const double t = minimiseQuartic(q, lo, hi);
+    // Require a real decrease, not one lost in rounding.
+    if (!(q.value(t) < q.e[0] * (1.0 - 1e-12))) return 0.0;
+    return t;
+  }
+
+  int n_, v_, threads_;
+  const OtSolverOptions& options_;
+  DctPlan dct_;
+  std::vector<double> mass_, inverseEigen_, residual_, dirHat_, dirPrev_, pad_;
+  std::vector<Vec2> pos_, gradHat_, gradPrev_, gradDir_;
+  std::vector<std::vector<double>> basis_;
+  std::vector<double> scratch_;
+};
+
+// 2x2 box restriction: keeps the mean (and so the total mass) exactly.
+std::vector<double> restrictDensity(std::span<const double> rho, int n) {
+  const int m = n / 2;
+  std::vector<double> out(std::size_t(m) * m);
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < m; ++i) {
+      const std::size_t a = std::size_t(2 * j) * n + 2 * i, b = a + n;
+      out[std::size_t(j) * m + i] = 0.25 * (rho[a] + rho[a + 1] + rho[b] + rho[b + 1]);
+    }
+  return out;
+}
+
+// Bilinear interpolation of cell-centred psi from m x m to 2m x 2m (values clamped at the border, which keeps the
+// zero normal gradient there). psi is a function on the unit square, so no rescaling.
+std::vector<double> prolongPotential(std::span<const double> psi, int m) {
+  const int n = 2 * m;
+  std::vector<double> out(std::size_t(n) * n);
+  const auto axis = [m](int f, int& c0, int& c1, double& w) {
+    const double x = 0.5 * (f + 0.5) - 0.5;  // fine cell centre in coarse cell units
+    const int base = int(std::floor(x));
+    w = x - base;
+    c0 = std::clamp(base, 0, m - 1), c1 = std::clamp(base + 1, 0, m - 1);
+  };
+  for (int j = 0; j < n; ++j) {
+    int j0, j1;
+    double wy;
+    axis(j, j0, j1, wy);
+    for (int i = 0; i < n; ++i) {
+      int i0, i1;
+      double wx;
+      axis(i, i0, i1, wx);
+      const auto at = [&](int x, int y) { return psi[std::size_t(y) * m + x]; };
+      out[std::size_t(j) * n + i] = (1 - wy) * ((1 - wx) * at(i0, j0) + wx * at(i1, j0)) +
+                                    wy * ((1 - wx) * at(i0, j1) + wx * at(i1, j1));
+    }
+  }
+  double mean = 0.0;
+  for (double v : out) mean += v;
+  mean /= double(out.size());
+  for (double& v : out) v -= mean;
+  return out;
+}
+
+struct LevelResult {
+  std::vector<double> psi;
+  std::vector<Vec2> positions;
+  LevelSolver::Stats stats;
+  int coarseIterations = 0;
+};
+
+LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOptions& options, bool finest) {
+  LevelResult result;
+  if (options.coarseToFine && n % 2 == 0 && n / 2 >= std::max(options.coarsestSize, 2)) {
+    const std::vector<double> coarse = restrictDensity(rho, n);
+    LevelResult c = solveLevels(coarse, n / 2, options, false);
+    result.coarseIterations = c.coarseIterations + c.stats.iterations;
+    result.psi = prolongPotential(c.psi, n / 2);
+  } else {
+    result.psi.assign(std::size_t(n) * n, 0.0);
+  }
+  LevelSolver solver(n, rho, options);
+  // A prolonged potential whose map has a non-positive quad area is no start for a guarded search (its stalls
+  // could never undo the fold): start that level from the identity instead.
+  if (!solver.startIsUnfolded(result.psi)) std::fill(result.psi.begin(), result.psi.end(), 0.0);
+  const double target = finest ? options.targetL2 : std::max(options.targetL2, options.coarseTargetL2);
+  result.stats = solver.run(result.psi, target, options.maxIterations,
+                            finest ? options.progress : std::function<void(int, double)>{});
+  if (finest) result.positions = solver.positions();
+  return result;
+}
+
+}  // namespace
+
+std::vector<double> otQuadAreas(std::span<const glm::dvec2> vertices, int n) {
+  IBLX_ASSERT(vertices.size() == std::size_t(n + 1) * (n + 1));
+  std::vector<double> areas(std::size_t(n) * n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::size_t p00 = std::size_t(j) * (n + 1) + i, p10 = p00 + 1, p01 = p00 + n + 1, p11 = p01 + 1;
+      areas[std::size_t(j) * n + i] = 0.5 * cross(vertices[p11] - vertices[p00], vertices[p01] - vertices[p10]);
+    }
+  return areas;
+}
+
+int otFoldedQuads(std::span<const glm::dvec2> vertices, int n) {
+  IBLX_ASSERT(vertices.size() == std::size_t(n + 1) * (n + 1));
+  int folded = 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::size_t p00 = std::size_t(j) * (n + 1) + i, p10 = p00 + 1, p01 = p00 + n + 1, p11 = p01 + 1;
+      const std::array<std::size_t, 4> ring{p00, p10, p11, p01};
+      bool ok = true;
+      for (int k = 0; k < 4 && ok; ++k) {
+        const Vec2 p = vertices[ring[std::size_t(k)]];
+        ok = cross(vertices[ring[std::size_t((k + 1) & 3)]] - p, vertices[ring[std::size_t((k + 3) & 3)]] - p) > 0.0;
+      }
+      folded += ok ? 0 : 1;
+    }
+  return folded;
+}
+
+OtMap solveOtMap(std::span<const double> density, int n, const OtSolverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  if (n < 1 || density.size() != std::size_t(n) * n)
+    throw Error("OT solver: the density has " + std::to_string(density.size()) + " values, expected n^2 = " +
+                std::to_string(std::max(n, 0)) + "^2");
+  double sum = 0.0;
+  for (double v : density) {
+    if (!std::isfinite(v) || v < 0.0) throw Error("OT solver: the density has a negative or non-finite value");
+    sum += v;
+  }
+  if (!(sum > 0.0)) throw Error("OT solver: the density is zero everywhere");
+  // Floor at eps * mean, then back to mean 1 (see the header).
+  const double cells = double(n) * n, mean = sum / cells, floorValue = options.floorFraction * mean;
+  std::vector<double> rho(density.begin(), density.end());
+  double floored = 0.0;
+  for (double& v : rho) floored += (v = std::max(v, floorValue));
+  for (double& v : rho) v *= cells / floored;
+
+  LevelResult levels = solveLevels(rho, n, options, true);
+  OtMap map;
+  map.n = n;
+  map.vertices = std::move(levels.positions);
+  map.density = std::move(rho);
+  map.psi = std::move(levels.psi);
+  map.iterations = levels.stats.iterations;
+  map.coarseIterations = levels.coarseIterations;
+  // Final metrics from the returned vertices, independently of the iteration's bookkeeping.
+  const std::vector<double> areas = otQuadAreas(map.vertices, n);
+  for (std::size_t c = 0; c < areas.size(); ++c) {
+    const double r = areas[c] - map.density[c] / cells;
+    map.negativeAreaQuads += areas[c] <= 0.0 ? 1 : 0;
+    map.l2 += r * r * cells, map.l1 += std::abs(r), map.linf = std::max(map.linf, std::abs(r) * cells);
+  }
+  map.foldedQuads = otFoldedQuads(map.vertices, n);
+  map.converged = map.l2 <= options.targetL2 && map.l1 <= options.targetL1;
+  map.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return map;
+}
+
+std::vector<double> otDensityFromEnv(const EnvImage& env, int n) {
+  if (n < 1) throw Error("OT density: the grid size must be at least 1, got " + std::to_string(n));
+  // Texel masses w = L * Omega(y) (solid angle included); texelSamplingWeights validates the image and maps an
+  // all-black image to the uniform sphere.
+  const std::vector<double> weights = texelSamplingWeights(env, "OT density");
+  const int width = env.width, height = env.height;
+  // Pass 1, along u: per texel row y, the texel mass falling in each grid column (exact length overlap).
+  std::vector<double> rows(std::size_t(height) * n, 0.0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const double w = weights[env.index(x, y)];
+      if (w == 0.0) continue;
+      const double u0 = double(x) / width, u1 = double(x + 1) / width;
+      for (int c = std::max(0, int(std::floor(u0 * n))); c < std::min(n, int(std::ceil(u1 * n))); ++c) {
+        const double overlap = std::min(u1, double(c + 1) / n) - std::max(u0, double(c) / n);
+        if (overlap > 0.0) rows[std::size_t(y) * n + c] += w * overlap * width;
+      }
+    }
+  // Pass 2, along v: the share of texel row y's solid angle inside grid row r is (cos ta - cos tb) / (cos t0 -
+  // cos t1) over the overlap [ta, tb], exact for the nearest-texel radiance (dOmega = dphi dcos(theta)).
+  const auto cosDiff = [](double a, double b) {  // cos(pi a) - cos(pi b) without cancellation
+    return 2.0 * std::sin(0.5 * kPi * (a + b)) * std::sin(0.5 * kPi * (b - a));
+  };
+  std::vector<double> density(std::size_t(n) * n, 0.0);
+  for (int y = 0; y < height; ++y) {
+    const double v0 = double(y) / height, v1 = double(y + 1) / height, full = cosDiff(v0, v1);
+    for (int r = std::max(0, int(std::floor(v0 * n))); r < std::min(n, int(std::ceil(v1 * n))); ++r) {
+      const double a = std::max(v0, double(r) / n), b = std::min(v1, double(r + 1) / n);
+      if (b <= a) continue;
+      const double share = cosDiff(a, b) / full;
+      for (int c = 0; c < n; ++c) density[std::size_t(r) * n + c] += share * rows[std::size_t(y) * n + c];
+    }
+  }
+  double total = 0.0;
+  for (double v : density) total += v;
+  const double scale = double(n) * n / total;  // cells have equal parameter area: mass -> mean-1 density
+  for (double& v : density) v *= scale;
+  return density;
+}
+
+}  // namespace iblx

@@ -1,0 +1,96 @@
+// Optimal-transport map from an environment's sampling density on an n x n grid over the lat-long square to the
+// uniform density on [0,1]^2, after Nader & Guennebaud, "Instant Transport Maps on 2D Grids" (TOG 37(6), 2018),
+// as analysed in ../shared/reference/otmap.md §2.1-2.3. CPU, double precision; the samplers build on the map.
+//
+// Differences from that paper's released solver (written from the notes, not its code):
+// - the fixed pseudo-Laplacian L (the exact area Jacobian at the identity) is solved by fast cosine transforms:
+//   with the clamped boundary it is 2 (A (x) A - I), A the 1-D clamped average, diagonal in the DCT-II basis.
+//   O(n^2 log n) per solve, no factorisation;
+// - directions are inexact Newton steps by default: GMRES on the exact Jacobian at the current map,
+//   preconditioned by L^-1 (the chord direction L^-1 r is its first Krylov vector), plus the conjugate-Jacobian
+//   update of otmap.md §2.3;
+// - the exact quartic line search only takes steps that keep every quad area positive (OtFoldGuard::Area,
+//   default) or every quad strictly convex (Convex), going at most boundaryFraction of the way to the bound;
+// - continuation: when the guarded search stalls, the target is approached in stages between the start map's
+//   areas and the target masses (see LevelSolver::run);
+// - coarse-to-fine: the density is box-restricted to n/2, n/4, ..., solved there and psi is prolonged
+//   bilinearly; a prolonged start with a non-positive quad area is dropped for the identity;
+// - a density floor: rho' = max(rho, floorFraction * mean(rho)), renormalised to mean 1. Zero regions then
+//   collapse to thin quads instead of folding. The samplers' pdfs stay exact because they come from the map.
+#pragma once
+
+#include "engine/io/env_image.h"
+
+#include <glm/glm.hpp>
+
+#include <functional>
+#include <span>
+#include <vector>
+
+namespace iblx {
+
+// Sampling density on an n x n grid over the lat-long parameter square, row-major, row = v (theta = pi v from
+// +Y), column = u (phi = 2 pi u): the exact integral of the nearest-texel weight (mean RGB) over each cell with
+// respect to solid angle (so sin(theta) is included), divided by the cell's parameter area, normalised to mean 1.
+// An all-black image gives sin(theta) (uniform sphere). Throws iblx::Error on a bad image or n < 1.
+std::vector<double> otDensityFromEnv(const EnvImage& env, int n);
+
+// What the line search keeps valid. Convex: every quad stays strictly convex (its bilinear map has a positive
+// Jacobian everywhere). Area: every quad keeps a positive signed area (it may become non-convex). None: otmap's
+// unconstrained search.
+enum class OtFoldGuard { None, Area, Convex };
+
+struct OtSolverOptions {
+  int maxIterations = 2000;        // at the finest level; each coarse level gets the same cap
+  double targetL2 = 1e-7;          // E = sum_c h^2 (rho_achieved - rho)^2, mean-1 units (otmap.md §2.1)
+  double targetL1 = 1e-3;          // sum_c |A_c - h^2 rho_c|, the mass error (2 x total variation)
+  double floorFraction = 1e-4;     // density floor eps: rho' = max(rho, eps * mean), renormalised
+  bool coarseToFine = true;        // solve on n/2 first (recursively) and prolong psi
+  int coarsestSize = 16;           // no level below this size
+  double coarseTargetL2 = 1e-5;    // looser target on the coarse levels: the fine level corrects them
+  bool conjugateJacobian = true;   // otmap.md §2.3 step 2 (also applied to the Newton directions)
+  int krylovSteps = 20;             // > 0: inexact Newton directions, GMRES(krylovSteps) on the exact Jacobian;
+                                   // 0: otmap's chord directions (L^-1 r) with conjugate-Jacobian updates
+  double krylovTolerance = 0.1;    // GMRES stops at ||r + J d|| <= krylovTolerance ||r||
+  int stageIterations = 60;        // continuation: iteration budget of an intermediate stage
+  double stageTargetL2 = 1e-3;     // continuation: an intermediate stage is solved to this E
+  double minStageStep = 1e-3;      // continuation: give up below this step in s
+  OtFoldGuard foldGuard = OtFoldGuard::Area;
+  double boundaryFraction = 0.9;   // a step goes at most this fraction of the way to the first degenerate quad
+  int threads = 0;                 // 0 = hardware concurrency
+  std::function<void(int, double)> progress;  // (iteration at the finest level, E) after every iteration
+};
+
+struct OtMap {
+  int n = 0;
+  // (n+1)^2 vertices, row-major j*(n+1)+i: where grid vertex (i/n, j/n) of the density square maps to in the
+  // uniform square. Cell c's quad (vertices (i,j), (i+1,j), (i+1,j+1), (i,j+1)) has area h^2 rho_c at
+  // convergence, with rho the floored, mean-1 density (`density`).
+  std::vector<glm::dvec2> vertices;
+  std::vector<double> density;  // the floored, mean-1 target the map was solved for (n^2)
+  std::vector<double> psi;      // the potential, one value per cell (n^2), mean 0
+  int iterations = 0;           // at the finest level
+  int coarseIterations = 0;     // summed over the coarse levels
+  double seconds = 0.0;         // wall time of the whole solve, coarse levels included
+  double l2 = 0.0;              // E = sum_c h^2 (A_c/h^2 - rho_c)^2
+  double l1 = 0.0;              // sum_c |A_c - h^2 rho_c|
+  double linf = 0.0;            // max_c |A_c - h^2 rho_c| / h^2
+  // Quads whose bilinear map does not have a strictly positive Jacobian everywhere: the Jacobian determinant of
+  // a bilinear patch is affine in each parameter, so this is "some corner cross product
+  // (P_next - P) x (P_prev - P), taken counter-clockwise, is <= 0". Negative areas and self-intersecting or
+  // non-convex quads are all counted.
+  int foldedQuads = 0;
+  int negativeAreaQuads = 0;  // the subset with signed area <= 0 (the issue's "folded": otmap.md §3 counts these)
+  bool converged = false;  // l2 <= targetL2 and l1 <= targetL1
+};
+
+// Signed quad areas ½ (P11 - P00) x (P01 - P10) of a vertex grid (n+1)^2 -> n^2 (otmap.md §2.1).
+std::vector<double> otQuadAreas(std::span<const glm::dvec2> vertices, int n);
+// foldedQuads as defined in OtMap.
+int otFoldedQuads(std::span<const glm::dvec2> vertices, int n);
+
+// Solves for the map of `density` (n x n, row-major, >= 0, finite, not all zero; any scale).
+// Throws iblx::Error on bad input. Returns the best map reached even when it did not converge.
+OtMap solveOtMap(std::span<const double> density, int n, const OtSolverOptions& options = {});
+
+}  // namespace iblx

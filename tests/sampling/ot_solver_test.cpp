@@ -1,0 +1,241 @@
+// Tests of the OT map solver (engine/sampling/ot_solver.h) and its DCT (engine/sampling/ot_dct.h): transforms
+// against their definition, the identity map, mass residuals and folds on smooth, sun and half-zero densities,
+// boundary vertices, the density of a lat-long environment against the analytic sin(theta) integral, bad input.
+#include "engine/sampling/ot_solver.h"
+
+#include "engine/core/error.h"
+#include "engine/sampling/ot_dct.h"
+#include "tests/support/hard_envs.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace iblx;
+
+namespace {
+
+constexpr double kPiD = std::numbers::pi;
+
+// Smooth sky-like density on the lat-long square: radiance times sin(theta) at the cell centre.
+std::vector<double> smoothDensity(int n) {
+  std::vector<double> d(std::size_t(n) * n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double u = (i + 0.5) / n, v = (j + 0.5) / n;
+      d[std::size_t(j) * n + i] =
+          (0.3 + 0.75 * (1 + std::cos(kPiD * v)) + 0.4 * (1 + std::cos(2 * kPiD * u))) * std::sin(kPiD * v);
+    }
+  return d;
+}
+
+// 1 everywhere plus `peak` times a Gaussian of sigma = 1 cell centred on cell (n/3, n/4): the sun covers a few cells.
+std::vector<double> sunDensity(int n, double peak) {
+  std::vector<double> d(std::size_t(n) * n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double r2 = double(i - n / 3) * (i - n / 3) + double(j - n / 4) * (j - n / 4);
+      d[std::size_t(j) * n + i] = 1.0 + peak * std::exp(-0.5 * r2);
+    }
+  return d;
+}
+
+// Left half exactly 0, right half 1.
+std::vector<double> halfZeroDensity(int n) {
+  std::vector<double> d(std::size_t(n) * n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) d[std::size_t(j) * n + i] = i < n / 2 ? 0.0 : 1.0;
+  return d;
+}
+
+// The solver's own guarantees, checked from the returned vertices alone.
+void checkMap(const OtMap& map, const OtSolverOptions& options) {
+  const int n = map.n;
+  REQUIRE(map.vertices.size() == std::size_t(n + 1) * (n + 1));
+  CHECK(map.converged);
+  CHECK(map.l2 <= options.targetL2);
+  CHECK(map.l1 <= options.targetL1);
+  // Recompute the residuals independently of the solver's bookkeeping.
+  const std::vector<double> areas = otQuadAreas(map.vertices, n);
+  double l1 = 0.0, total = 0.0;
+  int negative = 0;
+  for (std::size_t c = 0; c < areas.size(); ++c) {
+    l1 += std::abs(areas[c] - map.density[c] / (double(n) * n));
+    total += areas[c];
+    negative += areas[c] <= 0.0 ? 1 : 0;
+  }
+  CHECK(l1 == doctest::Approx(map.l1).epsilon(1e-9));
+  CHECK(total == doctest::Approx(1.0).epsilon(1e-12));  // the square maps onto itself
+  CHECK(negative == 0);
+  CHECK(map.negativeAreaQuads == 0);
+  // Boundary vertices slide along their side; corners stay put.
+  for (int k = 0; k <= n; ++k) {
+    const auto at = [&](int i, int j) { return map.vertices[std::size_t(j) * (n + 1) + i]; };
+    CHECK(at(0, k).x == 0.0);
+    CHECK(at(n, k).x == doctest::Approx(1.0).epsilon(1e-15));
+    CHECK(at(k, 0).y == 0.0);
+    CHECK(at(k, n).y == doctest::Approx(1.0).epsilon(1e-15));
+    for (const glm::dvec2 p : {at(0, k), at(n, k), at(k, 0), at(k, n)}) {
+      CHECK(p.x >= 0.0);
+      CHECK(p.x <= 1.0 + 1e-15);
+      CHECK(p.y >= 0.0);
+      CHECK(p.y <= 1.0 + 1e-15);
+    }
+  }
+  CHECK(map.vertices.front() == glm::dvec2(0.0, 0.0));
+  MESSAGE("n = " << n << ": " << map.iterations << " iterations (+" << map.coarseIterations << " coarse), "
+                 << map.seconds << " s, L2 " << map.l2 << ", L1 " << map.l1 << ", Linf " << map.linf
+                 << ", non-convex quads " << map.foldedQuads);
+}
+
+}  // namespace
+
+TEST_CASE("OT DCT: forward rows match the definition and inverse rows undo them") {
+  for (int n : {1, 2, 6, 8, 16, 12}) {
+    CAPTURE(n);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
+    std::vector<double> a(std::size_t(n) * n);
+    for (double& v : a) v = uni(rng);
+    const std::vector<double> original = a;
+    const DctPlan plan(n);
+    plan.forwardRows(a, 2);
+    for (int r = 0; r < n; ++r)
+      for (int k = 0; k < n; ++k) {
+        double expected = 0.0;
+        for (int i = 0; i < n; ++i)
+          expected += original[std::size_t(r) * n + i] * std::cos(kPiD * k * (2 * i + 1) / (2.0 * n));
+        CHECK(a[std::size_t(r) * n + k] == doctest::Approx(expected).epsilon(1e-12).scale(1.0));
+      }
+    plan.inverseRows(a, 1);
+    for (std::size_t c = 0; c < a.size(); ++c) CHECK(a[c] == doctest::Approx(original[c]).epsilon(1e-12).scale(1.0));
+    transposeSquare(a, n);
+    for (int r = 0; r < n; ++r)
+      for (int c = 0; c < n; ++c)
+        CHECK(a[std::size_t(r) * n + c] == doctest::Approx(original[std::size_t(c) * n + r]).epsilon(1e-12).scale(1.0));
+  }
+}
+
+TEST_CASE("OT solver: a uniform density gives the identity map in 0 iterations") {
+  for (int n : {16, 64}) {
+    const std::vector<double> uniform(std::size_t(n) * n, 3.0);  // any scale: normalised to mean 1
+    const OtMap map = solveOtMap(uniform, n);
+    CHECK(map.iterations == 0);
+    CHECK(map.l2 < 1e-28);
+    CHECK(map.foldedQuads == 0);
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        const glm::dvec2 p = map.vertices[std::size_t(j) * (n + 1) + i];
+        CHECK(p.x == doctest::Approx(double(i) / n).epsilon(1e-14).scale(1.0));
+        CHECK(p.y == doctest::Approx(double(j) / n).epsilon(1e-14).scale(1.0));
+      }
+  }
+}
+
+TEST_CASE("OT solver: smooth density, n = 64 and 128") {
+  const OtSolverOptions options;
+  for (int n : {64, 128}) {
+    const OtMap map = solveOtMap(smoothDensity(n), n, options);
+    checkMap(map, options);
+    CHECK(map.foldedQuads == 0);  // a smooth density keeps every quad strictly convex
+  }
+}
+
+TEST_CASE("OT solver: half-zero density (floored), n = 64 and 128") {
+  const OtSolverOptions options;
+  for (int n : {64, 128}) {
+    const OtMap map = solveOtMap(halfZeroDensity(n), n, options);
+    checkMap(map, options);
+    CHECK(map.foldedQuads == 0);
+    // The floor: zero cells target eps * mean before renormalisation.
+    // Mean 0.5, floor eps * 0.5, floored mean 0.5 (1 + eps / 2) -> mean-1 floor eps / (1 + eps / 2).
+    CHECK(map.density[0] == doctest::Approx(options.floorFraction / (1.0 + 0.5 * options.floorFraction)));
+  }
+}
+
+TEST_CASE("OT solver: sun 1e3 over a few cells, n = 64 and 128") {
+  const OtSolverOptions options;
+  for (int n : {64, 128}) {
+    const OtMap map = solveOtMap(sunDensity(n, 1e3), n, options);
+    checkMap(map, options);
+    // Known limit: the slivers around the sun converge with positive areas but some are not convex.
+    WARN(map.foldedQuads == 0);
+  }
+}
+
+// Convergence on a 1e5 sun is an open target of issue 4: it converged at 1 thread (908 iterations) and not at 2
+// (the path is sensitive to rounding). This checks what holds today, with an iteration cap to stay short.
+TEST_CASE("OT solver: sun 1e5, n = 64: no negative-area quad and most of the mass error removed") {
+  OtSolverOptions options;
+  options.maxIterations = 300;
+  const OtMap map = solveOtMap(sunDensity(64, 1e5), 64, options);
+  CHECK(map.negativeAreaQuads == 0);
+  CHECK(map.l1 < 0.5);  // the identity map's L1 is about 1.98: the sun holds 99% of the mass
+  MESSAGE("L2 " << map.l2 << ", L1 " << map.l1 << ", non-convex quads " << map.foldedQuads);
+}
+
+TEST_CASE("OT solver: the Convex guard never makes a quad non-convex (smooth density, coarse-to-fine off)") {
+  OtSolverOptions options;
+  options.foldGuard = OtFoldGuard::Convex;
+  options.coarseToFine = false;
+  const OtMap map = solveOtMap(smoothDensity(64), 64, options);
+  checkMap(map, options);
+  CHECK(map.foldedQuads == 0);
+}
+
+TEST_CASE("OT solver: otmap's chord directions (krylovSteps = 0) converge on a smooth density") {
+  OtSolverOptions options;
+  options.krylovSteps = 0;
+  const OtMap map = solveOtMap(smoothDensity(64), 64, options);
+  checkMap(map, options);
+}
+
+TEST_CASE("OT solver: bad input throws") {
+  CHECK_THROWS_AS(solveOtMap(std::vector<double>(10, 1.0), 4), Error);
+  CHECK_THROWS_AS(solveOtMap(std::vector<double>(16, 0.0), 4), Error);
+  std::vector<double> negative(16, 1.0);
+  negative[3] = -1.0;
+  CHECK_THROWS_AS(solveOtMap(negative, 4), Error);
+  negative[3] = std::nan("");
+  CHECK_THROWS_AS(solveOtMap(negative, 4), Error);
+}
+
+TEST_CASE("OT density: a constant environment gives sin(theta) integrated exactly over each cell") {
+  // Sizes that are and are not multiples of the grid, so cells straddle texels in both directions.
+  for (const auto& [w, h, n] : {std::array{64, 32, 16}, std::array{48, 24, 10}, std::array{30, 17, 7}}) {
+    CAPTURE(w);
+    CAPTURE(h);
+    CAPTURE(n);
+    const std::vector<double> d = otDensityFromEnv(test::constantEnv(w, h, 2.5f), n);
+    REQUIRE(d.size() == std::size_t(n) * n);
+    for (int j = 0; j < n; ++j) {
+      // Mean-1 density of cell row j: n * (cos(pi j/n) - cos(pi (j+1)/n)) / 2 (the cell's share of 2, times n^2).
+      const double expected = n * (std::cos(kPiD * j / n) - std::cos(kPiD * (j + 1) / n)) / 2.0;
+      for (int i = 0; i < n; ++i) CHECK(d[std::size_t(j) * n + i] == doctest::Approx(expected).epsilon(1e-12));
+    }
+  }
+}
+
+TEST_CASE("OT density: one bright texel lands in the cells it overlaps, in proportion") {
+  // 4 x 2 map, one texel (1, 0) = 1, rest 0; n = 3: texel u in [1/4, 1/2] splits 1/12 : 2/12 between columns 0
+  // and 1; texel v in [0, 1/2] covers cell row 0 (v < 1/3) and part of row 1, by solid angle.
+  test::NamedEnv env{"one", test::makeEnv(4, 2, [](int x, int y, double, double) {
+                       const double v = (x == 1 && y == 0) ? 1.0 : 0.0;
+                       return std::array<double, 3>{v, v, v};
+                     })};
+  const std::vector<double> d = otDensityFromEnv(env.image, 3);
+  const double row0 = 1.0 - std::cos(kPiD / 3.0), row1 = std::cos(kPiD / 3.0) - 0.0;  // cos(0)-cos(pi/3), ...
+  const double rowTotal = row0 + row1;
+  const double col0 = 1.0 / 3.0, col1 = 2.0 / 3.0;
+  const double cells = 9.0;
+  CHECK(d[0] == doctest::Approx(cells * col0 * row0 / rowTotal));
+  CHECK(d[1] == doctest::Approx(cells * col1 * row0 / rowTotal));
+  CHECK(d[3] == doctest::Approx(cells * col0 * row1 / rowTotal));
+  CHECK(d[4] == doctest::Approx(cells * col1 * row1 / rowTotal));
+  CHECK(d[2] == 0.0);
+  for (int c = 6; c < 9; ++c) CHECK(d[std::size_t(c)] == 0.0);
+}
