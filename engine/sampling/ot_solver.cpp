@@ -14,6 +14,8 @@
 #include <limits>
 #include <mutex>
 #include <string>
+#include <cstdio>
+#include <cstdlib>
 
 namespace iblx {
 
@@ -183,10 +185,11 @@ class LevelSolver {
       if (k >= budget) return false;
       // 1. Chord-Newton direction: d^ = -L^-1 r, L the Jacobian of the areas at the identity (otmap.md §2.2);
       //    or, with krylovSteps > 0, an inexact Newton direction J d = -r by GMRES preconditioned with L^-1.
+      newtonRightHandSide();
       if (options_.krylovSteps > 0) {
         newtonDirection(dirHat_);
       } else {
-        solveLaplacian(residual_, dirHat_);
+        solveLaplacian(rhs_, dirHat_);
       }
       gradient(dirHat_, gradHat_);
       // 2. Conjugate Jacobian: d = d^ + beta d_prev with J d _|_ J d_prev, J the exact Jacobian at the current
@@ -208,10 +211,12 @@ class LevelSolver {
       double t = 0.0;
       for (int attempt = 0; attempt < 2; ++attempt) {
         for (std::size_t v = 0; v < gradDir_.size(); ++v) gradDir_[v] = gradHat_[v] + beta * gradPrev_[v];
-        t = lineSearch();
+        t = options_.merit == OtMerit::Barrier ? lineSearchBarrier() : lineSearch();
         if (t != 0.0 || beta == 0.0) break;
         beta = 0.0;  // the conjugate direction made no progress: fall back to the chord direction
       }
+      if (std::getenv("IBLX_OT_TRACE"))
+        std::fprintf(stderr, "n=%d k=%d t=%.3e beta=%.3f l2=%.3e l1=%.3e\n", n, k, t, beta, s.l2, s.l1);
       if (t == 0.0) return false;  // stalled
       // 3. Step: psi += t d; the vertices move by t grad d.
       for (std::size_t c = 0; c < psi.size(); ++c) {
@@ -298,18 +303,24 @@ class LevelSolver {
   // 1986); d = -x. The first Krylov vector is the chord direction, so this is never worse than it in ||r + J d||.
   void newtonDirection(std::vector<double>& d) {
     const int m = options_.krylovSteps;
-    const std::size_t size = residual_.size();
+    const std::size_t size = rhs_.size();
     basis_.resize(std::size_t(m + 1));
     for (auto& v : basis_) v.resize(size);
     std::vector<double> h(std::size_t((m + 1) * m), 0.0), cs(static_cast<std::size_t>(m)), sn(static_cast<std::size_t>(m)),
         g(std::size_t(m + 1), 0.0);
     const auto H = [&](int row, int col) -> double& { return h[std::size_t(row * m + col)]; };
-    const double beta0 = std::sqrt(dot(residual_, residual_));
+    // With logNewton the system is scaled row by row by 1/A (relative area changes), so that GMRES's 2-norm
+    // tolerance bounds each quad's error relative to its own area, not to the largest quad's.
+    rowScale_.assign(size, 1.0);
+    if (options_.logNewton)
+      for (std::size_t c = 0; c < size; ++c) rowScale_[c] = 1.0 / (residual_[c] + mass_[c]);
+    for (std::size_t c = 0; c < size; ++c) rhs_[c] *= rowScale_[c];
+    const double beta0 = std::sqrt(dot(rhs_, rhs_));
     if (!(beta0 > 0.0)) {
       std::fill(d.begin(), d.end(), 0.0);
       return;
     }
-    for (std::size_t c = 0; c < size; ++c) basis_[0][c] = residual_[c] / beta0;
+    for (std::size_t c = 0; c < size; ++c) basis_[0][c] = rhs_[c] / beta0;
     g[0] = beta0;
     int k = 0;
     for (; k < m; ++k) {
@@ -317,6 +328,7 @@ class LevelSolver {
       for (double& v : scratch_) v = -v;
       applyJacobian(scratch_, basis_[std::size_t(k + 1)]);
       auto& w = basis_[std::size_t(k + 1)];
+      for (std::size_t c = 0; c < size; ++c) w[c] *= rowScale_[c];
       for (int i = 0; i <= k; ++i) {  // modified Gram-Schmidt
         const double hik = dot(w, basis_[std::size_t(i)]);
         H(i, k) = hik;
@@ -344,6 +356,7 @@ class LevelSolver {
         break;
       }
     }
+    if (std::getenv("IBLX_OT_TRACE")) std::fprintf(stderr, "  gmres k=%d rel=%.3e\n", k, std::abs(g[std::size_t(k)]) / beta0);
     std::vector<double> y(std::size_t(k), 0.0);
     for (int i = k - 1; i >= 0; --i) {
       double s = g[std::size_t(i)];
@@ -446,8 +459,116 @@ class LevelSolver {
     return t;
   }
 
+  // The right-hand side of the Newton system J d = -rhs: the area residual, or with logNewton A log(A / m) (the
+  // linearisation of log A = log m scaled back to areas; equal to A - m to first order near the solution).
+  void newtonRightHandSide() {
+    rhs_.resize(residual_.size());
+    if (!options_.logNewton) {
+      std::copy(residual_.begin(), residual_.end(), rhs_.begin());
+      return;
+    }
+    // J d always sums to 0 (the boundary slides, the total area stays 1), so only a right-hand side with sum 0 is
+    // reachable: log(A / m) - mu with mu its area-weighted mean, i.e. the target m e^mu rescaled to total 1
+    // (mu = 0 at the solution). Subtracting a plain constant in area units instead would ask every tiny quad
+    // for the same absolute change.
+    double mu = 0.0, total = 0.0;
+    for (std::size_t c = 0; c < rhs_.size(); ++c) {
+      const double area = residual_[c] + mass_[c];
+      rhs_[c] = std::log(area / mass_[c]);
+      mu += area * rhs_[c], total += area;
+    }
+    mu /= total;
+    for (std::size_t c = 0; c < rhs_.size(); ++c) rhs_[c] = (residual_[c] + mass_[c]) * (rhs_[c] - mu);
+  }
+
+  // Line search on the barrier merit F = sum_c [A_c - m_c - m_c log(A_c / m_c)] (OtMerit::Barrier). Along the
+  // vertex motion every area is A + b t + a t^2, so F' and F'' cost one pass without logarithms; the minimiser is
+  // found by safeguarded Newton on F' within the interval where every area stays positive (the barrier makes
+  // that interval's ends infinitely expensive), and accepted only if F decreases, computed with log1p.
+  double lineSearchBarrier() {
+    const int n = n_;
+    coefA_.resize(residual_.size()), coefB_.resize(residual_.size());
+    const auto bounds = reduceChunks<2>(
+        threads_, n, 8,
+        [&](int lo, int hi) {
+          double tPos = kInf, tNeg = kInf;
+          for (int j = lo; j < hi; ++j)
+            for (int i = 0; i < n; ++i) {
+              const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
+              const std::size_t c = std::size_t(j) * n + i;
+              const Vec2 d1 = pos_[p11] - pos_[p00], d2 = pos_[p01] - pos_[p10];
+              const Vec2 e1 = gradDir_[p11] - gradDir_[p00], e2 = gradDir_[p01] - gradDir_[p10];
+              const double b = 0.5 * (cross(d1, e2) + cross(e1, d2)), a = 0.5 * cross(e1, e2);
+              coefA_[c] = a, coefB_[c] = b;
+              const double area = residual_[c] + mass_[c];
+              tPos = std::min(tPos, firstPositiveRoot(area, b, a));
+              tNeg = std::min(tNeg, firstPositiveRoot(area, -b, a));
+            }
+          return std::array<double, 2>{-tPos, -tNeg};
+        },
+        {true, true});
+    // F'(t) and F''(t).
+    const auto slopes = [&](double t) {
+      return reduceChunks<2>(threads_, n, 8, [&](int lo, int hi) {
+        std::array<double, 2> acc{0.0, 0.0};
+        for (std::size_t c = std::size_t(lo) * n; c < std::size_t(hi) * n; ++c) {
+          const double area = residual_[c] + mass_[c] + (coefB_[c] + coefA_[c] * t) * t;
+          const double da = coefB_[c] + 2.0 * coefA_[c] * t, q = mass_[c] / area;
+          acc[0] += (1.0 - q) * da;
+          acc[1] += q / area * da * da + (1.0 - q) * 2.0 * coefA_[c];
+        }
+        return acc;
+      });
+    };
+    // F(t) - F(0), without cancellation.
+    const auto decrease = [&](double t) {
+      return reduceChunks<1>(threads_, n, 8, [&](int lo, int hi) {
+        double acc = 0.0;
+        for (std::size_t c = std::size_t(lo) * n; c < std::size_t(hi) * n; ++c) {
+          const double delta = (coefB_[c] + coefA_[c] * t) * t, area = residual_[c] + mass_[c];
+          acc += delta - mass_[c] * std::log1p(delta / area);
+        }
+        return std::array<double, 1>{acc};
+      })[0];
+    };
+    if (std::getenv("IBLX_OT_TRACE")) {
+      double best = kInf; std::size_t bc = 0;
+      for (std::size_t c = 0; c < coefA_.size(); ++c) {
+        const double tp = firstPositiveRoot(residual_[c] + mass_[c], coefB_[c], coefA_[c]);
+        if (tp < best) best = tp, bc = c;
+      }
+      std::fprintf(stderr, "  bind c=(%d,%d) t=%.3e A=%.3e m=%.3e b=%.3e a=%.3e\n", int(bc % n), int(bc / n), best,
+                   residual_[bc] + mass_[bc], mass_[bc], coefB_[bc], coefA_[bc]);
+    }
+    const double g0 = slopes(0.0)[0];
+    if (!(g0 != 0.0) || !std::isfinite(g0)) return 0.0;
+    const double sign = g0 < 0.0 ? 1.0 : -1.0;
+    constexpr double kMaxStep = 10.0;
+    const double limit = std::min(kMaxStep, options_.boundaryFraction * -(sign > 0.0 ? bounds[0] : bounds[1]));
+    // tau = sign * t in [0, limit]; phi'(tau) = sign * F'(sign tau) < 0 at 0.
+    double lo = 0.0, hi = limit, tau = limit;
+    if (sign * slopes(sign * limit)[0] > 0.0) {
+      tau = std::min(limit, std::max(0.5 * limit * 0.0, -g0 * sign / std::max(slopes(0.0)[1], 1e-300)));
+      if (!(tau > 0.0 && tau < limit)) tau = 0.5 * limit;
+      for (int it = 0; it < 60 && hi - lo > 1e-13 * hi; ++it) {
+        const auto [d1, d2] = slopes(sign * tau);
+        const double phi1 = sign * d1;
+        if (phi1 < 0.0) lo = tau;
+        else hi = tau;
+        if (std::abs(phi1) <= 1e-14 * std::abs(g0)) break;
+        double next = d2 > 0.0 ? tau - phi1 / d2 : -1.0;  // Newton on phi' (phi'' = F'')
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        tau = next;
+      }
+    }
+    for (int halvings = 0; halvings < 40; ++halvings, tau *= 0.5)
+      if (decrease(sign * tau) < 0.0) return sign * tau;
+    return 0.0;
+  }
+
   int n_, v_, threads_;
   const OtSolverOptions& options_;
+  std::vector<double> rhs_, rowScale_, coefA_, coefB_;
   DctPlan dct_;
   std::vector<double> mass_, inverseEigen_, residual_, dirHat_, dirPrev_, pad_;
   std::vector<Vec2> pos_, gradHat_, gradPrev_, gradDir_;

@@ -40,6 +40,12 @@ std::vector<double> otDensityFromEnv(const EnvImage& env, int n);
 // unconstrained search.
 enum class OtFoldGuard { None, Area, Convex };
 
+// What the line search minimises along a direction. L2: E = sum_c (A_c - m_c)^2, a quartic in the step (otmap.md
+// §2.3). Barrier: F = sum_c [A_c - m_c - m_c log(A_c / m_c)], the Bregman divergence of -log: zero exactly at
+// A = m, convex in each area, infinite at A_c = 0 so no quad area can reach 0, and relative in its weighting,
+// so a cell that must grow 1e4-fold is not drowned by the quadratic error of a million small ones.
+enum class OtMerit { L2, Barrier };
+
 struct OtSolverOptions {
   int maxIterations = 2000;        // at the finest level; each coarse level gets the same cap
   double targetL2 = 1e-7;          // E = sum_c h^2 (rho_achieved - rho)^2, mean-1 units (otmap.md §2.1)
@@ -56,6 +62,10 @@ struct OtSolverOptions {
   double stageTargetL2 = 1e-3;     // continuation: an intermediate stage is solved to this E
   double minStageStep = 1e-3;      // continuation: give up below this step in s
   OtFoldGuard foldGuard = OtFoldGuard::Area;
+  OtMerit merit = OtMerit::Barrier;
+  // Newton on log areas: J d = -A (log A - log m) instead of J d = -(A - m). The same fixed point, but a cell far
+  // too small grows by a bounded factor per step instead of being asked for an impossible linear jump.
+  bool logNewton = true;
   double boundaryFraction = 0.9;   // a step goes at most this fraction of the way to the first degenerate quad
   int threads = 0;                 // 0 = hardware concurrency
   std::function<void(int, double)> progress;  // (iteration at the finest level, E) after every iteration

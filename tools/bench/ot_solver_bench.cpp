@@ -107,6 +107,14 @@ int main(int argc, char** argv) {
       } else if (arg == "--guard") {
         const std::string g = value();
         options.foldGuard = g == "none" ? OtFoldGuard::None : g == "area" ? OtFoldGuard::Area : OtFoldGuard::Convex;
+      } else if (arg == "--merit") {
+        const std::string m = value();
+        if (m != "l2" && m != "barrier") throw Error("--merit: expected l2 or barrier, got " + m);
+        options.merit = m == "l2" ? OtMerit::L2 : OtMerit::Barrier;
+      } else if (arg == "--linear-newton") {
+        options.logNewton = false;
+      } else if (arg == "--floor") {
+        options.floorFraction = std::stod(value());
       } else if (arg == "--no-cj") {
         options.conjugateJacobian = false;
       } else if (arg == "--max-iter") {
