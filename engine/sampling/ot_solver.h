@@ -54,18 +54,23 @@ struct OtSolverOptions {
   bool coarseToFine = true;        // solve on n/2 first (recursively) and prolong psi
   int coarsestSize = 16;           // no level below this size
   double coarseTargetL2 = 1e-5;    // looser target on the coarse levels: the fine level corrects them
-  bool conjugateJacobian = true;   // otmap.md §2.3 step 2 (also applied to the Newton directions)
+  bool conjugateJacobian = false;   // otmap.md §2.3 step 2 (also applied to the Newton directions)
   int krylovSteps = 20;             // > 0: inexact Newton directions, GMRES(krylovSteps) on the exact Jacobian;
                                    // 0: otmap's chord directions (L^-1 r) with conjugate-Jacobian updates
+  bool directNewton = true;        // exact Newton directions by sparse LU of the Jacobian (instead of GMRES)
   double krylovTolerance = 0.1;    // GMRES stops at ||r + J d|| <= krylovTolerance ||r||
   int stageIterations = 60;        // continuation: iteration budget of an intermediate stage
-  double stageTargetL2 = 1e-3;     // continuation: an intermediate stage is solved to this E
-  double minStageStep = 1e-3;      // continuation: give up below this step in s
+  double stageLogError = 0.05;     // continuation: an intermediate stage is solved to max |log(A / m)| <= this
+  double minStageStep = 1e-3;
+  double stageMinStep = 0.25;      // continuation: a Newton step shorter than this abandons the stage      // continuation: give up below this step in s
   OtFoldGuard foldGuard = OtFoldGuard::Area;
-  OtMerit merit = OtMerit::Barrier;
+  OtMerit merit = OtMerit::L2;
   // Newton on log areas: J d = -A (log A - log m) instead of J d = -(A - m). The same fixed point, but a cell far
   // too small grows by a bounded factor per step instead of being asked for an impossible linear jump.
-  bool logNewton = true;
+  bool logNewton = false;
+  // Newton directions and the L2 line search on relative residuals (A - m) / m: GMRES rows and merit terms
+  // weighted by 1/m, so the sun's cells cannot hide a 100% error on a sky cell.
+  bool relativeResidual = true;
   double boundaryFraction = 0.9;   // a step goes at most this fraction of the way to the first degenerate quad
   int threads = 0;                 // 0 = hardware concurrency
   std::function<void(int, double)> progress;  // (iteration at the finest level, E) after every iteration

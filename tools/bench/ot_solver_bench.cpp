@@ -111,12 +111,18 @@ int main(int argc, char** argv) {
         const std::string m = value();
         if (m != "l2" && m != "barrier") throw Error("--merit: expected l2 or barrier, got " + m);
         options.merit = m == "l2" ? OtMerit::L2 : OtMerit::Barrier;
-      } else if (arg == "--linear-newton") {
-        options.logNewton = false;
+      } else if (arg == "--gmres") {
+        options.directNewton = false;
+      } else if (arg == "--absolute") {
+        options.relativeResidual = false;
+      } else if (arg == "--krylov-tol") {
+        options.krylovTolerance = std::stod(value());
+      } else if (arg == "--log-newton") {
+        options.logNewton = true;
       } else if (arg == "--floor") {
         options.floorFraction = std::stod(value());
-      } else if (arg == "--no-cj") {
-        options.conjugateJacobian = false;
+      } else if (arg == "--cj") {
+        options.conjugateJacobian = true;
       } else if (arg == "--max-iter") {
         options.maxIterations = std::stoi(value());
       } else if (arg == "--help") {
