@@ -8,6 +8,7 @@ packages=(build-essential cmake ninja-build pkg-config
           libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
           glslang-dev glslang-tools spirv-tools libglm-dev libopenexr-dev libstb-dev libtinyobjloader-dev
           doctest-dev
+          libeigen3-dev libsuitesparse-dev  # the OT solver's sparse LU (UMFPACK, METIS ordering)
           libglfw3-dev libimgui-dev xvfb xauth  # the viewer, and its test under Xvfb
           blender-data)  # the CC0 HDRIs of tools/results.sh and the OT benchmarks (studiolights/world/*.exr)
 missing=()
