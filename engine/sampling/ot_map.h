@@ -80,7 +80,14 @@ glm::dvec2 evaluatePiece(QuadPiece piece, const glm::dvec2 corners[4], glm::dvec
 bool invertPiece(QuadPiece piece, const glm::dvec2 corners[4], glm::dvec2 y, glm::dvec2& st,
                  double tolerance = 1e-9);
 
-// The solver's forward map as a QuadGridMap (domain = lat-long parameter square, image = uniform square).
+// Makes every quad of a vertex grid triangulable (no Invalid piece) by local smoothing: each sweep moves the
+// vertices of the Invalid quads half-way to the mean of their 4 grid neighbours (boundary vertices along the
+// boundary), until none is left or 200 sweeps. The solver's map can hold self-intersecting quads of positive
+// signed area next to a sun (a twist its area equations do not see); the samplers need an injective map, and
+// their pdfs stay exact because they come from the untangled map, at the cost of a small mass error there.
+std::vector<glm::dvec2> untangleQuads(std::vector<glm::dvec2> vertices, int n);
+// The solver's forward map, untangled, as a QuadGridMap (domain = lat-long parameter square, image = uniform
+// square).
 QuadGridMap forwardMap(const OtMap& map);
 // The tabulated inverse: the forward map inverted at the (m+1)^2 vertices of the uniform square's grid
 // (domain = uniform square, image = lat-long parameter square).

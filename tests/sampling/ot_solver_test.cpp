@@ -210,7 +210,7 @@ TEST_CASE("OT density: a constant environment gives sin(theta) integrated exactl
     CAPTURE(w);
     CAPTURE(h);
     CAPTURE(n);
-    const std::vector<double> d = otDensityFromEnv(test::constantEnv(w, h, 2.5f), n);
+    const std::vector<double> d = otDensityFromEnv(constantEnv(w, h, 2.5f), n);
     REQUIRE(d.size() == std::size_t(n) * n);
     for (int j = 0; j < n; ++j) {
       // Mean-1 density of cell row j: n * (cos(pi j/n) - cos(pi (j+1)/n)) / 2 (the cell's share of 2, times n^2).
@@ -223,7 +223,7 @@ TEST_CASE("OT density: a constant environment gives sin(theta) integrated exactl
 TEST_CASE("OT density: one bright texel lands in the cells it overlaps, in proportion") {
   // 4 x 2 map, one texel (1, 0) = 1, rest 0; n = 3: texel u in [1/4, 1/2] splits 1/12 : 2/12 between columns 0
   // and 1; texel v in [0, 1/2] covers cell row 0 (v < 1/3) and part of row 1, by solid angle.
-  test::NamedEnv env{"one", test::makeEnv(4, 2, [](int x, int y, double, double) {
+  test::NamedEnv env{"one", makeEnv(4, 2, [](int x, int y, double, double) {
                        const double v = (x == 1 && y == 0) ? 1.0 : 0.0;
                        return std::array<double, 3>{v, v, v};
                      })};
