@@ -7,10 +7,13 @@
 #include "engine/sampling/env_cdf.h"
 #include "engine/sampling/env_hier.h"
 #include "engine/sampling/merl_sampling.h"
+#include "engine/sampling/ot_map.h"
+#include "engine/sampling/ot_solver.h"
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -51,6 +54,60 @@ TechniqueData makeEnvHier(const EnvImage& image) {
                    std::string("(").append(std::to_string(hier.quadChildOffset)).append(")")},
                   {"ENV_HIER_LEAF_START", u(hier.leafStart)},
                   {"ENV_HIER_GUIDE_SIZE", u(hier.guideSize)}};
+  return data;
+}
+
+// Grid of the OT map: 256 (the default) or, for smaller maps, the map's height (no finer than its rows),
+// at least 32; IBLX_OT_SIZE overrides it (benchmarks).
+int otGridSize(const EnvImage& image) {
+  if (const char* forced = std::getenv("IBLX_OT_SIZE")) {
+    const int n = std::atoi(forced);
+    if (n < 8 || n > 2048) throw Error("IBLX_OT_SIZE: expected a grid size in [8, 2048], got '" + std::string(forced) + "'");
+    return n;
+  }
+  return std::clamp(image.height, 32, 256);
+}
+
+OtMap solveEnvOtMap(const EnvImage& image) {
+  const int n = otGridSize(image);
+  OtMap map = solveOtMap(otDensityFromEnv(image, n), n);
+  if (map.negativeAreaQuads > 0)
+    throw Error("OT map: " + std::to_string(map.negativeAreaQuads) + " folded quads at n = " + std::to_string(n));
+  return map;
+}
+
+// Buffers of shaders/lib/quad_grid_map.glsl, in its binding order.
+TechniqueData packQuadGridMap(const QuadGridMap& map, const char* label) {
+  if (map.invalidPieces() > 0)
+    throw Error(std::string(label) + ": " + std::to_string(map.invalidPieces()) +
+                " quads of the map are not injective; the sampler would not be exact");
+  std::vector<glm::vec2> vertices(map.image().begin(), map.image().end());
+  std::vector<std::uint32_t> pieces(map.pieces().size());
+  for (std::size_t c = 0; c < pieces.size(); ++c) pieces[c] = std::uint32_t(map.pieces()[c]);
+  TechniqueData data;
+  const std::string name(label);
+  data.add(name + " vertices", std::span<const glm::vec2>(vertices));
+  data.add(name + " pieces", std::span<const std::uint32_t>(pieces));
+  data.add(name + " quadtree", map.nodes());
+  data.add(name + " leaf cells", map.leafCells());
+  const auto u = [](std::uint32_t v) { return std::to_string(v) + "u"; };
+  data.defines = {{"OT_GRID", u(std::uint32_t(map.size()))},
+                  {"OT_TREE_DEPTH", u(std::uint32_t(map.treeDepth()))},
+                  {"OT_LARGEST_LEAF", u(map.largestLeaf())}};
+  return data;
+}
+
+TechniqueData makeEnvOtFwd(const EnvImage& image) {
+  const OtMap map = solveEnvOtMap(image);
+  TechniqueData data = packQuadGridMap(forwardMap(map), "env-ot-fwd");
+  data.defines.emplace_back("OT_DENSITY_GRID", std::to_string(map.n) + "u");
+  return data;
+}
+
+TechniqueData makeEnvOtInv(const EnvImage& image) {
+  const OtMap map = solveEnvOtMap(image);
+  TechniqueData data = packQuadGridMap(tabulatedInverse(forwardMap(map), map.n), "env-ot-inv");
+  data.defines.emplace_back("OT_DENSITY_GRID", std::to_string(map.n) + "u");
   return data;
 }
 
@@ -114,6 +171,10 @@ const EnvTechniqueInfo kEnvTechniques[] = {
     {"cosine", "cosine-weighted hemisphere around the normal (baseline)", "env/cosine.glsl", noData},
     {"env-cdf", "marginal/conditional CDF over texels", "env/env_cdf.glsl", makeEnvCdf},
     {"env-hier", "hierarchical 2x2 mip-pyramid warp", "env/env_hier.glsl", makeEnvHier},
+    {"env-ot-inv", "optimal-transport map, tabulated inverse: one bilinear lookup per sample",
+     "env/env_ot_inv.glsl", makeEnvOtInv},
+    {"env-ot-fwd", "optimal-transport forward quad mesh inverted per sample (quadtree point location)",
+     "env/env_ot_fwd.glsl", makeEnvOtFwd},
 };
 
 bool isBrdf(const BrdfInfo& brdf, const char* name) {
@@ -148,6 +209,8 @@ const MethodInfo kMethods[] = {
     {"cosine", "env technique 'cosine' alone", Strategy::SingleEnv, "cosine"},
     {"env-cdf", "env technique 'env-cdf' alone", Strategy::SingleEnv, "env-cdf"},
     {"env-hier", "env technique 'env-hier' alone", Strategy::SingleEnv, "env-hier"},
+    {"env-ot-inv", "env technique 'env-ot-inv' alone", Strategy::SingleEnv, "env-ot-inv"},
+    {"env-ot-fwd", "env technique 'env-ot-fwd' alone", Strategy::SingleEnv, "env-ot-fwd"},
     {"brdf", "the BRDF technique alone (--brdf-sampler)", Strategy::SingleBrdf, ""},
     {"mis", "one-sample MIS of --env-sampler and --brdf-sampler", Strategy::Mis, ""},
     {"ris", "--ris-candidates from --env-sampler resampled by f cos (Talbot 2005)", Strategy::Ris, ""},

@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <span>
 #include <string>
 
 namespace iblx {
@@ -28,6 +29,40 @@ Vec2 solveAffine(Vec2 o, Vec2 a, Vec2 b, Vec2 y, double& det) {
 struct Box {
   Vec2 lo, hi;
 };
+
+// Separating-axis test of a convex polygon (counter-clockwise) against a box, closed on both sides.
+bool convexOverlapsBox(std::span<const Vec2> poly, const Box& box) {
+  Vec2 lo = poly[0], hi = poly[0];
+  for (const Vec2& p : poly) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  if (lo.x > box.hi.x || hi.x < box.lo.x || lo.y > box.hi.y || hi.y < box.lo.y) return false;
+  const Vec2 corners[4] = {box.lo, {box.hi.x, box.lo.y}, box.hi, {box.lo.x, box.hi.y}};
+  for (std::size_t k = 0; k < poly.size(); ++k) {
+    const Vec2 a = poly[k], edge = poly[(k + 1) % poly.size()] - a;
+    bool allOutside = true;  // every box corner strictly right of the edge
+    for (const Vec2& c : corners) allOutside = allOutside && cross(edge, c - a) < 0.0;
+    if (allOutside) return false;
+  }
+  return true;
+}
+
+// Whether a cell's piece can contain points of the box: its convex quad, or either triangle of its split.
+bool pieceOverlapsBox(QuadPiece piece, const Vec2 c[4], const Box& box) {
+  switch (piece) {
+    case QuadPiece::Bilinear:
+      return convexOverlapsBox(std::span<const Vec2>(c, 4), box);
+    case QuadPiece::SplitMainDiagonal: {
+      const Vec2 a[3] = {c[0], c[1], c[2]}, b[3] = {c[0], c[2], c[3]};
+      return convexOverlapsBox(a, box) || convexOverlapsBox(b, box);
+    }
+    case QuadPiece::SplitAntiDiagonal: {
+      const Vec2 a[3] = {c[0], c[1], c[3]}, b[3] = {c[1], c[2], c[3]};
+      return convexOverlapsBox(a, box) || convexOverlapsBox(b, box);
+    }
+    case QuadPiece::Invalid:
+      break;
+  }
+  return false;  // an Invalid piece is never inverted
+}
 
 }  // namespace
 
@@ -146,17 +181,17 @@ QuadGridMap::QuadGridMap(int m, std::vector<Vec2> image, int leafCapacity, int m
     throw Error("quad grid map: expected (m+1)^2 vertices for m = " + std::to_string(m));
   const std::size_t cells = std::size_t(m) * m;
   pieces_.resize(cells);
-  std::vector<Box> boxes(cells);
   for (int j = 0; j < m; ++j)
     for (int i = 0; i < m; ++i) {
       const std::size_t v = std::size_t(j) * (m + 1) + i, c = std::size_t(j) * m + i;
       const Vec2 p00 = image_[v], p10 = image_[v + 1], p11 = image_[v + m + 2], p01 = image_[v + m + 1];
       pieces_[c] = classifyQuad(p00, p10, p11, p01);
       invalid_ += pieces_[c] == QuadPiece::Invalid ? 1 : 0;
-      boxes[c] = {glm::min(glm::min(p00, p10), glm::min(p11, p01)), glm::max(glm::max(p00, p10), glm::max(p11, p01))};
     }
   // Quadtree over [0,1]^2: split while a node lists more than leafCapacity cells, down to maxDepth. A cell is
-  // listed in every leaf its bounding box touches, so a point is always found in its own leaf's list.
+  // listed in every leaf its piece touches (separating axes, closed boxes grown by a rounding margin), so a
+  // point is always found in its own leaf's list; testing the pieces rather than their bounding boxes keeps
+  // the lists short where slivers wrap around a sun.
   nodes_.push_back({});
   std::vector<std::uint32_t> all(cells);
   for (std::size_t c = 0; c < cells; ++c) all[c] = std::uint32_t(c);
@@ -169,21 +204,37 @@ QuadGridMap::QuadGridMap(int m, std::vector<Vec2> image, int leafCapacity, int m
           largestLeaf_ = std::max(largestLeaf_, std::uint32_t(items.size()));
           return;
         }
-        const std::size_t child0 = nodes_.size();
-        nodes_[node] = {std::uint32_t(child0), kQuadTreeInterior};
-        nodes_.resize(child0 + 4);
         const Vec2 mid = 0.5 * (square.lo + square.hi);
+        std::array<Box, 4> subs;
+        std::array<std::vector<std::uint32_t>, 4> inside;
+        bool separates = false;
         for (int q = 0; q < 4; ++q) {
           const Box sub{Vec2(q & 1 ? mid.x : square.lo.x, q & 2 ? mid.y : square.lo.y),
                         Vec2(q & 1 ? square.hi.x : mid.x, q & 2 ? square.hi.y : mid.y)};
-          std::vector<std::uint32_t> inside;
+          subs[std::size_t(q)] = sub;
+          const Box grown{sub.lo - Vec2(1e-9), sub.hi + Vec2(1e-9)};
           for (std::uint32_t c : items) {
-            const Box& b = boxes[c];
-            if (b.lo.x <= sub.hi.x && b.hi.x >= sub.lo.x && b.lo.y <= sub.hi.y && b.hi.y >= sub.lo.y)
-              inside.push_back(c);
+            const int ci = int(c % std::uint32_t(m)), cj = int(c / std::uint32_t(m));
+            const std::size_t v = std::size_t(cj) * (m + 1) + ci;
+            const Vec2 corners[4] = {image_[v], image_[v + 1], image_[v + m + 2], image_[v + m + 1]};
+            if (pieceOverlapsBox(pieces_[c], corners, grown)) inside[std::size_t(q)].push_back(c);
           }
-          build(child0 + std::size_t(q), sub, depth + 1, inside);
+          separates = separates || inside[std::size_t(q)].size() < items.size();
         }
+        // A split that leaves every child with the whole list (pieces meeting at a point, or covering the node)
+        // only costs memory and descent steps: stop there.
+        if (!separates) {
+          nodes_[node] = {std::uint32_t(leafCells_.size()), std::uint32_t(items.size())};
+          leafCells_.insert(leafCells_.end(), items.begin(), items.end());
+          largestLeaf_ = std::max(largestLeaf_, std::uint32_t(items.size()));
+          return;
+        }
+        const std::size_t child0 = nodes_.size();
+        nodes_[node] = {std::uint32_t(child0), kQuadTreeInterior};
+        nodes_.resize(child0 + 4);
+        items.clear();
+        items.shrink_to_fit();
+        for (int q = 0; q < 4; ++q) build(child0 + std::size_t(q), subs[std::size_t(q)], depth + 1, inside[std::size_t(q)]);
       };
   build(0, Box{Vec2(0.0), Vec2(1.0)}, 0, all);
 }
@@ -294,7 +345,7 @@ QuadGridMap tabulatedInverse(const QuadGridMap& forward, int m) {
       if (j == m) p.y = 1.0;
       image[std::size_t(j) * (m + 1) + i] = p;
     }
-  return QuadGridMap(m, std::move(image));
+  return QuadGridMap(m, untangleQuads(std::move(image), m));
 }
 
 }  // namespace iblx

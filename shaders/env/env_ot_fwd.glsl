@@ -1,0 +1,25 @@
+// Env technique "env-ot-fwd": the optimal-transport forward map (engine/sampling/ot_solver.h, untangled by
+// ot_map.h) evaluated on the fly. A sample u of the uniform square is located in the forward quad mesh by the
+// quadtree and the cell's piece inverted: x = F^-1(u) in the density square. Its density there is |det DF(x)| of
+// the piece actually evaluated, divided by dOmega / dx of otParameterToDirection for solid angle; the pdf of
+// any direction is the same determinant at its own parameter point.
+#include "lib/latlong.glsl"
+#include "lib/quad_grid_map.glsl"
+
+vec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {
+  vec2 x;
+  float jac, solidAngle;
+  pdf = 0.0;
+  radiance = vec3(0.0);
+  if (!quadMapInvert(u, x, jac)) return vec3(0.0, 1.0, 0.0);
+  vec3 w = otParameterToDirection(x, solidAngle);
+  pdf = (jac > 0.0 && solidAngle > 0.0) ? jac / solidAngle : 0.0;
+  radiance = envRadiance(w);
+  return w;
+}
+
+float envPdf(vec3 wi, vec3 n) {
+  float jac, solidAngle;
+  quadMapApply(otDirectionToParameter(wi, solidAngle), jac);
+  return (jac > 0.0 && solidAngle > 0.0) ? jac / solidAngle : 0.0;
+}
