@@ -250,6 +250,19 @@ lines=$(wc -l < "$tmp/int/converge.csv" 2>/dev/null || echo 0)
 expect_ok "hardcases quick" hardcases --case zero-half --quick --method env-cdf --seq sobol --max-spp 64 --out-dir "$tmp/hard"
 [ -s "$tmp/hard/hardcases.md" ] && [ -s "$tmp/hard/zero-half.csv" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: hardcases wrote no report"; }
 
+# otmap: a missing map, a grid size out of range or an output that is not a PNG names the culprit; nothing is
+# written.
+expect_error "otmap missing env" "$tmp/nope.exr" otmap --env "$tmp/nope.exr" --out "$tmp/om.png"
+expect_error "otmap corrupt env" "garbage.exr" otmap --env "$tmp/garbage.exr" --out "$tmp/om.png"
+expect_error "otmap size too small" "--size 32: out of range [64, 1024]" otmap --size 32 --out "$tmp/om.png"
+expect_error "otmap size too large" "--size 2048: out of range [64, 1024]" otmap --size 2048 --out "$tmp/om.png"
+expect_error "otmap size not a number" "--size big: not an integer" otmap --size big --out "$tmp/om.png"
+expect_error "otmap bad floor" "--floor 0: out of range" otmap --floor 0 --out "$tmp/om.png"
+expect_error "otmap bad max-iter" "--max-iter 0: out of range" otmap --max-iter 0 --out "$tmp/om.png"
+expect_error "otmap output not png" "use a .png file name" otmap --out "$tmp/om.exr"
+expect_error "otmap output dir" "does not exist" otmap --out "$tmp/no/dir/om.png"
+[ ! -e "$tmp/om.png" ] && [ ! -e "$tmp/om.exr" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: otmap wrote a file despite bad input"; }
+
 # The viewer: flags are checked before a window opens; without a display it says so (no crash).
 expect_error "view: screenshot not png" "--screenshot" view --frames 1 --screenshot "$tmp/shot.jpg"
 expect_error "view: bad tonemap" "--tonemap" view --tonemap filmic

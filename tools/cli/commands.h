@@ -18,5 +18,6 @@ int cmdMerlSynth(const Args& args);
 int cmdConverge(const Args& args);
 int cmdHardCases(const Args& args);
 int cmdSamples(const Args& args);
+int cmdOtMap(const Args& args);
 
 }  // namespace iblx::cli

@@ -20,6 +20,7 @@ constexpr const char* kUsage =
     "  converge    error against spp and time of methods on one scene: CSV, summary table, PNG plots\n"
     "  hardcases   the hard-case suite: every method on each hard scene, checked and ranked\n"
     "  samples     one pixel's samples as the integrator draws them (direction, uv, pdf, weight) to CSV\n"
+    "  otmap       solve (or read from the cache) an environment's OT map; report it, draw its warped grid\n"
     "  devices     list the Vulkan devices and whether iblx can use them\n"
     "  make-sky    write the procedural sky used as the default environment map\n"
     "  make-teapot tessellate the Utah teapot's Bezier patches into an .obj (assets/teapot.obj)\n"
@@ -43,6 +44,7 @@ int main(int argc, char** argv) {
     if (command == "converge") return cmdConverge(args);
     if (command == "hardcases") return cmdHardCases(args);
     if (command == "samples") return cmdSamples(args);
+    if (command == "otmap") return cmdOtMap(args);
     if (command == "devices") return cmdDevices(args);
     if (command == "make-sky") return cmdMakeSky(args);
     if (command == "make-teapot") return cmdMakeTeapot(args);

@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# `iblx otmap` end to end: a small synthetic sky at n = 64 converges with no folded quad, writes its figure, and
+# the second run reads the map from the cache (--no-cache solves again). Usage: otmap_test.sh path/to/iblx
+set -u
+iblx="$1"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+export IBLX_CACHE_DIR="$tmp/cache"
+passed=0
+failed=0
+check() {  # check "description" command...
+  local what="$1"
+  shift
+  if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: $what"; fi
+}
+field() {  # field JSON NAME: the value of one top-level field of a flat JSON object
+  printf '%s' "$1" | sed -n "s/.*\"$2\": \\([^,}]*\\).*/\\1/p"
+}
+
+"$iblx" make-sky --size 128x64 --out "$tmp/sky.exr" > /dev/null || { echo "FAIL: make-sky"; exit 1; }
+
+json=$("$iblx" otmap --env "$tmp/sky.exr" --size 64 --json --out "$tmp/map.png" 2> "$tmp/err")
+status=$?
+echo "first run: $json"
+check "exit status $status" [ $status -eq 0 ]
+check "converged: $(field "$json" converged)" [ "$(field "$json" converged)" = true ]
+check "folded: $(field "$json" folded)" [ "$(field "$json" folded)" = 0 ]
+check "from_cache on the first run" [ "$(field "$json" from_cache)" = false ]
+check "n" [ "$(field "$json" n)" = 64 ]
+check "l2 <= 1e-7: $(field "$json" l2)" awk -v x="$(field "$json" l2)" 'BEGIN { exit !(x != "" && x <= 1e-7) }'
+check "l1 <= 1e-3: $(field "$json" l1)" awk -v x="$(field "$json" l1)" 'BEGIN { exit !(x != "" && x <= 1e-3) }'
+# A PNG of the announced size (IHDR width and height, big-endian, at bytes 16-23).
+check "the PNG exists" [ -s "$tmp/map.png" ]
+check "PNG signature" [ "$(head -c 8 "$tmp/map.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ]
+size=$(od -An -tu1 -j16 -N8 "$tmp/map.png" | awk '{ print $3 * 256 + $4 "x" $7 * 256 + $8 }')
+check "PNG size $size" [ "$size" = "$(field "$json" out_width)x$(field "$json" out_height)" ]
+check "no warning on the first run: $(cat "$tmp/err")" [ ! -s "$tmp/err" ]
+
+json2=$("$iblx" otmap --env "$tmp/sky.exr" --size 64 --json --out "$tmp/map2.png" 2> /dev/null)
+check "second run from the cache: $json2" [ "$(field "$json2" from_cache)" = true ]
+check "same iterations from the cache" [ "$(field "$json2" iterations)" = "$(field "$json" iterations)" ]
+check "same figure from the cache" cmp -s "$tmp/map.png" "$tmp/map2.png"
+json3=$("$iblx" otmap --env "$tmp/sky.exr" --size 64 --json --no-cache --out "$tmp/map3.png" 2> /dev/null)
+check "--no-cache solves: $json3" [ "$(field "$json3" from_cache)" = false ]
+
+text=$("$iblx" otmap --env "$tmp/sky.exr" --size 64 --out "$tmp/map4.png" 2>&1)
+check "text output: $text" grep -q "^converged: yes" <<< "$text"
+check "text output names the cache" grep -q "from the cache: yes" <<< "$text"
+check "text output folded" grep -q "^quads: 0 folded" <<< "$text"
+
+echo "otmap cli: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

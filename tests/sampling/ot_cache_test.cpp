@@ -1,0 +1,240 @@
+// Tests of the on-disk OT map cache (engine/sampling/ot_cache.h): a second solve is read back bit for bit,
+// every result-changing input changes the key, and a truncated, corrupt or foreign file is solved again
+// (never a crash).
+#include "engine/sampling/ot_cache.h"
+
+#include "engine/core/error.h"
+#include "engine/core/log.h"
+
+#include <doctest/doctest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+#include <vector>
+
+using namespace iblx;
+
+namespace {
+
+// A fresh directory removed at the end of the test.
+struct TempDir {
+  std::filesystem::path path;
+  explicit TempDir(const std::string& name)
+      : path(std::filesystem::temp_directory_path() /
+             ("iblx-otcache-" + name + "-" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+};
+
+// Collects warnings instead of printing them.
+struct WarningCapture {
+  std::vector<std::string> messages;
+  LogSink previous;
+  WarningCapture() {
+    previous = setWarningSink([this](const std::string& m) { messages.push_back(m); });
+  }
+  ~WarningCapture() { setWarningSink(previous); }
+};
+
+std::vector<double> smoothDensity(int n) {
+  std::vector<double> d(std::size_t(n) * n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double u = (i + 0.5) / n, v = (j + 0.5) / n;
+      d[std::size_t(j) * n + i] = (0.5 + std::cos(std::numbers::pi * v) * std::cos(std::numbers::pi * v) +
+                                   0.3 * std::sin(2 * std::numbers::pi * u)) *
+                                  std::sin(std::numbers::pi * v);
+    }
+  return d;
+}
+
+bool sameMap(const OtMap& a, const OtMap& b) {
+  return a.n == b.n && a.vertices.size() == b.vertices.size() &&
+         std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(glm::dvec2)) == 0 &&
+         a.density == b.density && a.psi == b.psi && a.iterations == b.iterations &&
+         a.coarseIterations == b.coarseIterations && a.seconds == b.seconds && a.l2 == b.l2 && a.l1 == b.l1 &&
+         a.linf == b.linf && a.foldedQuads == b.foldedQuads && a.negativeAreaQuads == b.negativeAreaQuads &&
+         a.converged == b.converged;
+}
+
+std::vector<std::filesystem::path> entries(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> files;
+  if (std::filesystem::is_directory(dir / "otmaps"))
+    for (const auto& e : std::filesystem::directory_iterator(dir / "otmaps")) files.push_back(e.path());
+  return files;
+}
+
+}  // namespace
+
+TEST_CASE("OT cache: the second solve is read from the cache, identical") {
+  TempDir dir("hit");
+  const int n = 32;
+  const std::vector<double> density = smoothDensity(n);
+  const OtSolverOptions options;
+  bool fromCache = true;
+  const OtMap first = solveOtMapCached(density, n, options, dir.path, &fromCache);
+  CHECK_FALSE(fromCache);
+  CHECK(first.converged);
+  const auto files = entries(dir.path);
+  REQUIRE(files.size() == 1);  // no temporary left behind
+  CHECK(files[0] == otMapCachePath(dir.path, otMapCacheKey(density, n, options)));
+
+  const OtMap second = solveOtMapCached(density, n, options, dir.path, &fromCache);
+  CHECK(fromCache);
+  CHECK(sameMap(first, second));  // statistics included: `seconds` is the original solve's
+  // The progress callback and the thread count do not change the key.
+  OtSolverOptions other = options;
+  other.threads = 1;
+  int calls = 0;
+  other.progress = [&](int, double) { ++calls; };
+  CHECK(otMapCacheKey(density, n, other) == otMapCacheKey(density, n, options));
+  const OtMap third = solveOtMapCached(density, n, other, dir.path, &fromCache);
+  CHECK(fromCache);
+  CHECK(calls == 0);
+  CHECK(sameMap(first, third));
+}
+
+TEST_CASE("OT cache: every input that changes the map changes the key") {
+  const int n = 16;
+  const std::vector<double> density = smoothDensity(n);
+  const OtSolverOptions base;
+  const std::uint64_t key = otMapCacheKey(density, n, base);
+  CHECK(otMapCacheKey(density, n, base) == key);  // deterministic
+
+  std::vector<double> brighter = density;
+  brighter[37] *= 1.0 + 1e-15;
+  CHECK(otMapCacheKey(brighter, n, base) != key);
+  const std::vector<double> square(std::size_t(8) * 32, 1.0);  // same byte count, another n
+  CHECK(otMapCacheKey(square, 8, base) != otMapCacheKey(square, 32, base));
+
+  const auto differs = [&](auto change) {
+    OtSolverOptions o = base;
+    change(o);
+    return otMapCacheKey(density, n, o) != key;
+  };
+  CHECK(differs([](OtSolverOptions& o) { o.floorFraction = 1e-3; }));
+  CHECK(differs([](OtSolverOptions& o) { o.maxIterations = 10; }));
+  CHECK(differs([](OtSolverOptions& o) { o.targetL2 = 1e-9; }));
+  CHECK(differs([](OtSolverOptions& o) { o.targetL1 = 1e-4; }));
+  CHECK(differs([](OtSolverOptions& o) { o.coarseToFine = !o.coarseToFine; }));
+  CHECK(differs([](OtSolverOptions& o) { o.coarsestSize = 8; }));
+  CHECK(differs([](OtSolverOptions& o) { o.coarseTargetL2 = 1e-6; }));
+  CHECK(differs([](OtSolverOptions& o) { o.conjugateJacobian = !o.conjugateJacobian; }));
+  CHECK(differs([](OtSolverOptions& o) { o.krylovSteps = 0; }));
+  CHECK(differs([](OtSolverOptions& o) { o.directNewton = !o.directNewton; }));
+  CHECK(differs([](OtSolverOptions& o) { o.krylovTolerance = 0.01; }));
+  CHECK(differs([](OtSolverOptions& o) { o.stageIterations = 7; }));
+  CHECK(differs([](OtSolverOptions& o) { o.stageLogError = 0.1; }));
+  CHECK(differs([](OtSolverOptions& o) { o.minStageStep = 1e-2; }));
+  CHECK(differs([](OtSolverOptions& o) { o.stageMinStep = 0.5; }));
+  CHECK(differs([](OtSolverOptions& o) { o.foldGuard = OtFoldGuard::Convex; }));
+  CHECK(differs([](OtSolverOptions& o) { o.merit = OtMerit::Barrier; }));
+  CHECK(differs([](OtSolverOptions& o) { o.logNewton = !o.logNewton; }));
+  CHECK(differs([](OtSolverOptions& o) { o.relativeResidual = !o.relativeResidual; }));
+  CHECK(differs([](OtSolverOptions& o) { o.boundaryFraction = 0.5; }));
+}
+
+TEST_CASE("OT cache: a different floor is another entry") {
+  TempDir dir("floor");
+  const int n = 16;
+  const std::vector<double> density = smoothDensity(n);
+  OtSolverOptions options;
+  bool fromCache = true;
+  const OtMap a = solveOtMapCached(density, n, options, dir.path, &fromCache);
+  CHECK_FALSE(fromCache);
+  options.floorFraction = 0.5;  // raises the cells near the poles, so the map changes
+  const OtMap b = solveOtMapCached(density, n, options, dir.path, &fromCache);
+  CHECK_FALSE(fromCache);
+  CHECK(entries(dir.path).size() == 2);
+  CHECK(a.density != b.density);
+}
+
+TEST_CASE("OT cache: a truncated, corrupt or foreign file is solved again and replaced") {
+  TempDir dir("corrupt");
+  const int n = 16;
+  const std::vector<double> density = smoothDensity(n);
+  const OtSolverOptions options;
+  const OtMap fresh = solveOtMapCached(density, n, options, dir.path);
+  const auto path = otMapCachePath(dir.path, otMapCacheKey(density, n, options));
+  REQUIRE(std::filesystem::exists(path));
+  const auto size = std::filesystem::file_size(path);
+
+  const auto damageAndReload = [&](const std::string& what, auto damage) {
+    CAPTURE(what);
+    damage();
+    WarningCapture warnings;
+    bool fromCache = true;
+    const OtMap map = solveOtMapCached(density, n, options, dir.path, &fromCache);
+    CHECK_FALSE(fromCache);
+    REQUIRE(warnings.messages.size() == 1);
+    CHECK(warnings.messages[0].find("ignoring the cached OT map") != std::string::npos);
+    CHECK(map.converged);
+    CHECK(map.vertices.size() == fresh.vertices.size());
+    // The entry was rewritten: the next call reads it.
+    const OtMap again = solveOtMapCached(density, n, options, dir.path, &fromCache);
+    CHECK(fromCache);
+    CHECK(sameMap(map, again));
+  };
+  damageAndReload("truncated", [&] { std::filesystem::resize_file(path, size / 2); });
+  damageAndReload("empty", [&] { std::filesystem::resize_file(path, 0); });
+  damageAndReload("one byte flipped in the vertices", [&] {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(200);
+    f.put('\x7f');
+  });
+  damageAndReload("garbage of the right size", [&] {
+    std::ofstream f(path, std::ios::binary | std::ios::trunc);
+    for (std::uintmax_t i = 0; i < size; ++i) f.put(char(i * 31));
+  });
+}
+
+TEST_CASE("OT cache: another key's valid file under this name is not served") {
+  TempDir dir("foreign");
+  const int n = 16;
+  const std::vector<double> density = smoothDensity(n);
+  OtSolverOptions a, b;
+  b.floorFraction = 0.5;
+  solveOtMapCached(density, n, b, dir.path);
+  const auto pathA = otMapCachePath(dir.path, otMapCacheKey(density, n, a));
+  std::filesystem::rename(otMapCachePath(dir.path, otMapCacheKey(density, n, b)), pathA);
+  WarningCapture warnings;
+  bool fromCache = true;
+  const OtMap map = solveOtMapCached(density, n, a, dir.path, &fromCache);
+  CHECK_FALSE(fromCache);
+  REQUIRE(warnings.messages.size() == 1);
+  CHECK(warnings.messages[0].find("key mismatch") != std::string::npos);
+  CHECK(map.density == solveOtMap(density, n, a).density);
+}
+
+TEST_CASE("OT cache: no directory solves without caching; an unwritable one only warns") {
+  const int n = 16;
+  const std::vector<double> density = smoothDensity(n);
+  bool fromCache = true;
+  const OtMap map = solveOtMapCached(density, n, {}, {}, &fromCache);
+  CHECK_FALSE(fromCache);
+  CHECK(map.converged);
+
+  TempDir dir("unwritable");
+  std::ofstream(dir.path / "otmaps") << "a file where the directory should be";
+  WarningCapture warnings;
+  const OtMap stored = solveOtMapCached(density, n, {}, dir.path, &fromCache);
+  CHECK_FALSE(fromCache);
+  CHECK(stored.converged);
+  REQUIRE(warnings.messages.size() == 1);
+  CHECK(warnings.messages[0].find("cannot store the OT map") != std::string::npos);
+
+  // Bad input throws as solveOtMap does, cache or not.
+  CHECK_THROWS_AS(solveOtMapCached(std::vector<double>(10, 1.0), 4, {}, dir.path), Error);
+  CHECK_THROWS_AS(solveOtMapCached(std::vector<double>(16, 0.0), 4, {}, dir.path), Error);
+}

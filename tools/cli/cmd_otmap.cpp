@@ -1,0 +1,229 @@
+// `iblx otmap`: solves (or reads from the cache) the optimal-transport map of an environment
+// (engine/sampling/ot_solver.h, ot_cache.h), prints how well it converged and draws it: the environment's
+// lat-long map as grey log sampling weight, with the pre-images of a uniform grid over the unit square drawn
+// on top. A sampler maps uniform points through the inverse map, so where those lines crowd, samples crowd.
+#include "engine/core/cache_dir.h"
+#include "engine/core/error.h"
+#include "engine/core/file_names.h"
+#include "engine/core/log.h"
+#include "engine/io/env_image.h"
+#include "engine/io/image_write.h"
+#include "engine/render/scene.h"
+#include "engine/sampling/ot_cache.h"
+#include "engine/sampling/ot_map.h"
+#include "engine/sampling/ot_solver.h"
+#include "tools/cli/cli_options.h"
+#include "tools/cli/commands.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace iblx::cli {
+
+namespace {
+
+constexpr int kGridLines = 32;  // grid cells per axis of the uniform square whose lines are drawn
+
+// An 8-bit RGB raster with alpha blending of single pixels.
+struct Figure {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;
+  void blend(int x, int y, const std::array<std::uint8_t, 3>& colour, double alpha) {
+    if (x < 0 || y < 0 || x >= width || y >= height) return;
+    std::uint8_t* p = &rgb[3 * (std::size_t(y) * width + x)];
+    for (int c = 0; c < 3; ++c) p[c] = std::uint8_t(std::lround(p[c] + alpha * (colour[c] - p[c])));
+  }
+};
+
+// The environment's sampling weight (mean RGB, DESIGN §3) box-filtered to width x height, as grey on a log
+// scale: the brightest pixel near white, the dimmest non-zero ones dark grey, exact zeros black.
+Figure logWeightBackground(const EnvImage& env, int width, int height) {
+  std::vector<double> weight(std::size_t(width) * height, 0.0);
+  for (int py = 0; py < height; ++py) {
+    const int y0 = int(std::int64_t(py) * env.height / height);
+    const int y1 = std::max(y0 + 1, int(std::int64_t(py + 1) * env.height / height));
+    for (int px = 0; px < width; ++px) {
+      const int x0 = int(std::int64_t(px) * env.width / width);
+      const int x1 = std::max(x0 + 1, int(std::int64_t(px + 1) * env.width / width));
+      double sum = 0.0;
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) sum += env.weight(x, y);
+      weight[std::size_t(py) * width + px] = sum / (double(y1 - y0) * (x1 - x0));
+    }
+  }
+  // White at the brightest pixel, dark grey at the 1st percentile of the non-zero ones (at least 10^3 below
+  // it).
+  std::vector<double> positive;
+  for (double w : weight)
+    if (w > 0.0) positive.push_back(w);
+  double hi = 0.0, lo = 0.0;
+  if (!positive.empty()) {
+    hi = *std::max_element(positive.begin(), positive.end());
+    const auto percentile = positive.begin() + std::ptrdiff_t(positive.size() / 100);
+    std::nth_element(positive.begin(), percentile, positive.end());
+    lo = std::min(*percentile, 1e-3 * hi);
+  }
+  Figure figure{width, height, std::vector<std::uint8_t>(weight.size() * 3, 0)};
+  for (std::size_t i = 0; i < weight.size(); ++i) {
+    if (!(weight[i] > 0.0)) continue;
+    const double t = std::clamp(std::log(weight[i] / lo) / std::log(hi / lo), 0.0, 1.0);
+    const auto grey = std::uint8_t(std::lround(40 + 190 * t));
+    for (int c = 0; c < 3; ++c) figure.rgb[3 * i + c] = grey;
+  }
+  return figure;
+}
+
+// Draws the pre-image under `forward` (lat-long square -> uniform square) of the uniform square's line
+// {axis coordinate = value}, as a chain of points no more than half a pixel apart (bisected where the map
+// stretches the line).
+void drawPreimage(Figure& figure, const QuadGridMap& forward, int axis, double value,
+                  const std::array<std::uint8_t, 3>& colour) {
+  const double inset = 1e-9;  // points on the square's sides may fall just outside every piece by rounding
+  const double fixed = std::clamp(value, inset, 1.0 - inset);
+  const auto locate = [&](double t) -> std::optional<glm::dvec2> {
+    t = std::clamp(t, inset, 1.0 - inset);
+    const glm::dvec2 y = axis == 0 ? glm::dvec2(fixed, t) : glm::dvec2(t, fixed);
+    const auto x = forward.invert(y);
+    if (!x) return std::nullopt;
+    return glm::dvec2(x->p.x * figure.width, x->p.y * figure.height);  // pixels; v (row) down the image
+  };
+  const auto plot = [&](glm::dvec2 p) {
+    figure.blend(int(std::floor(p.x)), int(std::floor(p.y)), colour, 0.85);
+  };
+  // Bisects [t0, t1] until consecutive points are within half a pixel (or the interval is tiny).
+  const auto refine = [&](auto&& self, double t0, glm::dvec2 p0, double t1, glm::dvec2 p1,
+                          int depth) -> void {
+    const glm::dvec2 d = p1 - p0;
+    if (d.x * d.x + d.y * d.y <= 0.25 || depth == 0) {
+      plot(p1);
+      return;
+    }
+    const double tm = 0.5 * (t0 + t1);
+    const auto pm = locate(tm);
+    if (!pm) {
+      plot(p1);
+      return;
+    }
+    self(self, t0, p0, tm, *pm, depth - 1);
+    self(self, tm, *pm, t1, p1, depth - 1);
+  };
+  const int steps = 2 * std::max(figure.width, figure.height);
+  std::optional<glm::dvec2> previous;
+  double previousT = 0.0;
+  for (int s = 0; s <= steps; ++s) {
+    const double t = double(s) / steps;
+    const auto p = locate(t);
+    if (p && previous)
+      refine(refine, previousT, *previous, t, *p, 24);
+    else if (p)
+      plot(*p);
+    previous = p;
+    previousT = t;
+  }
+}
+
+std::string yesNo(bool b) {
+  return b ? "yes" : "no";
+}
+
+}  // namespace
+
+int cmdOtMap(const Args& args) {
+  std::filesystem::path envPath;
+  int n = 256;
+  OtSolverOptions options;
+  bool json = false, noCache = false;
+  std::string out = "otmap.png";
+  ArgParser parser("otmap");
+  parser.value("--env", "FILE", ".exr or .hdr lat-long map (default: assets/default_sky.exr)",
+               [&](const std::string& v) { envPath = v; });
+  parser.value("--size", "N", "grid size n of the map, 64-1024 (default 256)",
+               [&](const std::string& v) { n = int(parseUint("--size", v, 64, 1024)); });
+  parser.value("--floor", "EPS", "density floor as a fraction of the mean, in [1e-12, 1] (default 1e-4)",
+               [&](const std::string& v) { options.floorFraction = parseDouble("--floor", v, 1e-12, 1.0); });
+  parser.value(
+      "--max-iter", "N", "iteration cap at each grid level (default 2000)",
+      [&](const std::string& v) { options.maxIterations = int(parseUint("--max-iter", v, 1, 1000000)); });
+  parser.toggle("--json", "print one JSON object instead of text", [&] { json = true; });
+  parser.value("--out", "FILE", "the figure, a .png (default otmap.png)",
+               [&](const std::string& v) { out = v; });
+  parser.toggle("--no-cache", "solve even when the cache holds the map, and do not store it",
+                [&] { noCache = true; });
+  if (parser.parseOrShowHelp(args)) return 0;
+  if (lowerExtension(out) != ".png")
+    throw Error("--out " + out + ": the figure is a PNG; use a .png file name");
+  checkImagePath("--out", out);
+
+  const auto start = std::chrono::steady_clock::now();
+  if (envPath.empty()) envPath = defaultEnvPath();
+  const EnvImage env = loadEnvImage(envPath);
+  const std::vector<double> density = otDensityFromEnv(env, n);
+
+  auto lastReport = start;
+  options.progress = [&](int iteration, double l2) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - lastReport < std::chrono::milliseconds(500)) return;
+    lastReport = now;
+    char line[96];
+    std::snprintf(line, sizeof line, "otmap %dx%d: iteration %d, L2 %.3g", n, n, iteration, l2);
+    progressLine(line);
+  };
+  // The solver reports the finest level only; until then the line says that the coarse levels run.
+  progressLine("otmap " + std::to_string(n) + "x" + std::to_string(n) + ": solving (coarse levels first)");
+  bool fromCache = false;
+  const std::filesystem::path cacheDir = noCache ? std::filesystem::path() : defaultCacheDir();
+  const OtMap map = solveOtMapCached(density, n, options, cacheDir, &fromCache);
+  endProgressLine();
+  if (!map.converged)
+    warn("the OT map of " + envPath.string() + " did not converge (L2 " + std::to_string(map.l2) + ", L1 " +
+         std::to_string(map.l1) + "); the figure shows the best map reached");
+
+  // The figure: at least 512 wide so the grid stays legible, at most 1024, else the map's own width.
+  const int width = std::min(1024, std::max({512, 2 * n, env.width})) & ~1;
+  Figure figure = logWeightBackground(env, width, width / 2);
+  // forwardMap(map) with a shallower quadtree: at the default depth of 14 the sun's large quads overlap in
+  // every node, so the tree splits everywhere to the bottom (42 million nodes and 10 s for the default sky at
+  // n = 64); depth 10 builds in 0.1 s and inverts as fast.
+  const QuadGridMap forward(map.n, untangleQuads(map.vertices, map.n), 8, 10);
+  const std::array<std::uint8_t, 3> uColour{255, 140, 0}, vColour{0, 200, 255};
+  for (int k = 0; k <= kGridLines; ++k) {
+    drawPreimage(figure, forward, 0, double(k) / kGridLines, uColour);
+    drawPreimage(figure, forward, 1, double(k) / kGridLines, vColour);
+  }
+  writePngRgb8(out, figure.width, figure.height, figure.rgb);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  if (json) {
+    std::printf(
+        "{\"env\": \"%s\", \"env_width\": %d, \"env_height\": %d, \"n\": %d, \"floor\": %.9g, "
+        "\"iterations\": %d, \"coarse_iterations\": %d, \"seconds\": %.6f, \"wall_s\": %.6f, \"l2\": %.9g, "
+        "\"l1\": %.9g, \"linf\": %.9g, \"folded\": %d, \"non_convex\": %d, \"invalid_pieces\": %d, "
+        "\"converged\": %s, \"from_cache\": %s, \"out\": \"%s\", \"out_width\": %d, \"out_height\": %d}\n",
+        jsonEscape(envPath.string()).c_str(), env.width, env.height, n, options.floorFraction, map.iterations,
+        map.coarseIterations, map.seconds, wall, map.l2, map.l1, map.linf, map.negativeAreaQuads,
+        map.foldedQuads, forward.invalidPieces(), map.converged ? "true" : "false",
+        fromCache ? "true" : "false", jsonEscape(out).c_str(), figure.width, figure.height);
+  } else {
+    std::printf("otmap of %s (%dx%d) on a %dx%d grid, floor %g x mean\n", envPath.string().c_str(), env.width,
+                env.height, n, n, options.floorFraction);
+    std::printf("iterations: %d (+%d on coarser grids), solved in %.3f s%s\n", map.iterations,
+                map.coarseIterations, map.seconds, fromCache ? " (when it was stored in the cache)" : "");
+    std::printf("mass error: L2 %.3g, L1 %.3g, Linf %.3g\n", map.l2, map.l1, map.linf);
+    std::printf("quads: %d folded (area <= 0), %d not strictly convex, %d without a valid piece\n",
+                map.negativeAreaQuads, map.foldedQuads, forward.invalidPieces());
+    std::printf("converged: %s (L2 <= %g and L1 <= %g); from the cache: %s\n", yesNo(map.converged).c_str(),
+                options.targetL2, options.targetL1, yesNo(fromCache).c_str());
+    std::printf("wrote %s (%dx%d: log sampling weight, pre-images of a %dx%d uniform grid; total %.2f s)\n",
+                out.c_str(), figure.width, figure.height, kGridLines, kGridLines, wall);
+  }
+  return 0;
+}
+
+}  // namespace iblx::cli
