@@ -7,6 +7,8 @@
 #include "engine/sampling/env_cdf.h"
 #include "engine/sampling/env_hier.h"
 #include "engine/sampling/merl_sampling.h"
+#include "engine/core/cache_dir.h"
+#include "engine/sampling/ot_cache.h"
 #include "engine/sampling/ot_map.h"
 #include "engine/sampling/ot_solver.h"
 
@@ -70,7 +72,7 @@ int otGridSize(const EnvImage& image) {
 
 OtMap solveEnvOtMap(const EnvImage& image) {
   const int n = otGridSize(image);
-  OtMap map = solveOtMap(otDensityFromEnv(image, n), n);
+  OtMap map = solveOtMapCached(otDensityFromEnv(image, n), n, OtSolverOptions{}, defaultCacheDir());
   if (map.negativeAreaQuads > 0)
     throw Error("OT map: " + std::to_string(map.negativeAreaQuads) + " folded quads at n = " + std::to_string(n));
   return map;

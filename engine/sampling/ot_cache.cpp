@@ -226,6 +226,7 @@ std::uint64_t otMapCacheKey(std::span<const double> density, int n, const OtSolv
   ContentHash hash;
   hash.add(std::string_view("iblx-otmap"));
   hashField(hash, "format", kFormatVersion);
+  hashField(hash, "solver", kOtSolverVersion);
   hashField(hash, "n", n);
   hash.add(std::string_view("density")).add(density);
   const OtSolverOptions& o = options;

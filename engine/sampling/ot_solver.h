@@ -61,8 +61,8 @@ struct OtSolverOptions {
   double krylovTolerance = 0.1;    // GMRES stops at ||r + J d|| <= krylovTolerance ||r||
   int stageIterations = 60;        // continuation: iteration budget of an intermediate stage
   double stageLogError = 0.05;     // continuation: an intermediate stage is solved to max |log(A / m)| <= this
-  double minStageStep = 1e-3;
-  double stageMinStep = 0.25;      // continuation: a Newton step shorter than this abandons the stage      // continuation: give up below this step in s
+  double minStageStep = 1e-3;      // continuation: give up below this step in s
+  double stageMinStep = 0.25;      // continuation: a Newton step shorter than this abandons the stage
   OtFoldGuard foldGuard = OtFoldGuard::Area;
   OtMerit merit = OtMerit::L2;
   // Newton on log areas: J d = -A (log A - log m) instead of J d = -(A - m). The same fixed point, but a cell far
@@ -75,6 +75,9 @@ struct OtSolverOptions {
   int threads = 0;                 // 0 = hardware concurrency
   std::function<void(int, double)> progress;  // (iteration at the finest level, E) after every iteration
 };
+
+// Bumped whenever the solver's algorithm changes its results, so that cached maps (ot_cache.h) are re-solved.
+inline constexpr int kOtSolverVersion = 2;
 
 struct OtMap {
   int n = 0;

@@ -188,10 +188,7 @@ int cmdOtMap(const Args& args) {
   // The figure: at least 512 wide so the grid stays legible, at most 1024, else the map's own width.
   const int width = std::min(1024, std::max({512, 2 * n, env.width})) & ~1;
   Figure figure = logWeightBackground(env, width, width / 2);
-  // forwardMap(map) with a shallower quadtree: at the default depth of 14 the sun's large quads overlap in
-  // every node, so the tree splits everywhere to the bottom (42 million nodes and 10 s for the default sky at
-  // n = 64); depth 10 builds in 0.1 s and inverts as fast.
-  const QuadGridMap forward(map.n, untangleQuads(map.vertices, map.n), 8, 10);
+  const QuadGridMap forward = forwardMap(map);
   const std::array<std::uint8_t, 3> uColour{255, 140, 0}, vColour{0, 200, 255};
   for (int k = 0; k <= kGridLines; ++k) {
     drawPreimage(figure, forward, 0, double(k) / kGridLines, uColour);
@@ -200,15 +197,22 @@ int cmdOtMap(const Args& args) {
   writePngRgb8(out, figure.width, figure.height, figure.rgb);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
+  // What the samplers evaluate: the untangled map's own mass error, and the bound on env-ot-fwd's search.
+  double samplerL1 = 0.0;
+  const std::vector<double> samplerAreas = otQuadAreas(forward.image(), n);
+  for (std::size_t c = 0; c < samplerAreas.size(); ++c)
+    samplerL1 += std::abs(samplerAreas[c] - map.density[c] / (double(n) * n));
   if (json) {
     std::printf(
         "{\"env\": \"%s\", \"env_width\": %d, \"env_height\": %d, \"n\": %d, \"floor\": %.9g, "
         "\"iterations\": %d, \"coarse_iterations\": %d, \"seconds\": %.6f, \"wall_s\": %.6f, \"l2\": %.9g, "
         "\"l1\": %.9g, \"linf\": %.9g, \"folded\": %d, \"non_convex\": %d, \"invalid_pieces\": %d, "
+        "\"sampler_l1\": %.9g, \"tree_depth\": %d, \"largest_leaf\": %u, "
         "\"converged\": %s, \"from_cache\": %s, \"out\": \"%s\", \"out_width\": %d, \"out_height\": %d}\n",
         jsonEscape(envPath.string()).c_str(), env.width, env.height, n, options.floorFraction, map.iterations,
         map.coarseIterations, map.seconds, wall, map.l2, map.l1, map.linf, map.negativeAreaQuads,
-        map.foldedQuads, forward.invalidPieces(), map.converged ? "true" : "false",
+        map.foldedQuads, forward.invalidPieces(), samplerL1, forward.treeDepth(), forward.largestLeaf(),
+        map.converged ? "true" : "false",
         fromCache ? "true" : "false", jsonEscape(out).c_str(), figure.width, figure.height);
   } else {
     std::printf("otmap of %s (%dx%d) on a %dx%d grid, floor %g x mean\n", envPath.string().c_str(), env.width,
@@ -218,6 +222,8 @@ int cmdOtMap(const Args& args) {
     std::printf("mass error: L2 %.3g, L1 %.3g, Linf %.3g\n", map.l2, map.l1, map.linf);
     std::printf("quads: %d folded (area <= 0), %d not strictly convex, %d without a valid piece\n",
                 map.negativeAreaQuads, map.foldedQuads, forward.invalidPieces());
+    std::printf("sampler map (untangled): L1 %.3g; env-ot-fwd's quadtree: depth %d, at most %u quads per leaf\n",
+                samplerL1, forward.treeDepth(), forward.largestLeaf());
     std::printf("converged: %s (L2 <= %g and L1 <= %g); from the cache: %s\n", yesNo(map.converged).c_str(),
                 options.targetL2, options.targetL1, yesNo(fromCache).c_str());
     std::printf("wrote %s (%dx%d: log sampling weight, pre-images of a %dx%d uniform grid; total %.2f s)\n",
