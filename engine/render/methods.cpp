@@ -2,6 +2,7 @@
 #include "engine/render/methods.h"
 
 #include "engine/core/error.h"
+#include "engine/core/log.h"
 #include "engine/render/brdf_tabulation.h"
 #include "engine/render/scene.h"
 #include "engine/sampling/env_cdf.h"
@@ -59,12 +60,13 @@ TechniqueData makeEnvHier(const EnvImage& image) {
   return data;
 }
 
-// Grid of the OT map: 256 (the default) or, for smaller maps, the map's height (no finer than its rows),
-// at least 32; IBLX_OT_SIZE overrides it (benchmarks).
+// Grid of the OT map: 256 (the default) or, for smaller maps, the map's height (no finer than its
+// rows), at least 32; IBLX_OT_SIZE overrides it (benchmarks).
 int otGridSize(const EnvImage& image) {
   if (const char* forced = std::getenv("IBLX_OT_SIZE")) {
     const int n = std::atoi(forced);
-    if (n < 8 || n > 2048) throw Error("IBLX_OT_SIZE: expected a grid size in [8, 2048], got '" + std::string(forced) + "'");
+    if (n < 8 || n > 2048)
+      throw Error("IBLX_OT_SIZE: expected a grid size in [8, 2048], got '" + std::string(forced) + "'");
     return n;
   }
   return std::clamp(image.height, 32, 256);
@@ -74,7 +76,11 @@ OtMap solveEnvOtMap(const EnvImage& image) {
   const int n = otGridSize(image);
   OtMap map = solveOtMapCached(otDensityFromEnv(image, n), n, OtSolverOptions{}, defaultCacheDir());
   if (map.negativeAreaQuads > 0)
-    throw Error("OT map: " + std::to_string(map.negativeAreaQuads) + " folded quads at n = " + std::to_string(n));
+    throw Error("OT map: " + std::to_string(map.negativeAreaQuads) +
+                " folded quads at n = " + std::to_string(n));
+  if (!map.converged)  // still an exact sampler (its pdf is the map's own), only a less efficient one
+    warn("OT map at n = " + std::to_string(n) + " did not converge (L2 " + std::to_string(map.l2) + ", L1 " +
+         std::to_string(map.l1) + "); sampling with the best map reached");
   return map;
 }
 
@@ -204,6 +210,8 @@ const BrdfTechniqueInfo kBrdfTechniques[] = {
 const SequenceInfo kSequences[] = {
     {"random", "independent uniform points (PCG hash)", "sequence/random.glsl"},
     {"sobol", "Owen-scrambled Sobol (randomized QMC, Burley 2020)", "sequence/sobol.glsl"},
+    {"cp-shared", "one shared Sobol point set, Cranley-Patterson-shifted per pixel",
+     "sequence/cp_shared.glsl"},
 };
 
 const MethodInfo kMethods[] = {

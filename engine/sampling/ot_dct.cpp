@@ -1,4 +1,5 @@
-// Fast DCT-II / DCT-III rows for the OT solver (see ot_dct.h), a blocked transpose and a chunked parallel loop.
+// Fast DCT-II / DCT-III rows for the OT solver (see ot_dct.h), a blocked transpose and a chunked parallel
+// loop.
 #include "engine/sampling/ot_dct.h"
 
 #include "engine/core/error.h"
@@ -21,7 +22,8 @@ void parallelChunks(int threads, int count, int minChunk, const std::function<vo
   std::vector<std::jthread> workers;
   workers.reserve(std::size_t(chunks - 1));
   const auto bound = [&](int c) { return int(std::int64_t(count) * c / chunks); };
-  for (int c = 1; c < chunks; ++c) workers.emplace_back([&fn, lo = bound(c), hi = bound(c + 1)] { fn(lo, hi); });
+  for (int c = 1; c < chunks; ++c)
+    workers.emplace_back([&fn, lo = bound(c), hi = bound(c + 1)] { fn(lo, hi); });
   fn(0, bound(1));
 }  // the jthreads join here
 
@@ -52,7 +54,8 @@ DctPlan::DctPlan(int n) : n_(n), pow2_(n >= 2 && std::has_single_bit(unsigned(n)
   } else {
     cosTable_.resize(std::size_t(n) * n);
     for (int k = 0; k < n; ++k)
-      for (int i = 0; i < n; ++i) cosTable_[std::size_t(k) * n + i] = std::cos(pi * k * (2.0 * i + 1.0) / (2.0 * n));
+      for (int i = 0; i < n; ++i)
+        cosTable_[std::size_t(k) * n + i] = std::cos(pi * k * (2.0 * i + 1.0) / (2.0 * n));
   }
 }
 

@@ -1,5 +1,6 @@
 // Fast discrete cosine transforms on n x n grids, for the OT solver's fixed pseudo-Laplacian: its clamped
-// (reflecting) boundary makes it diagonal in the DCT-II basis, so one solve is two 2-D transforms, O(n^2 log n).
+// (reflecting) boundary makes it diagonal in the DCT-II basis, so one solve is two 2-D transforms, O(n^2 log
+// n).
 #pragma once
 
 #include <complex>
@@ -9,8 +10,8 @@
 
 namespace iblx {
 
-// Row transforms of a row-major n x n array of doubles. Powers of two use Makhoul's n-point FFT algorithm (IEEE
-// TASSP 28(1), 1980) with two real rows packed into one complex FFT; other n use the O(n^2) definition.
+// Row transforms of a row-major n x n array of doubles. Powers of two use Makhoul's n-point FFT algorithm
+// (IEEE TASSP 28(1), 1980) with two real rows packed into one complex FFT; other n use the O(n^2) definition.
 class DctPlan {
  public:
   explicit DctPlan(int n);

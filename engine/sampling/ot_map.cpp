@@ -17,7 +17,9 @@ namespace {
 
 using Vec2 = glm::dvec2;
 
-double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
+double cross(Vec2 a, Vec2 b) {
+  return a.x * b.y - a.y * b.x;
+}
 
 // (s, t) of y in the affine triangle o + s a + t b.
 Vec2 solveAffine(Vec2 o, Vec2 a, Vec2 b, Vec2 y, double& det) {
@@ -70,8 +72,10 @@ QuadPiece classifyQuad(Vec2 p00, Vec2 p10, Vec2 p11, Vec2 p01) {
   const bool convex = cross(p10 - p00, p01 - p00) > 0.0 && cross(p11 - p10, p00 - p10) > 0.0 &&
                       cross(p01 - p11, p10 - p11) > 0.0 && cross(p00 - p01, p11 - p01) > 0.0;
   if (convex) return QuadPiece::Bilinear;
-  if (cross(p10 - p00, p11 - p00) > 0.0 && cross(p11 - p00, p01 - p00) > 0.0) return QuadPiece::SplitMainDiagonal;
-  if (cross(p10 - p00, p01 - p00) > 0.0 && cross(p11 - p10, p01 - p10) > 0.0) return QuadPiece::SplitAntiDiagonal;
+  if (cross(p10 - p00, p11 - p00) > 0.0 && cross(p11 - p00, p01 - p00) > 0.0)
+    return QuadPiece::SplitMainDiagonal;
+  if (cross(p10 - p00, p01 - p00) > 0.0 && cross(p11 - p10, p01 - p10) > 0.0)
+    return QuadPiece::SplitAntiDiagonal;
   return QuadPiece::Invalid;
 }
 
@@ -164,7 +168,8 @@ bool invertPiece(QuadPiece piece, const Vec2 c[4], Vec2 y, Vec2& st, double tole
     for (int it = 0; it < 2; ++it) {
       double jac = 0.0;
       const Vec2 r0 = evaluatePiece(QuadPiece::Bilinear, c, q, &jac) - y;
-      const Vec2 ds = (1 - q.y) * (p10 - p00) + q.y * (p11 - p01), dt = (1 - q.x) * (p01 - p00) + q.x * (p11 - p10);
+      const Vec2 ds = (1 - q.y) * (p10 - p00) + q.y * (p11 - p01),
+                 dt = (1 - q.x) * (p01 - p00) + q.x * (p11 - p10);
       if (!(jac > 0.0)) break;
       q -= Vec2(cross(r0, dt), cross(ds, r0)) / jac;
     }
@@ -221,8 +226,8 @@ QuadGridMap::QuadGridMap(int m, std::vector<Vec2> image, int leafCapacity, int m
           }
           separates = separates || inside[std::size_t(q)].size() < items.size();
         }
-        // A split that leaves every child with the whole list (pieces meeting at a point, or covering the node)
-        // only costs memory and descent steps: stop there.
+        // A split that leaves every child with the whole list (pieces meeting at a point, or covering the
+        // node) only costs memory and descent steps: stop there.
         if (!separates) {
           nodes_[node] = {std::uint32_t(leafCells_.size()), std::uint32_t(items.size())};
           leafCells_.insert(leafCells_.end(), items.begin(), items.end());
@@ -234,7 +239,8 @@ QuadGridMap::QuadGridMap(int m, std::vector<Vec2> image, int leafCapacity, int m
         nodes_.resize(child0 + 4);
         items.clear();
         items.shrink_to_fit();
-        for (int q = 0; q < 4; ++q) build(child0 + std::size_t(q), subs[std::size_t(q)], depth + 1, inside[std::size_t(q)]);
+        for (int q = 0; q < 4; ++q)
+          build(child0 + std::size_t(q), subs[std::size_t(q)], depth + 1, inside[std::size_t(q)]);
       };
   build(0, Box{Vec2(0.0), Vec2(1.0)}, 0, all);
 }

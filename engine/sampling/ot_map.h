@@ -1,7 +1,7 @@
 // The maps the OT techniques evaluate: a grid of (m+1)^2 image vertices over the unit square, one piece per
 // cell, with point location in the image by a quadtree. env-ot-fwd uses the solver's forward map (density
-// square -> uniform square) and inverts it per sample; env-ot-inv uses the tabulated inverse (uniform square ->
-// density square) and inverts it only for MIS pdfs. shaders/lib/quad_grid_map.glsl is the GPU twin.
+// square -> uniform square) and inverts it per sample; env-ot-inv uses the tabulated inverse (uniform square
+// -> density square) and inverts it only for MIS pdfs. shaders/lib/quad_grid_map.glsl is the GPU twin.
 //
 // A piece is the cell's bilinear patch when its quad is strictly convex (then the patch is injective: its
 // Jacobian determinant is bilinear in (s, t) and positive at the four corners). A non-convex quad of positive
@@ -45,9 +45,9 @@ class QuadGridMap {
   QuadGridMap(int m, std::vector<glm::dvec2> image, int leafCapacity = 8, int maxDepth = 14);
 
   struct Point {
-    glm::dvec2 p;       // the mapped point
-    double jacobian;    // det of d(image)/d(domain) at the domain point (domain cell side 1/m)
-    std::uint32_t cell; // the cell (domain) the point lies in
+    glm::dvec2 p;        // the mapped point
+    double jacobian;     // det of d(image)/d(domain) at the domain point (domain cell side 1/m)
+    std::uint32_t cell;  // the cell (domain) the point lies in
   };
   // Domain point -> image point. x outside [0,1]^2 is clamped.
   Point apply(glm::dvec2 x) const;
@@ -75,8 +75,8 @@ class QuadGridMap {
 
 // Local coordinates (s, t) in [0,1]^2 of the cell piece -> image point and the local Jacobian determinant.
 glm::dvec2 evaluatePiece(QuadPiece piece, const glm::dvec2 corners[4], glm::dvec2 st, double* localJacobian);
-// Inverse of evaluatePiece for an image point; false if it lies outside the piece (beyond `tolerance` in local
-// coordinates).
+// Inverse of evaluatePiece for an image point; false if it lies outside the piece (beyond `tolerance` in
+// local coordinates).
 bool invertPiece(QuadPiece piece, const glm::dvec2 corners[4], glm::dvec2 y, glm::dvec2& st,
                  double tolerance = 1e-9);
 

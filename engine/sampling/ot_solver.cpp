@@ -1,5 +1,5 @@
-// The OT map solver of ot_solver.h: density from an environment, coarse-to-fine levels, and per level the chord-
-// Newton iteration with conjugate-Jacobian directions and an exact, fold-free quartic line search.
+// The OT map solver of ot_solver.h: density from an environment, coarse-to-fine levels, and per level the
+// chord- Newton iteration with conjugate-Jacobian directions and an exact, fold-free quartic line search.
 #include "engine/sampling/ot_solver.h"
 
 #include "engine/core/error.h"
@@ -28,7 +28,9 @@ namespace {
 using Vec2 = glm::dvec2;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
+double cross(Vec2 a, Vec2 b) {
+  return a.x * b.y - a.y * b.x;
+}
 
 // Deterministic parallel reduction: fn(lo, hi) -> K partial sums/maxima, combined in chunk order.
 template <int K, typename F>
@@ -100,8 +102,10 @@ double minimiseQuartic(const Quartic& q, double lo, double hi) {
     if ((sl > 0.0) == (q.slope(r) > 0.0)) continue;
     for (int it = 0; it < 100 && r - l > 1e-15 * std::max(1.0, std::abs(l)); ++it) {
       const double m = 0.5 * (l + r), sm = q.slope(m);
-      if ((sm > 0.0) == (sl > 0.0)) l = m, sl = sm;
-      else r = m;
+      if ((sm > 0.0) == (sl > 0.0))
+        l = m, sl = sm;
+      else
+        r = m;
     }
     consider(0.5 * (l + r));
   }
@@ -135,10 +139,10 @@ class LevelSolver {
     double maxLogError = 0.0;  // max_c |log(A_c / m_c)|
   };
 
-  // Homotopy in the target (a continuation method): the masses go from the starting map's own areas A0 (s = 0,
-  // solved by the start) to the target (s = 1) in stages m_s = (1 - s) A0 + s m. A stage that stalls (the guarded
-  // line search cannot decrease E) is undone and retried with half the step in s; a stage that converges
-  // doubles it. Easy densities take the single stage s = 1.
+  // Homotopy in the target (a continuation method): the masses go from the starting map's own areas A0 (s =
+  // 0, solved by the start) to the target (s = 1) in stages m_s = (1 - s) A0 + s m. A stage that stalls (the
+  // guarded line search cannot decrease E) is undone and retried with half the step in s; a stage that
+  // converges doubles it. Easy densities take the single stage s = 1.
   Stats run(std::vector<double>& psi, double targetL2, int maxIterations,
             const std::function<void(int, double)>& progress) {
     const int n = n_;
@@ -168,11 +172,11 @@ class LevelSolver {
       }
       savedPsi = psi, savedPos = pos_;
       const bool last = next == 1.0;
-      const int budget = last ? maxIterations - s.iterations : std::min(options_.stageIterations,
-                                                                          maxIterations - s.iterations);
-      if (std::getenv("IBLX_OT_TRACE")) std::fprintf(stderr, "stage s=%.4f step=%.4f\n", next, step);
-      // Damped Newton far from a stage's solution crawls (guarded steps of a few percent), so a stage whose step
-      // falls below stageMinStep is abandoned for a smaller one; the smallest stages run unconditionally.
+      const int budget = last ? maxIterations - s.iterations
+                              : std::min(options_.stageIterations, maxIterations - s.iterations);
+      // Damped Newton far from a stage's solution crawls (guarded steps of a few percent), so a stage whose
+      // step falls below stageMinStep is abandoned for a smaller one; the smallest stages run
+      // unconditionally.
       const bool strict = step > options_.minStageStep;
       const int before = s.iterations;
       const bool ok = iterate(psi, s, last ? targetL2 : -1.0, budget,
@@ -184,7 +188,7 @@ class LevelSolver {
         continue;
       }
       if (step <= options_.minStageStep) break;  // keep the best map reached
-      psi = savedPsi, pos_ = savedPos;  // undo the stage and take a smaller one
+      psi = savedPsi, pos_ = savedPos;           // undo the stage and take a smaller one
       step *= 0.5;
     }
     mass_ = target;
@@ -213,7 +217,8 @@ class LevelSolver {
         solveLaplacian(rhs_, dirHat_);
       }
       gradient(dirHat_, gradHat_);
-      // 2. Conjugate Jacobian: d = d^ + beta d_prev with J d _|_ J d_prev, J the exact Jacobian at the current
+      // 2. Conjugate Jacobian: d = d^ + beta d_prev with J d _|_ J d_prev, J the exact Jacobian at the
+      // current
       //    map (the areas are quadratic in psi, so J d is the linear coefficient of A(psi + t d)).
       double beta = 0.0;
       if (havePrev && options_.conjugateJacobian) {
@@ -236,8 +241,6 @@ class LevelSolver {
         if (t != 0.0 || beta == 0.0) break;
         beta = 0.0;  // the conjugate direction made no progress: fall back to the chord direction
       }
-      if (std::getenv("IBLX_OT_TRACE"))
-        std::fprintf(stderr, "n=%d k=%d t=%.3e beta=%.3f l2=%.3e l1=%.3e\n", n, k, t, beta, s.l2, s.l1);
       if (t == 0.0) return false;  // stalled
       shortStep_ = std::abs(t) < 0.5;
       if (strict && std::abs(t) < options_.stageMinStep) return false;
@@ -278,7 +281,8 @@ class LevelSolver {
     const int n = n_, w = n + 2;
     for (int j = 0; j < w; ++j) {
       const int sj = std::clamp(j - 1, 0, n - 1);
-      for (int i = 0; i < w; ++i) pad_[std::size_t(j) * w + i] = f[std::size_t(sj) * n + std::clamp(i - 1, 0, n - 1)];
+      for (int i = 0; i < w; ++i)
+        pad_[std::size_t(j) * w + i] = f[std::size_t(sj) * n + std::clamp(i - 1, 0, n - 1)];
     }
     const double half = 0.5 * n;
     parallelChunks(threads_, v_, 16, [&](int lo, int hi) {
@@ -323,13 +327,15 @@ class LevelSolver {
   }
 
   // Inexact Newton: GMRES(m) on J x = r, right-preconditioned by L^-1 (the DCT solve), x0 = 0 (Saad & Schultz
-  // 1986); d = -x. The first Krylov vector is the chord direction, so this is never worse than it in ||r + J d||.
+  // 1986); d = -x. The first Krylov vector is the chord direction, so this is never worse than it in ||r + J
+  // d||.
   enum class Preconditioner { Laplacian, FrozenLu };
 
   // z = M^-1 v: the fixed pseudo-Laplacian's inverse, or the LU factors of the Jacobian of an earlier map (a
   // lagged Jacobian: close to the current one within a continuation stage).
   void precondition(Preconditioner which, std::span<const double> v, std::vector<double>& z) {
-    // GMRES works on the row-scaled system W J x = W b, so the preconditioner approximates (W J)^-1 = J^-1 W^-1.
+    // GMRES works on the row-scaled system W J x = W b, so the preconditioner approximates (W J)^-1 = J^-1
+    // W^-1.
     unscaled_.resize(v.size());
     for (std::size_t c = 0; c < v.size(); ++c) unscaled_[c] = v[c] / rowScale_[c];
     if (which == Preconditioner::Laplacian) {
@@ -345,9 +351,9 @@ class LevelSolver {
     for (int c = 0; c < size; ++c) z[std::size_t(c)] = std::isfinite(luSolution_[c]) ? luSolution_[c] : 0.0;
   }
 
-  // Newton direction: GMRES with the cheap Laplacian preconditioner while it reaches its tolerance; when it does
-  // not (a strongly distorted map), GMRES preconditioned by the LU factors of the exact Jacobian, refactored at
-  // the current map when the lagged factors no longer reach the tolerance either.
+  // Newton direction: GMRES with the cheap Laplacian preconditioner while it reaches its tolerance; when it
+  // does not (a strongly distorted map), GMRES preconditioned by the LU factors of the exact Jacobian,
+  // refactored at the current map when the lagged factors no longer reach the tolerance either.
   void newtonDirection(std::vector<double>& d) {
     if (!laplacianFailed_ || !options_.directNewton) {
       const double rel = gmres(d, Preconditioner::Laplacian);
@@ -357,15 +363,6 @@ class LevelSolver {
     // Lagged factors are kept only while they give full steps: a short step means the direction is poor.
     if (luValid_ && !shortStep_ && gmres(d, Preconditioner::FrozenLu) <= options_.krylovTolerance) return;
     factorJacobian();
-    if (std::getenv("IBLX_OT_TRACE")) {
-      std::vector<double> z(rhs_.size()), jz(rhs_.size());
-      rowScale_.assign(rhs_.size(), 1.0);
-      precondition(Preconditioner::FrozenLu, rhs_, z);
-      applyJacobian(z, jz);
-      double e = 0, nn = 0;
-      for (std::size_t c = 1; c < z.size(); ++c) e += (jz[c] - rhs_[c]) * (jz[c] - rhs_[c]), nn += rhs_[c] * rhs_[c];
-      std::fprintf(stderr, "  lu check rel=%.3e\n", std::sqrt(e / nn));
-    }
     gmres(d, Preconditioner::FrozenLu);
   }
 
@@ -376,8 +373,8 @@ class LevelSolver {
     const std::size_t size = rhs_.size();
     basis_.resize(std::size_t(m + 1));
     for (auto& v : basis_) v.resize(size);
-    std::vector<double> h(std::size_t((m + 1) * m), 0.0), cs(static_cast<std::size_t>(m)), sn(static_cast<std::size_t>(m)),
-        g(std::size_t(m + 1), 0.0);
+    std::vector<double> h(std::size_t((m + 1) * m), 0.0), cs(static_cast<std::size_t>(m)),
+        sn(static_cast<std::size_t>(m)), g(std::size_t(m + 1), 0.0);
     const auto H = [&](int row, int col) -> double& { return h[std::size_t(row * m + col)]; };
     // With logNewton the system is scaled row by row by 1/A (relative area changes), so that GMRES's 2-norm
     // tolerance bounds each quad's error relative to its own area, not to the largest quad's.
@@ -426,7 +423,6 @@ class LevelSolver {
         break;
       }
     }
-    if (std::getenv("IBLX_OT_TRACE")) std::fprintf(stderr, "  gmres k=%d rel=%.3e\n", k, std::abs(g[std::size_t(k)]) / beta0);
     std::vector<double> y(std::size_t(k), 0.0);
     for (int i = k - 1; i >= 0; --i) {
       double s = g[std::size_t(i)];
@@ -447,10 +443,10 @@ class LevelSolver {
     return s;
   }
 
-  // LU factors of the exact Jacobian at the current map. J (n^2 x n^2, 3x3 cell stencil) is assembled from the chain
-  // dA_c/dP_v (rotated diagonals) times dP_v/dpsi (the clamped 2x2 difference of gradient()). J's rows sum to 0
-  // (the total area is fixed) and constants are its null space, so row 0 is replaced by psi_0 = 0 and the mean
-  // removed afterwards. The pattern never changes, so its ordering is computed once per level.
+  // LU factors of the exact Jacobian at the current map. J (n^2 x n^2, 3x3 cell stencil) is assembled from
+  // the chain dA_c/dP_v (rotated diagonals) times dP_v/dpsi (the clamped 2x2 difference of gradient()). J's
+  // rows sum to 0 (the total area is fixed) and constants are its null space, so row 0 is replaced by psi_0 =
+  // 0 and the mean removed afterwards. The pattern never changes, so its ordering is computed once per level.
   void factorJacobian() {
     const int n = n_;
     triplets_.clear();
@@ -485,8 +481,8 @@ class LevelSolver {
     jacobian_.setFromTriplets(triplets_.begin(), triplets_.end());
     jacobian_.makeCompressed();
     if (!luAnalysed_) {
-      // The 3x3-stencil Jacobian is nearly symmetric in pattern and values: AMD-style symmetric strategy with a
-      // METIS nested-dissection ordering (measured 1.5x faster than the default COLAMD at n = 256).
+      // The 3x3-stencil Jacobian is nearly symmetric in pattern and values: AMD-style symmetric strategy with
+      // a METIS nested-dissection ordering (measured 1.5x faster than the default COLAMD at n = 256).
       lu_.umfpackControl()(UMFPACK_STRATEGY) = UMFPACK_STRATEGY_SYMMETRIC;
       lu_.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
       lu_.analyzePattern(jacobian_);
@@ -497,8 +493,8 @@ class LevelSolver {
     ++factorisations_;
   }
 
-  // Linear coefficient of the area of cell (i, j) when the vertices move by t * g: with diagonals D1 = P11 - P00,
-  // D2 = P01 - P10, A(t) = ½ (D1 + t E1) x (D2 + t E2) (otmap.md §2.1, §2.3 step 3).
+  // Linear coefficient of the area of cell (i, j) when the vertices move by t * g: with diagonals D1 = P11 -
+  // P00, D2 = P01 - P10, A(t) = ½ (D1 + t E1) x (D2 + t E2) (otmap.md §2.1, §2.3 step 3).
   double linearCoefficient(int i, int j, const std::vector<Vec2>& g) const {
     const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
     const Vec2 d1 = pos_[p11] - pos_[p00], d2 = pos_[p01] - pos_[p10];
@@ -530,8 +526,9 @@ class LevelSolver {
   }
 
   // Exact line search along the vertex motion gradDir_: every area is r + b t + a t^2, so E(t) is a quartic
-  // (otmap.md §2.3 step 3). The step is kept within boundaryFraction of the first t at which some quad corner's
-  // cross product (P_next - P) x (P_prev - P), also quadratic in t, reaches 0: a convex quad stays convex.
+  // (otmap.md §2.3 step 3). The step is kept within boundaryFraction of the first t at which some quad
+  // corner's cross product (P_next - P) x (P_prev - P), also quadratic in t, reaches 0: a convex quad stays
+  // convex.
   double lineSearch() {
     const int n = n_;
     const OtFoldGuard guard = options_.foldGuard;
@@ -594,18 +591,19 @@ class LevelSolver {
     return t;
   }
 
-  // The right-hand side of the Newton system J d = -rhs: the area residual, or with logNewton A log(A / m) (the
-  // linearisation of log A = log m scaled back to areas; equal to A - m to first order near the solution).
+  // The right-hand side of the Newton system J d = -rhs: the area residual, or with logNewton A log(A / m)
+  // (the linearisation of log A = log m scaled back to areas; equal to A - m to first order near the
+  // solution).
   void newtonRightHandSide() {
     rhs_.resize(residual_.size());
     if (!options_.logNewton) {
       std::copy(residual_.begin(), residual_.end(), rhs_.begin());
       return;
     }
-    // J d always sums to 0 (the boundary slides, the total area stays 1), so only a right-hand side with sum 0 is
-    // reachable: log(A / m) - mu with mu its area-weighted mean, i.e. the target m e^mu rescaled to total 1
-    // (mu = 0 at the solution). Subtracting a plain constant in area units instead would ask every tiny quad
-    // for the same absolute change.
+    // J d always sums to 0 (the boundary slides, the total area stays 1), so only a right-hand side with sum
+    // 0 is reachable: log(A / m) - mu with mu its area-weighted mean, i.e. the target m e^mu rescaled to
+    // total 1 (mu = 0 at the solution). Subtracting a plain constant in area units instead would ask every
+    // tiny quad for the same absolute change.
     double mu = 0.0, total = 0.0;
     for (std::size_t c = 0; c < rhs_.size(); ++c) {
       const double area = residual_[c] + mass_[c];
@@ -617,9 +615,10 @@ class LevelSolver {
   }
 
   // Line search on the barrier merit F = sum_c [A_c - m_c - m_c log(A_c / m_c)] (OtMerit::Barrier). Along the
-  // vertex motion every area is A + b t + a t^2, so F' and F'' cost one pass without logarithms; the minimiser is
-  // found by safeguarded Newton on F' within the interval where every area stays positive (the barrier makes
-  // that interval's ends infinitely expensive), and accepted only if F decreases, computed with log1p.
+  // vertex motion every area is A + b t + a t^2, so F' and F'' cost one pass without logarithms; the
+  // minimiser is found by safeguarded Newton on F' within the interval where every area stays positive (the
+  // barrier makes that interval's ends infinitely expensive), and accepted only if F decreases, computed with
+  // log1p.
   double lineSearchBarrier() {
     const int n = n_;
     coefA_.resize(residual_.size()), coefB_.resize(residual_.size());
@@ -666,20 +665,12 @@ class LevelSolver {
         return std::array<double, 1>{acc};
       })[0];
     };
-    if (std::getenv("IBLX_OT_TRACE")) {
-      double best = kInf; std::size_t bc = 0;
-      for (std::size_t c = 0; c < coefA_.size(); ++c) {
-        const double tp = firstPositiveRoot(residual_[c] + mass_[c], coefB_[c], coefA_[c]);
-        if (tp < best) best = tp, bc = c;
-      }
-      std::fprintf(stderr, "  bind c=(%d,%d) t=%.3e A=%.3e m=%.3e b=%.3e a=%.3e\n", int(bc % n), int(bc / n), best,
-                   residual_[bc] + mass_[bc], mass_[bc], coefB_[bc], coefA_[bc]);
-    }
     const double g0 = slopes(0.0)[0];
     if (!(g0 != 0.0) || !std::isfinite(g0)) return 0.0;
     const double sign = g0 < 0.0 ? 1.0 : -1.0;
     constexpr double kMaxStep = 10.0;
-    const double limit = std::min(kMaxStep, options_.boundaryFraction * -(sign > 0.0 ? bounds[0] : bounds[1]));
+    const double limit =
+        std::min(kMaxStep, options_.boundaryFraction * -(sign > 0.0 ? bounds[0] : bounds[1]));
     // tau = sign * t in [0, limit]; phi'(tau) = sign * F'(sign tau) < 0 at 0.
     double lo = 0.0, hi = limit, tau = limit;
     if (sign * slopes(sign * limit)[0] > 0.0) {
@@ -688,8 +679,10 @@ class LevelSolver {
       for (int it = 0; it < 60 && hi - lo > 1e-13 * hi; ++it) {
         const auto [d1, d2] = slopes(sign * tau);
         const double phi1 = sign * d1;
-        if (phi1 < 0.0) lo = tau;
-        else hi = tau;
+        if (phi1 < 0.0)
+          lo = tau;
+        else
+          hi = tau;
         if (std::abs(phi1) <= 1e-14 * std::abs(g0)) break;
         double next = d2 > 0.0 ? tau - phi1 / d2 : -1.0;  // Newton on phi' (phi'' = F'')
         if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
@@ -729,8 +722,8 @@ std::vector<double> restrictDensity(std::span<const double> rho, int n) {
   return out;
 }
 
-// Bilinear interpolation of cell-centred psi from m x m to 2m x 2m (values clamped at the border, which keeps the
-// zero normal gradient there). psi is a function on the unit square, so no rescaling.
+// Bilinear interpolation of cell-centred psi from m x m to 2m x 2m (values clamped at the border, which keeps
+// the zero normal gradient there). psi is a function on the unit square, so no rescaling.
 std::vector<double> prolongPotential(std::span<const double> psi, int m) {
   const int n = 2 * m;
   std::vector<double> out(std::size_t(n) * n);
@@ -796,7 +789,8 @@ std::vector<double> otQuadAreas(std::span<const glm::dvec2> vertices, int n) {
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const std::size_t p00 = std::size_t(j) * (n + 1) + i, p10 = p00 + 1, p01 = p00 + n + 1, p11 = p01 + 1;
-      areas[std::size_t(j) * n + i] = 0.5 * cross(vertices[p11] - vertices[p00], vertices[p01] - vertices[p10]);
+      areas[std::size_t(j) * n + i] =
+          0.5 * cross(vertices[p11] - vertices[p00], vertices[p01] - vertices[p10]);
     }
   return areas;
 }
@@ -811,7 +805,8 @@ int otFoldedQuads(std::span<const glm::dvec2> vertices, int n) {
       bool ok = true;
       for (int k = 0; k < 4 && ok; ++k) {
         const Vec2 p = vertices[ring[std::size_t(k)]];
-        ok = cross(vertices[ring[std::size_t((k + 1) & 3)]] - p, vertices[ring[std::size_t((k + 3) & 3)]] - p) > 0.0;
+        ok = cross(vertices[ring[std::size_t((k + 1) & 3)]] - p,
+                   vertices[ring[std::size_t((k + 3) & 3)]] - p) > 0.0;
       }
       folded += ok ? 0 : 1;
     }
@@ -821,11 +816,12 @@ int otFoldedQuads(std::span<const glm::dvec2> vertices, int n) {
 OtMap solveOtMap(std::span<const double> density, int n, const OtSolverOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   if (n < 1 || density.size() != std::size_t(n) * n)
-    throw Error("OT solver: the density has " + std::to_string(density.size()) + " values, expected n^2 = " +
-                std::to_string(std::max(n, 0)) + "^2");
+    throw Error("OT solver: the density has " + std::to_string(density.size()) +
+                " values, expected n^2 = " + std::to_string(std::max(n, 0)) + "^2");
   double sum = 0.0;
   for (double v : density) {
-    if (!std::isfinite(v) || v < 0.0) throw Error("OT solver: the density has a negative or non-finite value");
+    if (!std::isfinite(v) || v < 0.0)
+      throw Error("OT solver: the density has a negative or non-finite value");
     sum += v;
   }
   if (!(sum > 0.0)) throw Error("OT solver: the density is zero everywhere");
@@ -859,8 +855,8 @@ OtMap solveOtMap(std::span<const double> density, int n, const OtSolverOptions& 
 
 std::vector<double> otDensityFromEnv(const EnvImage& env, int n) {
   if (n < 1) throw Error("OT density: the grid size must be at least 1, got " + std::to_string(n));
-  // Texel masses w = L * Omega(y) (solid angle included); texelSamplingWeights validates the image and maps an
-  // all-black image to the uniform sphere.
+  // Texel masses w = L * Omega(y) (solid angle included); texelSamplingWeights validates the image and maps
+  // an all-black image to the uniform sphere.
   const std::vector<double> weights = texelSamplingWeights(env, "OT density");
   const int width = env.width, height = env.height;
   // Pass 1, along u: per texel row y, the texel mass falling in each grid column (exact length overlap).
@@ -875,8 +871,8 @@ std::vector<double> otDensityFromEnv(const EnvImage& env, int n) {
         if (overlap > 0.0) rows[std::size_t(y) * n + c] += w * overlap * width;
       }
     }
-  // Pass 2, along v: the share of texel row y's solid angle inside grid row r is (cos ta - cos tb) / (cos t0 -
-  // cos t1) over the overlap [ta, tb], exact for the nearest-texel radiance (dOmega = dphi dcos(theta)).
+  // Pass 2, along v: the share of texel row y's solid angle inside grid row r is (cos ta - cos tb) / (cos t0
+  // - cos t1) over the overlap [ta, tb], exact for the nearest-texel radiance (dOmega = dphi dcos(theta)).
   const auto cosDiff = [](double a, double b) {  // cos(pi a) - cos(pi b) without cancellation
     return 2.0 * std::sin(0.5 * kPi * (a + b)) * std::sin(0.5 * kPi * (b - a));
   };

@@ -1,22 +1,27 @@
-// Optimal-transport map from an environment's sampling density on an n x n grid over the lat-long square to the
-// uniform density on [0,1]^2, after Nader & Guennebaud, "Instant Transport Maps on 2D Grids" (TOG 37(6), 2018),
-// as analysed in ../shared/reference/otmap.md §2.1-2.3. CPU, double precision; the samplers build on the map.
+// Optimal-transport map from an environment's sampling density on an n x n grid over the lat-long square to
+// the uniform density on [0,1]^2, after Nader & Guennebaud, "Instant Transport Maps on 2D Grids" (TOG 37(6),
+// 2018), as analysed in ../shared/reference/otmap.md §2.1-2.3. CPU, double precision; the samplers build on
+// the map.
 //
 // Differences from that paper's released solver (written from the notes, not its code):
-// - the fixed pseudo-Laplacian L (the exact area Jacobian at the identity) is solved by fast cosine transforms:
-//   with the clamped boundary it is 2 (A (x) A - I), A the 1-D clamped average, diagonal in the DCT-II basis.
-//   O(n^2 log n) per solve, no factorisation;
-// - directions are inexact Newton steps by default: GMRES on the exact Jacobian at the current map,
-//   preconditioned by L^-1 (the chord direction L^-1 r is its first Krylov vector), plus the conjugate-Jacobian
-//   update of otmap.md §2.3;
-// - the exact quartic line search only takes steps that keep every quad area positive (OtFoldGuard::Area,
-//   default) or every quad strictly convex (Convex), going at most boundaryFraction of the way to the bound;
-// - continuation: when the guarded search stalls, the target is approached in stages between the start map's
-//   areas and the target masses (see LevelSolver::run);
+// - Newton directions on the relative residual (A - m) / m: GMRES preconditioned by the fixed
+// pseudo-Laplacian L
+//   (the exact area Jacobian at the identity, diagonal in the DCT-II basis, O(n^2 log n) per solve) while
+//   that reaches its tolerance, else by UMFPACK LU factors of the exact Jacobian at the current map (reused
+//   while the steps stay full). otmap's chord directions and conjugate-Jacobian update remain as options
+//   (experiments);
+// - a line search that keeps every quad's signed area positive (OtFoldGuard::Area), going at most
+//   boundaryFraction of the way to the first degenerate quad;
+// - continuation: the target is approached in stages m_s = A0^(1-s) m^s (renormalised) from the start map's
+// own
+//   areas A0; a stage whose Newton step falls below stageMinStep is undone and retried with half the step in
+//   s (see LevelSolver::run). Easy densities take the single stage s = 1;
 // - coarse-to-fine: the density is box-restricted to n/2, n/4, ..., solved there and psi is prolonged
 //   bilinearly; a prolonged start with a non-positive quad area is dropped for the identity;
 // - a density floor: rho' = max(rho, floorFraction * mean(rho)), renormalised to mean 1. Zero regions then
 //   collapse to thin quads instead of folding. The samplers' pdfs stay exact because they come from the map.
+// The converged map can hold self-intersecting quads of positive area next to a sun; ot_map.h untangles them
+// for the samplers.
 #pragma once
 
 #include "engine/io/env_image.h"
@@ -30,20 +35,21 @@
 namespace iblx {
 
 // Sampling density on an n x n grid over the lat-long parameter square, row-major, row = v (theta = pi v from
-// +Y), column = u (phi = 2 pi u): the exact integral of the nearest-texel weight (mean RGB) over each cell with
-// respect to solid angle (so sin(theta) is included), divided by the cell's parameter area, normalised to mean 1.
-// An all-black image gives sin(theta) (uniform sphere). Throws iblx::Error on a bad image or n < 1.
+// +Y), column = u (phi = 2 pi u): the exact integral of the nearest-texel weight (mean RGB) over each cell
+// with respect to solid angle (so sin(theta) is included), divided by the cell's parameter area, normalised
+// to mean 1. An all-black image gives sin(theta) (uniform sphere). Throws iblx::Error on a bad image or n
+// < 1.
 std::vector<double> otDensityFromEnv(const EnvImage& env, int n);
 
 // What the line search keeps valid. Convex: every quad stays strictly convex (its bilinear map has a positive
-// Jacobian everywhere). Area: every quad keeps a positive signed area (it may become non-convex). None: otmap's
-// unconstrained search.
+// Jacobian everywhere). Area: every quad keeps a positive signed area (it may become non-convex). None:
+// otmap's unconstrained search.
 enum class OtFoldGuard { None, Area, Convex };
 
-// What the line search minimises along a direction. L2: E = sum_c (A_c - m_c)^2, a quartic in the step (otmap.md
-// §2.3). Barrier: F = sum_c [A_c - m_c - m_c log(A_c / m_c)], the Bregman divergence of -log: zero exactly at
-// A = m, convex in each area, infinite at A_c = 0 so no quad area can reach 0, and relative in its weighting,
-// so a cell that must grow 1e4-fold is not drowned by the quadratic error of a million small ones.
+// What the line search minimises along a direction. L2: E = sum_c (A_c - m_c)^2, a quartic in the step
+// (otmap.md §2.3). Barrier: F = sum_c [A_c - m_c - m_c log(A_c / m_c)], the Bregman divergence of -log: zero
+// exactly at A = m, convex in each area, infinite at A_c = 0 so no quad area can reach 0, and relative in its
+// weighting, so a cell that must grow 1e4-fold is not drowned by the quadratic error of a million small ones.
 enum class OtMerit { L2, Barrier };
 
 struct OtSolverOptions {
@@ -54,25 +60,25 @@ struct OtSolverOptions {
   bool coarseToFine = true;        // solve on n/2 first (recursively) and prolong psi
   int coarsestSize = 16;           // no level below this size
   double coarseTargetL2 = 1e-5;    // looser target on the coarse levels: the fine level corrects them
-  bool conjugateJacobian = false;   // otmap.md §2.3 step 2 (also applied to the Newton directions)
-  int krylovSteps = 20;             // > 0: inexact Newton directions, GMRES(krylovSteps) on the exact Jacobian;
-                                   // 0: otmap's chord directions (L^-1 r) with conjugate-Jacobian updates
-  bool directNewton = true;        // exact Newton directions by sparse LU of the Jacobian (instead of GMRES)
-  double krylovTolerance = 0.1;    // GMRES stops at ||r + J d|| <= krylovTolerance ||r||
-  int stageIterations = 60;        // continuation: iteration budget of an intermediate stage
-  double stageLogError = 0.05;     // continuation: an intermediate stage is solved to max |log(A / m)| <= this
-  double minStageStep = 1e-3;      // continuation: give up below this step in s
-  double stageMinStep = 0.25;      // continuation: a Newton step shorter than this abandons the stage
+  bool conjugateJacobian = false;  // otmap.md §2.3 step 2 (also applied to the Newton directions)
+  int krylovSteps = 20;          // > 0: inexact Newton directions, GMRES(krylovSteps) on the exact Jacobian;
+                                 // 0: otmap's chord directions (L^-1 r) with conjugate-Jacobian updates
+  bool directNewton = true;      // exact Newton directions by sparse LU of the Jacobian (instead of GMRES)
+  double krylovTolerance = 0.1;  // GMRES stops at ||r + J d|| <= krylovTolerance ||r||
+  int stageIterations = 60;      // continuation: iteration budget of an intermediate stage
+  double stageLogError = 0.05;   // continuation: an intermediate stage is solved to max |log(A / m)| <= this
+  double minStageStep = 1e-3;    // continuation: give up below this step in s
+  double stageMinStep = 0.25;    // continuation: a Newton step shorter than this abandons the stage
   OtFoldGuard foldGuard = OtFoldGuard::Area;
   OtMerit merit = OtMerit::L2;
-  // Newton on log areas: J d = -A (log A - log m) instead of J d = -(A - m). The same fixed point, but a cell far
-  // too small grows by a bounded factor per step instead of being asked for an impossible linear jump.
+  // Newton on log areas: J d = -A (log A - log m) instead of J d = -(A - m). The same fixed point, but a cell
+  // far too small grows by a bounded factor per step instead of being asked for an impossible linear jump.
   bool logNewton = false;
   // Newton directions and the L2 line search on relative residuals (A - m) / m: GMRES rows and merit terms
   // weighted by 1/m, so the sun's cells cannot hide a 100% error on a sky cell.
   bool relativeResidual = true;
-  double boundaryFraction = 0.9;   // a step goes at most this fraction of the way to the first degenerate quad
-  int threads = 0;                 // 0 = hardware concurrency
+  double boundaryFraction = 0.9;  // a step goes at most this fraction of the way to the first degenerate quad
+  int threads = 0;                // 0 = hardware concurrency
   std::function<void(int, double)> progress;  // (iteration at the finest level, E) after every iteration
 };
 
@@ -93,12 +99,13 @@ struct OtMap {
   double l2 = 0.0;              // E = sum_c h^2 (A_c/h^2 - rho_c)^2
   double l1 = 0.0;              // sum_c |A_c - h^2 rho_c|
   double linf = 0.0;            // max_c |A_c - h^2 rho_c| / h^2
-  // Quads whose bilinear map does not have a strictly positive Jacobian everywhere: the Jacobian determinant of
-  // a bilinear patch is affine in each parameter, so this is "some corner cross product
-  // (P_next - P) x (P_prev - P), taken counter-clockwise, is <= 0". Negative areas and self-intersecting or
-  // non-convex quads are all counted.
+  // Quads whose bilinear map does not have a strictly positive Jacobian everywhere: the Jacobian determinant
+  // of a bilinear patch is affine in each parameter, so this is "some corner cross product (P_next - P) x
+  // (P_prev - P), taken counter-clockwise, is <= 0". Negative areas and self-intersecting or non-convex quads
+  // are all counted.
   int foldedQuads = 0;
-  int negativeAreaQuads = 0;  // the subset with signed area <= 0 (the issue's "folded": otmap.md §3 counts these)
+  int negativeAreaQuads =
+      0;  // the subset with signed area <= 0 (the issue's "folded": otmap.md §3 counts these)
   bool converged = false;  // l2 <= targetL2 and l1 <= targetL1
 };
 

@@ -2,6 +2,7 @@
 // (randomized QMC): every power-of-two prefix of a pixel's points is a scrambled (0,m,2)-net.
 // Burley 2020, "Practical Hash-based Owen Scrambling", JCGT 9(4).
 #include "lib/hash.glsl"
+#include "lib/sobol.glsl"
 
 // Laine & Karras 2011 style hash permutation used by Burley 2020 for nested uniform scrambling.
 uint laineKarrasPermutation(uint x, uint seed) {
@@ -15,18 +16,6 @@ uint laineKarrasPermutation(uint x, uint seed) {
 
 uint nestedUniformScramble(uint x, uint seed) {
   return bitfieldReverse(laineKarrasPermutation(bitfieldReverse(x), seed));
-}
-
-// Second Sobol dimension: generator matrix = Pascal's triangle mod 2 (v_{k+1} = v_k ^ (v_k >> 1)).
-// A fixed 32-step branch-free loop (it unrolls; SIMD lanes do not diverge).
-uint sobolSecondDimension(uint index) {
-  uint result = 0u;
-  uint v = 1u << 31u;
-  for (int bit = 0; bit < 32; ++bit) {
-    result ^= v & (0u - ((index >> uint(bit)) & 1u));
-    v ^= v >> 1u;
-  }
-  return result;
 }
 
 vec2 sequenceSample(uvec2 pixel, uint sampleIndex, uint seed) {

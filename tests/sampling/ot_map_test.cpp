@@ -1,10 +1,12 @@
-// Tests of QuadGridMap (engine/sampling/ot_map.h): piece classification, evaluation and inversion of each piece,
-// apply/invert round trips on solved OT maps, that the Jacobian integrates to each piece's image area, that
-// inverted uniform points land in each cell with the probability of its image area (chi-square), and the
+// Tests of QuadGridMap (engine/sampling/ot_map.h): piece classification, evaluation and inversion of each
+// piece, apply/invert round trips on solved OT maps, that the Jacobian integrates to each piece's image area,
+// that inverted uniform points land in each cell with the probability of its image area (chi-square), and the
 // tabulated inverse: forward(inverse(u)) = u at its vertices and close to u between them.
 #include "engine/sampling/ot_map.h"
 
 #include "engine/sampling/ot_solver.h"
+
+#include "tests/support/ot_densities.h"
 
 #include <doctest/doctest.h>
 
@@ -14,28 +16,14 @@
 #include <vector>
 
 using namespace iblx;
+using namespace iblx::test;
 using glm::dvec2;
 
 namespace {
 
-std::vector<double> sunDensity(int n, double peak) {
-  std::vector<double> d(std::size_t(n) * n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const double r2 = double(i - n / 3) * (i - n / 3) + double(j - n / 4) * (j - n / 4);
-      d[std::size_t(j) * n + i] = 1.0 + peak * std::exp(-0.5 * r2);
-    }
-  return d;
+double cross(dvec2 a, dvec2 b) {
+  return a.x * b.y - a.y * b.x;
 }
-
-std::vector<double> halfZeroDensity(int n) {
-  std::vector<double> d(std::size_t(n) * n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) d[std::size_t(j) * n + i] = i < n / 2 ? 0.0 : 1.0 + 0.5 * std::sin(0.3 * j);
-  return d;
-}
-
-double cross(dvec2 a, dvec2 b) { return a.x * b.y - a.y * b.x; }
 
 // Image area of cell c's piece: the quad's signed area (both splits and the bilinear patch have it).
 double pieceArea(const QuadGridMap& map, std::size_t c) {
@@ -47,7 +35,8 @@ double pieceArea(const QuadGridMap& map, std::size_t c) {
 
 }  // namespace
 
-TEST_CASE("classifyQuad: convex quads are bilinear, darts are split through the reflex corner, bow ties invalid") {
+TEST_CASE(
+    "classifyQuad: convex quads are bilinear, darts are split through the reflex corner, bow ties invalid") {
   CHECK(classifyQuad({0, 0}, {1, 0}, {1, 1}, {0, 1}) == QuadPiece::Bilinear);
   // Reflex corner at 11 (pushed inside): the split through 11 is the main diagonal 00-11.
   CHECK(classifyQuad({0, 0}, {1, 0}, {0.3, 0.3}, {0, 1}) == QuadPiece::SplitMainDiagonal);
@@ -64,7 +53,8 @@ TEST_CASE("evaluatePiece / invertPiece: corners, round trips and the Jacobian of
   const struct {
     const dvec2* c;
     QuadPiece piece;
-  } cases[] = {{convex, QuadPiece::Bilinear}, {dart, QuadPiece::SplitMainDiagonal},
+  } cases[] = {{convex, QuadPiece::Bilinear},
+               {dart, QuadPiece::SplitMainDiagonal},
                {antiDart, QuadPiece::SplitAntiDiagonal}};
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
@@ -88,9 +78,11 @@ TEST_CASE("evaluatePiece / invertPiece: corners, round trips and the Jacobian of
       if (std::abs(st.x - st.y) > 1e-3 && std::abs(st.x + st.y - 1.0) > 1e-3 && st.x > eps && st.y > eps &&
           st.x < 1 - eps && st.y < 1 - eps) {
         const dvec2 dx = (evaluatePiece(k.piece, k.c, st + dvec2(eps, 0), nullptr) -
-                          evaluatePiece(k.piece, k.c, st - dvec2(eps, 0), nullptr)) / (2 * eps);
+                          evaluatePiece(k.piece, k.c, st - dvec2(eps, 0), nullptr)) /
+                         (2 * eps);
         const dvec2 dy = (evaluatePiece(k.piece, k.c, st + dvec2(0, eps), nullptr) -
-                          evaluatePiece(k.piece, k.c, st - dvec2(0, eps), nullptr)) / (2 * eps);
+                          evaluatePiece(k.piece, k.c, st - dvec2(0, eps), nullptr)) /
+                         (2 * eps);
         CHECK(cross(dx, dy) == doctest::Approx(jac).epsilon(1e-6));
       }
     }
@@ -112,9 +104,9 @@ TEST_CASE("evaluatePiece / invertPiece: corners, round trips and the Jacobian of
 }
 
 TEST_CASE("QuadGridMap on solved OT maps: round trips, areas, chi-square of inverted uniform points") {
-  for (const auto& [name, density] :
-       {std::pair{std::string("sun1e5"), sunDensity(32, 1e5)}, std::pair{std::string("halfzero"), halfZeroDensity(32)},
-        std::pair{std::string("sun1e3"), sunDensity(32, 1e3)}}) {
+  for (const auto& [name, density] : {std::pair{std::string("sun1e5"), sunDensity(32, 1e5)},
+                                      std::pair{std::string("halfzero"), halfZeroDensity(32)},
+                                      std::pair{std::string("sun1e3"), sunDensity(32, 1e3)}}) {
     CAPTURE(name);
     const OtMap ot = solveOtMap(density, 32);
     REQUIRE(ot.converged);

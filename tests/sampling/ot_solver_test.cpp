@@ -1,11 +1,14 @@
 // Tests of the OT map solver (engine/sampling/ot_solver.h) and its DCT (engine/sampling/ot_dct.h): transforms
-// against their definition, the identity map, mass residuals and folds on smooth, sun and half-zero densities,
-// boundary vertices, the density of a lat-long environment against the analytic sin(theta) integral, bad input.
+// against their definition, the identity map, mass residuals and folds on smooth, sun and half-zero
+// densities, boundary vertices, the density of a lat-long environment against the analytic sin(theta)
+// integral, bad input.
 #include "engine/sampling/ot_solver.h"
 
 #include "engine/core/error.h"
 #include "engine/sampling/ot_dct.h"
 #include "tests/support/hard_envs.h"
+
+#include "tests/support/ot_densities.h"
 
 #include <doctest/doctest.h>
 
@@ -16,41 +19,11 @@
 #include <vector>
 
 using namespace iblx;
+using namespace iblx::test;
 
 namespace {
 
 constexpr double kPiD = std::numbers::pi;
-
-// Smooth sky-like density on the lat-long square: radiance times sin(theta) at the cell centre.
-std::vector<double> smoothDensity(int n) {
-  std::vector<double> d(std::size_t(n) * n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const double u = (i + 0.5) / n, v = (j + 0.5) / n;
-      d[std::size_t(j) * n + i] =
-          (0.3 + 0.75 * (1 + std::cos(kPiD * v)) + 0.4 * (1 + std::cos(2 * kPiD * u))) * std::sin(kPiD * v);
-    }
-  return d;
-}
-
-// 1 everywhere plus `peak` times a Gaussian of sigma = 1 cell centred on cell (n/3, n/4): the sun covers a few cells.
-std::vector<double> sunDensity(int n, double peak) {
-  std::vector<double> d(std::size_t(n) * n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const double r2 = double(i - n / 3) * (i - n / 3) + double(j - n / 4) * (j - n / 4);
-      d[std::size_t(j) * n + i] = 1.0 + peak * std::exp(-0.5 * r2);
-    }
-  return d;
-}
-
-// Left half exactly 0, right half 1.
-std::vector<double> halfZeroDensity(int n) {
-  std::vector<double> d(std::size_t(n) * n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) d[std::size_t(j) * n + i] = i < n / 2 ? 0.0 : 1.0;
-  return d;
-}
 
 // The solver's own guarantees, checked from the returned vertices alone.
 void checkMap(const OtMap& map, const OtSolverOptions& options) {
@@ -114,11 +87,13 @@ TEST_CASE("OT DCT: forward rows match the definition and inverse rows undo them"
         CHECK(a[std::size_t(r) * n + k] == doctest::Approx(expected).epsilon(1e-12).scale(1.0));
       }
     plan.inverseRows(a, 1);
-    for (std::size_t c = 0; c < a.size(); ++c) CHECK(a[c] == doctest::Approx(original[c]).epsilon(1e-12).scale(1.0));
+    for (std::size_t c = 0; c < a.size(); ++c)
+      CHECK(a[c] == doctest::Approx(original[c]).epsilon(1e-12).scale(1.0));
     transposeSquare(a, n);
     for (int r = 0; r < n; ++r)
       for (int c = 0; c < n; ++c)
-        CHECK(a[std::size_t(r) * n + c] == doctest::Approx(original[std::size_t(c) * n + r]).epsilon(1e-12).scale(1.0));
+        CHECK(a[std::size_t(r) * n + c] ==
+              doctest::Approx(original[std::size_t(c) * n + r]).epsilon(1e-12).scale(1.0));
   }
 }
 
@@ -217,16 +192,18 @@ TEST_CASE("OT density: a constant environment gives sin(theta) integrated exactl
     const std::vector<double> d = otDensityFromEnv(constantEnv(w, h, 2.5f), n);
     REQUIRE(d.size() == std::size_t(n) * n);
     for (int j = 0; j < n; ++j) {
-      // Mean-1 density of cell row j: n * (cos(pi j/n) - cos(pi (j+1)/n)) / 2 (the cell's share of 2, times n^2).
+      // Mean-1 density of cell row j: n * (cos(pi j/n) - cos(pi (j+1)/n)) / 2 (the cell's share of 2, times
+      // n^2).
       const double expected = n * (std::cos(kPiD * j / n) - std::cos(kPiD * (j + 1) / n)) / 2.0;
-      for (int i = 0; i < n; ++i) CHECK(d[std::size_t(j) * n + i] == doctest::Approx(expected).epsilon(1e-12));
+      for (int i = 0; i < n; ++i)
+        CHECK(d[std::size_t(j) * n + i] == doctest::Approx(expected).epsilon(1e-12));
     }
   }
 }
 
 TEST_CASE("OT density: one bright texel lands in the cells it overlaps, in proportion") {
-  // 4 x 2 map, one texel (1, 0) = 1, rest 0; n = 3: texel u in [1/4, 1/2] splits 1/12 : 2/12 between columns 0
-  // and 1; texel v in [0, 1/2] covers cell row 0 (v < 1/3) and part of row 1, by solid angle.
+  // 4 x 2 map, one texel (1, 0) = 1, rest 0; n = 3: texel u in [1/4, 1/2] splits 1/12 : 2/12 between columns
+  // 0 and 1; texel v in [0, 1/2] covers cell row 0 (v < 1/3) and part of row 1, by solid angle.
   test::NamedEnv env{"one", makeEnv(4, 2, [](int x, int y, double, double) {
                        const double v = (x == 1 && y == 0) ? 1.0 : 0.0;
                        return std::array<double, 3>{v, v, v};

@@ -33,7 +33,8 @@ std::vector<double> fromRadiance(int n, const std::function<double(double, doubl
   return d;
 }
 
-// A sky with a sun of `peak` x the sky over a Gaussian of sigma = 1 cell (a few cells), centred on a cell centre.
+// A sky with a sun of `peak` x the sky over a Gaussian of sigma = 1 cell (a few cells), centred on a cell
+// centre.
 std::vector<double> sun(int n, double peak) {
   const int ci = n / 3, cj = n / 4;
   std::vector<double> d(std::size_t(n) * n);
@@ -47,20 +48,24 @@ std::vector<double> sun(int n, double peak) {
 
 std::vector<Case> syntheticCases() {
   return {
-      {"smooth", [](int n) {
+      {"smooth",
+       [](int n) {
          return fromRadiance(n, [](double u, double v) {
-           return 0.3 + 0.75 * (1 + std::cos(std::numbers::pi * v)) + 0.4 * (1 + std::cos(2 * std::numbers::pi * u));
+           return 0.3 + 0.75 * (1 + std::cos(std::numbers::pi * v)) +
+                  0.4 * (1 + std::cos(2 * std::numbers::pi * u));
          });
        }},
       {"sun1e3", [](int n) { return sun(n, 1e3); }},
       {"sun1e5", [](int n) { return sun(n, 1e5); }},
-      {"halfzero", [](int n) {
+      {"halfzero",
+       [](int n) {
          std::vector<double> d(std::size_t(n) * n);
          for (int j = 0; j < n; ++j)
            for (int i = 0; i < n; ++i) d[std::size_t(j) * n + i] = i < n / 2 ? 0.0 : 1.0;
          return d;
        }},
-      {"skyzero", [](int n) {  // sky over an exactly-black lower hemisphere, with a 1e4 sun
+      {"skyzero",
+       [](int n) {  // sky over an exactly-black lower hemisphere, with a 1e4 sun
          auto d = fromRadiance(n, [](double u, double v) {
            if (v >= 0.5) return 0.0;
            const double du = u - 0.3, dv = v - 0.2;
@@ -106,7 +111,9 @@ int main(int argc, char** argv) {
         options.krylovSteps = std::stoi(value());
       } else if (arg == "--guard") {
         const std::string g = value();
-        options.foldGuard = g == "none" ? OtFoldGuard::None : g == "area" ? OtFoldGuard::Area : OtFoldGuard::Convex;
+        options.foldGuard = g == "none"   ? OtFoldGuard::None
+                            : g == "area" ? OtFoldGuard::Area
+                                          : OtFoldGuard::Convex;
       } else if (arg == "--merit") {
         const std::string m = value();
         if (m != "l2" && m != "barrier") throw Error("--merit: expected l2 or barrier, got " + m);
@@ -126,8 +133,9 @@ int main(int argc, char** argv) {
       } else if (arg == "--max-iter") {
         options.maxIterations = std::stoi(value());
       } else if (arg == "--help") {
-        std::printf("usage: iblx_ot_bench [--sizes 128,256,...] [--cases smooth,sun1e3,sun1e5,halfzero,skyzero]\n"
-                    "                     [--threads T] [--no-coarse] [--max-iter N] [FILE.exr|FILE.hdr ...]\n");
+        std::printf(
+            "usage: iblx_ot_bench [--sizes 128,256,...] [--cases smooth,sun1e3,sun1e5,halfzero,skyzero]\n"
+            "                     [--threads T] [--no-coarse] [--max-iter N] [FILE.exr|FILE.hdr ...]\n");
         return 0;
       } else if (!arg.empty() && arg[0] == '-') {
         throw Error(arg + ": unknown flag (see --help)");
@@ -145,15 +153,15 @@ int main(int argc, char** argv) {
       auto image = std::make_shared<EnvImage>(loadEnvImage(file));
       cases.push_back({file, [image](int n) { return otDensityFromEnv(*image, n); }});
     }
-    std::printf("%-28s %5s %6s %7s %9s %10s %10s %10s %7s %7s %s\n", "case", "n", "iters", "coarse", "seconds", "L2",
-                "L1", "Linf", "nonconv", "negarea", "conv");
+    std::printf("%-28s %5s %6s %7s %9s %10s %10s %10s %7s %7s %s\n", "case", "n", "iters", "coarse",
+                "seconds", "L2", "L1", "Linf", "nonconv", "negarea", "conv");
     for (const Case& c : cases)
       for (int n : sizes) {
         const std::vector<double> density = c.density(n);
         const OtMap map = solveOtMap(density, n, options);
-        std::printf("%-28s %5d %6d %7d %9.3f %10.2e %10.2e %10.2e %7d %7d %s\n", c.name.c_str(), n, map.iterations,
-                    map.coarseIterations, map.seconds, map.l2, map.l1, map.linf, map.foldedQuads,
-                    map.negativeAreaQuads, map.converged ? "yes" : "no");
+        std::printf("%-28s %5d %6d %7d %9.3f %10.2e %10.2e %10.2e %7d %7d %s\n", c.name.c_str(), n,
+                    map.iterations, map.coarseIterations, map.seconds, map.l2, map.l1, map.linf,
+                    map.foldedQuads, map.negativeAreaQuads, map.converged ? "yes" : "no");
         std::fflush(stdout);
       }
     return 0;

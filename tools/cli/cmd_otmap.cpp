@@ -212,8 +212,8 @@ int cmdOtMap(const Args& args) {
         jsonEscape(envPath.string()).c_str(), env.width, env.height, n, options.floorFraction, map.iterations,
         map.coarseIterations, map.seconds, wall, map.l2, map.l1, map.linf, map.negativeAreaQuads,
         map.foldedQuads, forward.invalidPieces(), samplerL1, forward.treeDepth(), forward.largestLeaf(),
-        map.converged ? "true" : "false",
-        fromCache ? "true" : "false", jsonEscape(out).c_str(), figure.width, figure.height);
+        map.converged ? "true" : "false", fromCache ? "true" : "false", jsonEscape(out).c_str(), figure.width,
+        figure.height);
   } else {
     std::printf("otmap of %s (%dx%d) on a %dx%d grid, floor %g x mean\n", envPath.string().c_str(), env.width,
                 env.height, n, n, options.floorFraction);
@@ -222,8 +222,9 @@ int cmdOtMap(const Args& args) {
     std::printf("mass error: L2 %.3g, L1 %.3g, Linf %.3g\n", map.l2, map.l1, map.linf);
     std::printf("quads: %d folded (area <= 0), %d not strictly convex, %d without a valid piece\n",
                 map.negativeAreaQuads, map.foldedQuads, forward.invalidPieces());
-    std::printf("sampler map (untangled): L1 %.3g; env-ot-fwd's quadtree: depth %d, at most %u quads per leaf\n",
-                samplerL1, forward.treeDepth(), forward.largestLeaf());
+    std::printf(
+        "sampler map (untangled): L1 %.3g; env-ot-fwd's quadtree: depth %d, at most %u quads per leaf\n",
+        samplerL1, forward.treeDepth(), forward.largestLeaf());
     std::printf("converged: %s (L2 <= %g and L1 <= %g); from the cache: %s\n", yesNo(map.converged).c_str(),
                 options.targetL2, options.targetL1, yesNo(fromCache).c_str());
     std::printf("wrote %s (%dx%d: log sampling weight, pre-images of a %dx%d uniform grid; total %.2f s)\n",
