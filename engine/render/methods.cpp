@@ -1,6 +1,7 @@
 // The registry lists. Each line is one BRDF, technique, sequence or method; nothing else names them.
 #include "engine/render/methods.h"
 
+#include "engine/core/cache_dir.h"
 #include "engine/core/error.h"
 #include "engine/core/log.h"
 #include "engine/render/brdf_tabulation.h"
@@ -8,7 +9,6 @@
 #include "engine/sampling/env_cdf.h"
 #include "engine/sampling/env_hier.h"
 #include "engine/sampling/merl_sampling.h"
-#include "engine/core/cache_dir.h"
 #include "engine/sampling/ot_cache.h"
 #include "engine/sampling/ot_map.h"
 #include "engine/sampling/ot_solver.h"
