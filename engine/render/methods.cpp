@@ -84,8 +84,8 @@ OtMap solveEnvOtMap(const EnvImage& image) {
   return map;
 }
 
-// Buffers of shaders/lib/quad_grid_map.glsl, in its binding order.
-TechniqueData packQuadGridMap(const QuadGridMap& map, const char* label) {
+// Buffers of shaders/lib/quad_grid_map.glsl, in its binding order; densityGrid is the OT density grid's n.
+TechniqueData packQuadGridMap(const QuadGridMap& map, const char* label, int densityGrid) {
   if (map.invalidPieces() > 0)
     throw Error(std::string(label) + ": " + std::to_string(map.invalidPieces()) +
                 " quads of the map are not injective; the sampler would not be exact");
@@ -101,22 +101,19 @@ TechniqueData packQuadGridMap(const QuadGridMap& map, const char* label) {
   const auto u = [](std::uint32_t v) { return std::to_string(v) + "u"; };
   data.defines = {{"OT_GRID", u(std::uint32_t(map.size()))},
                   {"OT_TREE_DEPTH", u(std::uint32_t(map.treeDepth()))},
-                  {"OT_LARGEST_LEAF", u(map.largestLeaf())}};
+                  {"OT_LARGEST_LEAF", u(map.largestLeaf())},
+                  {"OT_DENSITY_GRID", u(std::uint32_t(densityGrid))}};
   return data;
 }
 
 TechniqueData makeEnvOtFwd(const EnvImage& image) {
   const OtMap map = solveEnvOtMap(image);
-  TechniqueData data = packQuadGridMap(forwardMap(map), "env-ot-fwd");
-  data.defines.emplace_back("OT_DENSITY_GRID", std::to_string(map.n) + "u");
-  return data;
+  return packQuadGridMap(forwardMap(map), "env-ot-fwd", map.n);
 }
 
 TechniqueData makeEnvOtInv(const EnvImage& image) {
   const OtMap map = solveEnvOtMap(image);
-  TechniqueData data = packQuadGridMap(tabulatedInverse(forwardMap(map), map.n), "env-ot-inv");
-  data.defines.emplace_back("OT_DENSITY_GRID", std::to_string(map.n) + "u");
-  return data;
+  return packQuadGridMap(tabulatedInverse(forwardMap(map), map.n), "env-ot-inv", map.n);
 }
 
 double ggxLobeWidth(const Scene& scene, const GpuServices&) {

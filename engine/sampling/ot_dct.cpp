@@ -112,7 +112,8 @@ void DctPlan::inversePair(double* x0, double* x1, std::complex<double>* z) const
   }
 }
 
-void DctPlan::forwardRows(std::span<double> a, int threads) const {
+// Both directions share the row pairing: two real rows go through one complex FFT.
+void DctPlan::transformRows(std::span<double> a, int threads, bool inverse) const {
   const int n = n_;
   IBLX_ASSERT(a.size() == std::size_t(n) * n);
   if (n == 1) return;
@@ -123,15 +124,25 @@ void DctPlan::forwardRows(std::span<double> a, int threads) const {
       double* r0 = &a[std::size_t(2 * p) * n];
       double* r1 = 2 * p + 1 < n ? &a[std::size_t(2 * p + 1) * n] : spare.data();
       if (pow2_) {
-        forwardPair(r0, r1, z.data());
+        inverse ? inversePair(r0, r1, z.data()) : forwardPair(r0, r1, z.data());
         continue;
       }
       for (double* r : {r0, r1}) {
-        for (int k = 0; k < n; ++k) {
-          double s = 0.0;
-          const double* c = &cosTable_[std::size_t(k) * n];
-          for (int i = 0; i < n; ++i) s += c[i] * r[i];
-          tmp[std::size_t(k)] = s;
+        if (inverse) {
+          // x_i = (1/n) (X_0 + 2 sum_{k>=1} X_k cos(pi k (2i+1)/(2n))), the DCT-III inverse of DCT-II.
+          std::fill(tmp.begin(), tmp.end(), 0.0);
+          for (int k = 0; k < n; ++k) {
+            const double w = (k ? 2.0 : 1.0) * r[k] / n;
+            const double* c = &cosTable_[std::size_t(k) * n];
+            for (int i = 0; i < n; ++i) tmp[std::size_t(i)] += w * c[i];
+          }
+        } else {
+          for (int k = 0; k < n; ++k) {
+            double s = 0.0;
+            const double* c = &cosTable_[std::size_t(k) * n];
+            for (int i = 0; i < n; ++i) s += c[i] * r[i];
+            tmp[std::size_t(k)] = s;
+          }
         }
         std::copy(tmp.begin(), tmp.end(), r);
       }
@@ -139,32 +150,12 @@ void DctPlan::forwardRows(std::span<double> a, int threads) const {
   });
 }
 
+void DctPlan::forwardRows(std::span<double> a, int threads) const {
+  transformRows(a, threads, false);
+}
+
 void DctPlan::inverseRows(std::span<double> a, int threads) const {
-  const int n = n_;
-  IBLX_ASSERT(a.size() == std::size_t(n) * n);
-  if (n == 1) return;
-  parallelChunks(threads, (n + 1) / 2, 16, [&](int lo, int hi) {
-    std::vector<std::complex<double>> z(static_cast<std::size_t>(n));
-    std::vector<double> tmp(static_cast<std::size_t>(n)), spare(static_cast<std::size_t>(n), 0.0);
-    for (int p = lo; p < hi; ++p) {
-      double* r0 = &a[std::size_t(2 * p) * n];
-      double* r1 = 2 * p + 1 < n ? &a[std::size_t(2 * p + 1) * n] : spare.data();
-      if (pow2_) {
-        inversePair(r0, r1, z.data());
-        continue;
-      }
-      // x_i = (1/n) (X_0 + 2 sum_{k>=1} X_k cos(pi k (2i+1)/(2n))), the DCT-III inverse of DCT-II.
-      for (double* r : {r0, r1}) {
-        std::fill(tmp.begin(), tmp.end(), 0.0);
-        for (int k = 0; k < n; ++k) {
-          const double w = (k ? 2.0 : 1.0) * r[k] / n;
-          const double* c = &cosTable_[std::size_t(k) * n];
-          for (int i = 0; i < n; ++i) tmp[std::size_t(i)] += w * c[i];
-        }
-        std::copy(tmp.begin(), tmp.end(), r);
-      }
-    }
-  });
+  transformRows(a, threads, true);
 }
 
 }  // namespace iblx

@@ -24,6 +24,7 @@ class DctPlan {
 
  private:
   void fft(std::complex<double>* z, bool inverse) const;
+  void transformRows(std::span<double> a, int threads, bool inverse) const;
   void forwardPair(double* x0, double* x1, std::complex<double>* z) const;
   void inversePair(double* x0, double* x1, std::complex<double>* z) const;
 
