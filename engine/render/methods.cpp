@@ -8,10 +8,12 @@
 #include "engine/render/scene.h"
 #include "engine/sampling/env_cdf.h"
 #include "engine/sampling/env_hier.h"
+#include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/merl_sampling.h"
 #include "engine/sampling/ot_cache.h"
 #include "engine/sampling/ot_map.h"
 #include "engine/sampling/ot_solver.h"
+#include "engine/sampling/ot_sun.h"
 
 #include <algorithm>
 #include <bit>
@@ -72,48 +74,72 @@ int otGridSize(const EnvImage& image) {
   return std::clamp(image.height, 32, 256);
 }
 
-OtMap solveEnvOtMap(const EnvImage& image) {
+// The OT techniques' map: the sun texels' excess is split off (ot_sun.h) and the map solved for the rest.
+struct EnvOtMaps {
+  OtSunSplit sun;
+  OtMap map;
+};
+
+EnvOtMaps solveEnvOtMap(const EnvImage& image) {
   const int n = otGridSize(image);
-  OtMap map = solveOtMapCached(otDensityFromEnv(image, n), n, OtSolverOptions{}, defaultCacheDir());
+  EnvOtMaps maps{splitOtSun(texelSamplingWeights(image, "OT density"), image.width, image.height), {}};
+  const std::vector<double> density =
+      otDensityFromWeights(maps.sun.smoothWeights, image.width, image.height, n);
+  maps.map = solveOtMapCached(density, n, OtSolverOptions{}, defaultCacheDir());
+  const OtMap& map = maps.map;
   if (map.negativeAreaQuads > 0)
     throw Error("OT map: " + std::to_string(map.negativeAreaQuads) +
                 " folded quads at n = " + std::to_string(n));
   if (!map.converged)  // still an exact sampler (its pdf is the map's own), only a less efficient one
     warn("OT map at n = " + std::to_string(n) + " did not converge (L2 " + std::to_string(map.l2) + ", L1 " +
          std::to_string(map.l1) + "); sampling with the best map reached");
-  return map;
+  return maps;
 }
 
-// Buffers of shaders/lib/quad_grid_map.glsl, in its binding order; densityGrid is the OT density grid's n.
-TechniqueData packQuadGridMap(const QuadGridMap& map, const char* label, int densityGrid) {
+// A QuadGridMap's vertex images and piece types, the first two buffers a quad map needs on the GPU.
+void addQuadMapGeometry(TechniqueData& data, const QuadGridMap& map, const std::string& name) {
   if (map.invalidPieces() > 0)
-    throw Error(std::string(label) + ": " + std::to_string(map.invalidPieces()) +
+    throw Error(name + ": " + std::to_string(map.invalidPieces()) +
                 " quads of the map are not injective; the sampler would not be exact");
-  std::vector<glm::vec2> vertices(map.image().begin(), map.image().end());
+  const std::vector<glm::vec2> vertices(map.image().begin(), map.image().end());
   std::vector<std::uint32_t> pieces(map.pieces().size());
   for (std::size_t c = 0; c < pieces.size(); ++c) pieces[c] = std::uint32_t(map.pieces()[c]);
-  TechniqueData data;
-  const std::string name(label);
   data.add(name + " vertices", std::span<const glm::vec2>(vertices));
   data.add(name + " pieces", std::span<const std::uint32_t>(pieces));
+}
+
+// Buffers of shaders/lib/quad_grid_map.glsl and lib/ot_sun.glsl, in their binding order (0-6).
+TechniqueData packEnvOt(const QuadGridMap& map, const OtSunSplit& sun, int densityGrid,
+                        const std::string& name) {
+  TechniqueData data;
+  addQuadMapGeometry(data, map, name);
   data.add(name + " quadtree", map.nodes());
   data.add(name + " leaf cells", map.leafCells());
+  data.add(name + " sun texels", std::span<const std::uint32_t>(sun.texels));
+  data.add(name + " sun cdf", std::span<const float>(sun.cdf));
+  data.add(name + " sun rows", std::span<const std::uint32_t>(sun.rowFirst));
   const auto u = [](std::uint32_t v) { return std::to_string(v) + "u"; };
   data.defines = {{"OT_GRID", u(std::uint32_t(map.size()))},
                   {"OT_TREE_DEPTH", u(std::uint32_t(map.treeDepth()))},
                   {"OT_LARGEST_LEAF", u(map.largestLeaf())},
-                  {"OT_DENSITY_GRID", u(std::uint32_t(densityGrid))}};
+                  {"OT_DENSITY_GRID", u(std::uint32_t(densityGrid))},
+                  {"OT_SUN_TEXELS", std::to_string(sun.texels.size())},
+                  {"OT_SUN_SHARE_BITS", u(std::bit_cast<std::uint32_t>(sun.sunShare))}};
   return data;
 }
 
 TechniqueData makeEnvOtFwd(const EnvImage& image) {
-  const OtMap map = solveEnvOtMap(image);
-  return packQuadGridMap(forwardMap(map), "env-ot-fwd", map.n);
+  const EnvOtMaps maps = solveEnvOtMap(image);
+  return packEnvOt(forwardMap(maps.map), maps.sun, maps.map.n, "env-ot-fwd");
 }
 
 TechniqueData makeEnvOtInv(const EnvImage& image) {
-  const OtMap map = solveEnvOtMap(image);
-  return packQuadGridMap(tabulatedInverse(forwardMap(map), map.n), "env-ot-inv", map.n);
+  const EnvOtMaps maps = solveEnvOtMap(image);
+  const QuadGridMap forward = forwardMap(maps.map);
+  TechniqueData data = packEnvOt(tabulatedInverse(forward, maps.map.n), maps.sun, maps.map.n, "env-ot-inv");
+  // Bindings 7-8: the forward map, whose image of a point guesses the point's preimage under the inverse.
+  addQuadMapGeometry(data, forward, "env-ot-inv forward");
+  return data;
 }
 
 double ggxLobeWidth(const Scene& scene, const GpuServices&) {

@@ -854,16 +854,22 @@ OtMap solveOtMap(std::span<const double> density, int n, const OtSolverOptions& 
 }
 
 std::vector<double> otDensityFromEnv(const EnvImage& env, int n) {
-  if (n < 1) throw Error("OT density: the grid size must be at least 1, got " + std::to_string(n));
   // Texel masses w = L * Omega(y) (solid angle included); texelSamplingWeights validates the image and maps
   // an all-black image to the uniform sphere.
-  const std::vector<double> weights = texelSamplingWeights(env, "OT density");
-  const int width = env.width, height = env.height;
+  return otDensityFromWeights(texelSamplingWeights(env, "OT density"), env.width, env.height, n);
+}
+
+std::vector<double> otDensityFromWeights(std::span<const double> weights, int width, int height, int n) {
+  if (n < 1) throw Error("OT density: the grid size must be at least 1, got " + std::to_string(n));
+  if (width < 1 || height < 1 || weights.size() != std::size_t(width) * height)
+    throw Error("OT density: expected " + std::to_string(width) + " x " + std::to_string(height) +
+                " weights");
+  const auto index = [width](int x, int y) { return std::size_t(y) * width + x; };
   // Pass 1, along u: per texel row y, the texel mass falling in each grid column (exact length overlap).
   std::vector<double> rows(std::size_t(height) * n, 0.0);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
-      const double w = weights[env.index(x, y)];
+      const double w = weights[index(x, y)];
       if (w == 0.0) continue;
       const double u0 = double(x) / width, u1 = double(x + 1) / width;
       for (int c = std::max(0, int(std::floor(u0 * n))); c < std::min(n, int(std::ceil(u1 * n))); ++c) {
@@ -888,6 +894,7 @@ std::vector<double> otDensityFromEnv(const EnvImage& env, int n) {
   }
   double total = 0.0;
   for (double v : density) total += v;
+  if (!(total > 0.0)) throw Error("OT density: the weights are zero everywhere");
   const double scale = double(n) * n / total;  // cells have equal parameter area: mass -> mean-1 density
   for (double& v : density) v *= scale;
   return density;

@@ -40,6 +40,8 @@ namespace iblx {
 // to mean 1. An all-black image gives sin(theta) (uniform sphere). Throws iblx::Error on a bad image or n
 // < 1.
 std::vector<double> otDensityFromEnv(const EnvImage& env, int n);
+// The same from W*H texel weights (texelSamplingWeights, or the smooth part of an OtSunSplit).
+std::vector<double> otDensityFromWeights(std::span<const double> weights, int width, int height, int n);
 
 // What the line search keeps valid. Convex: every quad stays strictly convex (its bilinear map has a positive
 // Jacobian everywhere). Area: every quad keeps a positive signed area (it may become non-convex). None:

@@ -3,21 +3,75 @@
 // (or affine) lookup, x = G(u); its density in the density square is 1 / |det DG(u)| of the piece evaluated,
 // divided by dOmega / dx of otParameterToDirection for solid angle. The pdf of an arbitrary direction (MIS)
 // needs its preimage: the quadtree over G's image locates it and the piece is inverted.
+// Near-delta texels (suns) are sampled apart (lib/ot_sun.glsl): the map carries the capped density only, and a
+// sun sample's OT density needs its preimage under G (found from the forward map's guess, below).
 #include "lib/latlong.glsl"
+#include "lib/ot_sun.glsl"
 #include "lib/quad_grid_map.glsl"
 
+// The forward map F that G tabulates the inverse of (ot_map.h forwardMap), on the same grid: F(x) is a first
+// guess of x's preimage under G, so a sun sample's OT density costs a few piece tests, not a quadtree search.
+layout(std430, set = 2, binding = 7) readonly buffer OtForwardVertices { vec2 otForwardVertex[]; };
+layout(std430, set = 2, binding = 8) readonly buffer OtForwardPieces { uint otForwardPiece[]; };
+
+vec2 otForwardApply(vec2 x) {
+  const uint m = OT_GRID;
+  vec2 scaled = clamp(x, 0.0, 1.0) * float(m);
+  uvec2 ij = min(uvec2(scaled), uvec2(m - 1u));
+  uint v = ij.y * (m + 1u) + ij.x;
+  vec2 c[4] = vec2[4](otForwardVertex[v], otForwardVertex[v + 1u], otForwardVertex[v + m + 2u],
+                      otForwardVertex[v + m + 1u]);
+  float jac;
+  return quadPieceEvaluate(otForwardPiece[ij.y * m + ij.x], c, clamp(scaled - vec2(ij), 0.0, 1.0), jac);
+}
+
+// The OT part's pdf per unit solid angle at w: 1 / |det DG| at the preimage of w's parameter point x, looked
+// for in G's cell around F(x) and its 8 neighbours, then (rarely) by the quadtree over G's image.
+float otInversePdf(vec3 w) {
+  const uint m = OT_GRID;
+  float solidAngle;
+  vec2 x = otDirectionToParameter(w, solidAngle);
+  if (!(solidAngle > 0.0)) return 0.0;
+  ivec2 guess = ivec2(min(uvec2(clamp(otForwardApply(x), 0.0, 1.0) * float(m)), uvec2(m - 1u)));
+  const ivec2 kAround[9] = ivec2[9](ivec2(0, 0), ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1),
+                                    ivec2(-1, -1), ivec2(1, -1), ivec2(-1, 1), ivec2(1, 1));
+  for (int k = 0; k < 9; ++k) {
+    ivec2 ij = guess + kAround[k];
+    if (any(lessThan(ij, ivec2(0))) || any(greaterThanEqual(ij, ivec2(int(m))))) continue;
+    uint cell = uint(ij.y) * m + uint(ij.x);
+    vec2 c[4];
+    quadMapCorners(cell, c);
+    uint piece = quadMapPiece[cell];
+    vec2 st;
+    if (!quadPieceInvert(piece, c, x, 1e-5, st)) continue;
+    float jac;
+    quadPieceEvaluate(piece, c, st, jac);
+    jac *= float(m) * float(m);
+    return jac > 0.0 ? 1.0 / (jac * solidAngle) : 0.0;
+  }
+  vec2 u;
+  float jac;
+  if (!quadMapInvert(x, u, jac)) return 0.0;
+  return jac > 0.0 ? 1.0 / (jac * solidAngle) : 0.0;
+}
+
 vec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {
-  float jac, solidAngle;
-  vec2 x = quadMapApply(u, jac);
-  vec3 w = otParameterToDirection(x, solidAngle);
-  pdf = (jac > 0.0 && solidAngle > 0.0) ? 1.0 / (jac * solidAngle) : 0.0;
-  radiance = pdf > 0.0 ? envRadiance(w) : vec3(0.0);
+  vec3 w;
+  ivec2 texel;
+  float pSun, pOt;
+  if (otSunChoose(u)) {
+    w = otSunSample(u, texel, pSun);
+    pOt = otInversePdf(w);
+  } else {
+    float jac, solidAngle;
+    w = otParameterToDirection(quadMapApply(u, jac), solidAngle);
+    pOt = (jac > 0.0 && solidAngle > 0.0) ? 1.0 / (jac * solidAngle) : 0.0;
+    texel = directionToTexel(w);
+    pSun = otSunTexelPdf(texel);
+  }
+  pdf = otSunMixture(pSun, pOt);
+  radiance = pdf > 0.0 ? envTexelRadiance(texel) : vec3(0.0);
   return w;
 }
 
-float envPdf(vec3 wi, vec3 n) {
-  vec2 u;
-  float jac, solidAngle;
-  if (!quadMapInvert(otDirectionToParameter(wi, solidAngle), u, jac)) return 0.0;
-  return (jac > 0.0 && solidAngle > 0.0) ? 1.0 / (jac * solidAngle) : 0.0;
-}
+float envPdf(vec3 wi, vec3 n) { return otSunMixture(otSunTexelPdf(directionToTexel(wi)), otInversePdf(wi)); }

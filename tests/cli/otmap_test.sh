@@ -48,5 +48,16 @@ check "text output: $text" grep -q "^converged: yes" <<< "$text"
 check "text output names the cache" grep -q "from the cache: yes" <<< "$text"
 check "text output folded" grep -q "^quads: 0 folded" <<< "$text"
 
+# --sun-clip: the make-sky sun is split off, and the map of the rest needs less untangling than the whole map's.
+check "no sun split by default: $json" [ "$(field "$json" sun_texels)" = 0 ]
+json5=$("$iblx" otmap --env "$tmp/sky.exr" --size 64 --sun-clip 100 --json --out "$tmp/map5.png" 2> /dev/null)
+check "--sun-clip 100 splits texels off: $json5" awk -v x="$(field "$json5" sun_texels)" 'BEGIN { exit !(x > 0) }'
+check "--sun-clip 100 sun share in (0, 1)" awk -v x="$(field "$json5" sun_share)" 'BEGIN { exit !(x > 0 && x < 1) }'
+check "--sun-clip 100 converged" [ "$(field "$json5" converged)" = true ]
+check "--sun-clip lowers the sampler map's L1: $(field "$json5" sampler_l1) vs $(field "$json" sampler_l1)" \
+  awk -v a="$(field "$json5" sampler_l1)" -v b="$(field "$json" sampler_l1)" 'BEGIN { exit !(a < b) }'
+"$iblx" otmap --env "$tmp/sky.exr" --size 64 --sun-clip 0.5 --out "$tmp/map6.png" > /dev/null 2> "$tmp/err6"
+check "--sun-clip below 1 is refused: $(cat "$tmp/err6")" grep -q -- "--sun-clip" "$tmp/err6"
+
 echo "otmap cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

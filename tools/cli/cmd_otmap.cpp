@@ -9,9 +9,11 @@
 #include "engine/io/env_image.h"
 #include "engine/io/image_write.h"
 #include "engine/render/scene.h"
+#include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/ot_cache.h"
 #include "engine/sampling/ot_map.h"
 #include "engine/sampling/ot_solver.h"
+#include "engine/sampling/ot_sun.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
 
@@ -140,6 +142,7 @@ int cmdOtMap(const Args& args) {
   int n = 256;
   OtSolverOptions options;
   bool json = false, noCache = false;
+  double sunClip = 0.0;
   std::string out = "otmap.png";
   ArgParser parser("otmap");
   parser.value("--env", "FILE", ".exr or .hdr lat-long map (default: assets/default_sky.exr)",
@@ -151,6 +154,12 @@ int cmdOtMap(const Args& args) {
   parser.value(
       "--max-iter", "N", "iteration cap at each grid level (default 2000)",
       [&](const std::string& v) { options.maxIterations = int(parseUint("--max-iter", v, 1, 1000000)); });
+  parser.value(
+      "--sun-clip", "F",
+      "solve for the map with texels above F x the median radiance capped, as the env-ot samplers "
+      "do (they use " +
+          std::to_string(int(kOtSunClip)) + "); 0 = the whole map (default)",
+      [&](const std::string& v) { sunClip = v == "0" ? 0.0 : parseDouble("--sun-clip", v, 1.0, 1e12); });
   parser.toggle("--json", "print one JSON object instead of text", [&] { json = true; });
   parser.value("--out", "FILE", "the figure, a .png (default otmap.png)",
                [&](const std::string& v) { out = v; });
@@ -164,7 +173,8 @@ int cmdOtMap(const Args& args) {
   const auto start = std::chrono::steady_clock::now();
   if (envPath.empty()) envPath = defaultEnvPath();
   const EnvImage env = loadEnvImage(envPath);
-  const std::vector<double> density = otDensityFromEnv(env, n);
+  const OtSunSplit sun = splitOtSun(texelSamplingWeights(env, "OT density"), env.width, env.height, sunClip);
+  const std::vector<double> density = otDensityFromWeights(sun.smoothWeights, env.width, env.height, n);
 
   auto lastReport = start;
   options.progress = [&](int iteration, double l2) {
@@ -207,16 +217,21 @@ int cmdOtMap(const Args& args) {
         "{\"env\": \"%s\", \"env_width\": %d, \"env_height\": %d, \"n\": %d, \"floor\": %.9g, "
         "\"iterations\": %d, \"coarse_iterations\": %d, \"seconds\": %.6f, \"wall_s\": %.6f, \"l2\": %.9g, "
         "\"l1\": %.9g, \"linf\": %.9g, \"folded\": %d, \"non_convex\": %d, \"invalid_pieces\": %d, "
-        "\"sampler_l1\": %.9g, \"tree_depth\": %d, \"largest_leaf\": %u, "
+        "\"sampler_l1\": %.9g, \"tree_depth\": %d, \"largest_leaf\": %u, \"sun_clip\": %.9g, "
+        "\"sun_share\": %.9g, \"sun_texels\": %zu, "
         "\"converged\": %s, \"from_cache\": %s, \"out\": \"%s\", \"out_width\": %d, \"out_height\": %d}\n",
         jsonEscape(envPath.string()).c_str(), env.width, env.height, n, options.floorFraction, map.iterations,
         map.coarseIterations, map.seconds, wall, map.l2, map.l1, map.linf, map.negativeAreaQuads,
         map.foldedQuads, forward.invalidPieces(), samplerL1, forward.treeDepth(), forward.largestLeaf(),
+        sunClip, double(sun.sunShare), sun.sunShare > 0.0f ? sun.texels.size() : std::size_t(0),
         map.converged ? "true" : "false", fromCache ? "true" : "false", jsonEscape(out).c_str(), figure.width,
         figure.height);
   } else {
     std::printf("otmap of %s (%dx%d) on a %dx%d grid, floor %g x mean\n", envPath.string().c_str(), env.width,
                 env.height, n, n, options.floorFraction);
+    if (sunClip > 0.0)
+      std::printf("suns: %zu texels above %g x the median radiance, %.1f %% of the weight, sampled apart\n",
+                  sun.sunShare > 0.0f ? sun.texels.size() : std::size_t(0), sunClip, 100.0 * sun.sunShare);
     std::printf("iterations: %d (+%d on coarser grids), solved in %.3f s%s\n", map.iterations,
                 map.coarseIterations, map.seconds, fromCache ? " (when it was stored in the cache)" : "");
     std::printf("mass error: L2 %.3g, L1 %.3g, Linf %.3g\n", map.l2, map.l1, map.linf);
