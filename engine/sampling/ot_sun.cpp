@@ -19,7 +19,7 @@ float OtSunSplit::texelProbability(int x, int y) const {
   return cdf[k + 1] - cdf[k];
 }
 
-OtSunSplit splitOtSun(std::span<const double> weights, int width, int height, double clip) {
+OtSunSplit splitOtSun(std::span<const double> weights, int width, int height, double clip, double minShare) {
   if (width < 1 || height < 1 || weights.size() != std::size_t(width) * height)
     throw Error("OT sun split: expected " + std::to_string(width) + " x " + std::to_string(height) +
                 " weights");
@@ -55,13 +55,17 @@ OtSunSplit splitOtSun(std::span<const double> weights, int width, int height, do
       split.rowFirst[std::size_t(y) + 1] = std::uint32_t(split.texels.size());
     }
   }
-  if (split.texels.empty()) {  // nothing to split: a zero-probability placeholder keeps the buffers non-empty
-    split.texels.push_back(0);
-    split.cdf = {0.0f, 0.0f};
-    return split;
-  }
   double sunWeight = 0.0;
   for (const double e : excess) sunWeight += e;
+  if (split.texels.empty() || !(sunWeight >= minShare * total)) {
+    // Nothing to split: the whole weight goes to the map, and a zero-probability placeholder keeps the
+    // buffers non-empty.
+    split.smoothWeights.assign(weights.begin(), weights.end());
+    split.texels.assign(1, 0);
+    split.cdf = {0.0f, 0.0f};
+    std::fill(split.rowFirst.begin(), split.rowFirst.end(), 0u);
+    return split;
+  }
   split.sunShare = float(sunWeight / total);
   split.cdf.assign(split.texels.size() + 1, 0.0f);
   double running = 0.0;

@@ -72,6 +72,15 @@ TEST_CASE("ot sun split: nothing above the cap, a black half, clip 0 and bad inp
     CHECK(split.sunShare == 0.0f);
     CHECK(split.texelProbability(5, 3) == 0.0f);  // the placeholder entry has probability 0
   }
+  SUBCASE("a sun below the minimum share is not split, and the weights stay whole") {
+    const std::vector<double> weights = skyWithSun(width, height, 1e3);
+    const OtSunSplit all = splitOtSun(weights, width, height, 100.0, 0.0);
+    REQUIRE(all.sunShare > 0.0f);
+    const OtSunSplit none = splitOtSun(weights, width, height, 100.0, double(all.sunShare) * 1.01);
+    CHECK(none.sunShare == 0.0f);
+    CHECK(none.smoothWeights == weights);
+    CHECK(none.texelProbability(5, 3) == 0.0f);
+  }
   SUBCASE("clip 0 disables the split") {
     const OtSunSplit split = splitOtSun(skyWithSun(width, height, 1e6), width, height, 0.0);
     CHECK(split.sunShare == 0.0f);

@@ -229,9 +229,14 @@ int cmdOtMap(const Args& args) {
   } else {
     std::printf("otmap of %s (%dx%d) on a %dx%d grid, floor %g x mean\n", envPath.string().c_str(), env.width,
                 env.height, n, n, options.floorFraction);
-    if (sunClip > 0.0)
+    if (sunClip > 0.0 && sun.sunShare > 0.0f)
       std::printf("suns: %zu texels above %g x the median radiance, %.1f %% of the weight, sampled apart\n",
-                  sun.sunShare > 0.0f ? sun.texels.size() : std::size_t(0), sunClip, 100.0 * sun.sunShare);
+                  sun.texels.size(), sunClip, 100.0 * sun.sunShare);
+    else if (sunClip > 0.0)
+      std::printf(
+          "suns: none split off (the texels above %g x the median radiance hold less than %g %% of the "
+          "weight)\n",
+          sunClip, 100.0 * kOtSunMinShare);
     std::printf("iterations: %d (+%d on coarser grids), solved in %.3f s%s\n", map.iterations,
                 map.coarseIterations, map.seconds, fromCache ? " (when it was stored in the cache)" : "");
     std::printf("mass error: L2 %.3g, L1 %.3g, Linf %.3g\n", map.l2, map.l1, map.linf);
