@@ -143,7 +143,8 @@ class LevelSolver {
   // 0, solved by the start) to the target (s = 1) in stages m_s = A0^(1 - s) m^s (renormalised). A stage that
   // stalls (the guarded line search cannot decrease E) is undone and retried with half the step in s; a stage
   // that converges in a few iterations doubles it, unless it follows an undone stage (doubling would retry
-  // the step that just failed: measured, half of all stages were such retries). Each stage starts from the
+  // the step that just failed; measured, about half of all stages were undone, mostly such retries). Each
+  // stage starts from the
   // secant predictor: psi extrapolated along the last two stage solutions, cut back so that every quad
   // keeps boundaryFraction of its area. Easy densities take the single stage s = 1.
   Stats run(std::vector<double>& psi, double targetL2, int maxIterations,
@@ -206,7 +207,8 @@ class LevelSolver {
   // Secant predictor of a continuation stage: psi += tau * ratio * (psi - previousPsi), previousPsi the
   // solution of the stage before psi's. tau <= 1 keeps every quad's area positive with the line search's
   // margin, so the guarded iteration can start from it (the full extrapolation folded quads next to suns in
-  // most stages). Measured: 20-40 % fewer Newton directions at n = 256 and 512.
+  // most stages). Measured: 20-50 % fewer Newton directions at n = 256 and 512. dirHat_ and gradDir_ serve as
+  // scratch: iterate() recomputes both before using them.
   void predict(std::vector<double>& psi, std::span<const double> previousPsi, double ratio) {
     const int n = n_;
     for (std::size_t c = 0; c < psi.size(); ++c) dirHat_[c] = ratio * (psi[c] - previousPsi[c]);
@@ -392,8 +394,9 @@ class LevelSolver {
   // long as GMRES fixes their mismatch in a few steps. They are asked for a tighter tolerance than fresh
   // ones, which meet krylovTolerance in one or two steps and so give nearly exact directions: lagged factors
   // at krylovTolerance gave inexact directions that cost more Newton iterations than the factorisations
-  // saved (measured). Previously the factors were renewed after every short step; on sunrise at n = 512
-  // every continuation stage starts with one, and that solve did not finish in 400 s.
+  // saved (measured). A short step is no sign of poor factors (the guard cuts the first step of most
+  // continuation stages): renewing them after every short step made sunrise at n = 512 factorise 118 times
+  // without finishing in 240 s.
   void newtonDirection(std::vector<double>& d) {
     if (!laplacianFailed_ || !options_.directNewton) {
       const double rel = gmres(d, Preconditioner::Laplacian);
