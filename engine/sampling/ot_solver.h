@@ -5,17 +5,17 @@
 //
 // Differences from that paper's released solver (written from the notes, not its code):
 // - Newton directions on the relative residual (A - m) / m: GMRES preconditioned by the fixed
-// pseudo-Laplacian L
-//   (the exact area Jacobian at the identity, diagonal in the DCT-II basis, O(n^2 log n) per solve) while
-//   that reaches its tolerance, else by UMFPACK LU factors of the exact Jacobian at the current map (reused
-//   while the steps stay full). otmap's chord directions and conjugate-Jacobian update remain as options
-//   (experiments);
+//   pseudo-Laplacian L (the exact area Jacobian at the identity, diagonal in the DCT-II basis, O(n^2 log n)
+//   per solve) while that reaches its tolerance, else by UMFPACK LU factors (AMD ordering, no iterative
+//   refinement) of the exact Jacobian at an earlier map, renewed at the current map only when GMRES with
+//   them needs more than a few steps. otmap's chord directions and conjugate-Jacobian update remain as
+//   options (experiments);
 // - a line search that keeps every quad's signed area positive (OtFoldGuard::Area), going at most
 //   boundaryFraction of the way to the first degenerate quad;
 // - continuation: the target is approached in stages m_s = A0^(1-s) m^s (renormalised) from the start map's
-// own
-//   areas A0; a stage whose Newton step falls below stageMinStep is undone and retried with half the step in
-//   s (see LevelSolver::run). Easy densities take the single stage s = 1;
+//   own areas A0; each stage starts from a secant predictor (cut back to keep every quad's area positive); a
+//   stage whose Newton step falls below stageMinStep is undone and retried with half the step in s (see
+//   LevelSolver::run). Easy densities take the single stage s = 1;
 // - coarse-to-fine: the density is box-restricted to n/2, n/4, ..., solved there and psi is prolonged
 //   bilinearly; a prolonged start with a non-positive quad area is dropped for the identity;
 // - a density floor: rho' = max(rho, floorFraction * mean(rho)), renormalised to mean 1. Zero regions then
@@ -85,7 +85,7 @@ struct OtSolverOptions {
 };
 
 // Bumped whenever the solver's algorithm changes its results, so that cached maps (ot_cache.h) are re-solved.
-inline constexpr int kOtSolverVersion = 2;
+inline constexpr int kOtSolverVersion = 3;
 
 struct OtMap {
   int n = 0;
