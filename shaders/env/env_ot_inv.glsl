@@ -1,10 +1,10 @@
 // Env technique "env-ot-inv": the tabulated inverse of the optimal-transport map (ot_map.h tabulatedInverse: the
 // forward map inverted on the vertices of a regular grid over the uniform square). A sample is one bilinear
 // (or affine) lookup, x = G(u); its density in the density square is 1 / |det DG(u)| of the piece evaluated,
-// divided by dOmega / dx of otParameterToDirection for solid angle. The pdf of an arbitrary direction (MIS)
-// needs its preimage: the quadtree over G's image locates it and the piece is inverted.
-// Near-delta texels (suns) are sampled apart (lib/ot_sun.glsl): the map carries the capped density only, and a
-// sun sample's OT density needs its preimage under G (found from the forward map's guess, below).
+// divided by dOmega / dx of otParameterToDirection for solid angle. Near-delta texels (suns) are sampled apart
+// (lib/ot_sun.glsl): the map carries the capped density only. The OT density of any other direction (a sun
+// sample's, or MIS's) needs its preimage under G: the forward map's image of the point names the G cell to
+// test first, then its 8 neighbours, then the quadtree over G's image.
 #include "lib/latlong.glsl"
 #include "lib/ot_sun.glsl"
 #include "lib/quad_grid_map.glsl"
