@@ -1,6 +1,6 @@
 // Fast discrete cosine transforms on n x n grids, for the OT solver's fixed pseudo-Laplacian: its clamped
-// (reflecting) boundary makes it diagonal in the DCT-II basis, so one solve is two 2-D transforms, O(n^2 log
-// n).
+// (reflecting) boundary makes it diagonal in the DCT-II basis, so one solve is two 2-D transforms,
+// O(n^2 log n).
 #pragma once
 
 #include <complex>

@@ -1,7 +1,8 @@
 // The maps the OT techniques evaluate: a grid of (m+1)^2 image vertices over the unit square, one piece per
 // cell, with point location in the image by a quadtree. env-ot-fwd uses the solver's forward map (density
 // square -> uniform square) and inverts it per sample; env-ot-inv uses the tabulated inverse (uniform square
-// -> density square) and inverts it only for MIS pdfs. shaders/lib/quad_grid_map.glsl is the GPU twin.
+// -> density square) and inverts it only for the pdf of a given direction (a sun sample's, or MIS's).
+// shaders/lib/quad_grid_map.glsl is the GPU twin.
 //
 // A piece is the cell's bilinear patch when its quad is strictly convex (then the patch is injective: its
 // Jacobian determinant is bilinear in (s, t) and positive at the four corners). A non-convex quad of positive

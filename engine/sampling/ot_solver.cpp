@@ -1,5 +1,5 @@
-// The OT map solver of ot_solver.h: density from an environment, coarse-to-fine levels, and per level the
-// chord- Newton iteration with conjugate-Jacobian directions and an exact, fold-free quartic line search.
+// The OT map solver of ot_solver.h: density from an environment, coarse-to-fine levels, and per level a
+// continuation in the target with Newton-GMRES directions and a fold-guarded line search.
 #include "engine/sampling/ot_solver.h"
 
 #include "engine/core/error.h"
@@ -144,9 +144,8 @@ class LevelSolver {
   // stalls (the guarded line search cannot decrease E) is undone and retried with half the step in s; a stage
   // that converges in a few iterations doubles it, unless it follows an undone stage (doubling would retry
   // the step that just failed; measured, about half of all stages were undone, mostly such retries). Each
-  // stage starts from the
-  // secant predictor: psi extrapolated along the last two stage solutions, cut back so that every quad
-  // keeps boundaryFraction of its area. Easy densities take the single stage s = 1.
+  // stage starts from the secant predictor: psi extrapolated along the last two stage solutions, cut back so
+  // that every quad keeps boundaryFraction of its area. Easy densities take the single stage s = 1.
   Stats run(std::vector<double>& psi, double targetL2, int maxIterations,
             const std::function<void(int, double)>& progress) {
     const int n = n_;
@@ -255,8 +254,7 @@ class LevelSolver {
       }
       gradient(dirHat_, gradHat_);
       // 2. Conjugate Jacobian: d = d^ + beta d_prev with J d _|_ J d_prev, J the exact Jacobian at the
-      // current
-      //    map (the areas are quadratic in psi, so J d is the linear coefficient of A(psi + t d)).
+      //    current map (the areas are quadratic in psi, so J d is the linear coefficient of A(psi + t d)).
       double beta = 0.0;
       if (havePrev && options_.conjugateJacobian) {
         const auto dots = reduceChunks<2>(threads_, n, 8, [&](int lo, int hi) {
@@ -363,15 +361,15 @@ class LevelSolver {
   }
 
   // Inexact Newton: GMRES(m) on J x = r, right-preconditioned by L^-1 (the DCT solve), x0 = 0 (Saad & Schultz
-  // 1986); d = -x. The first Krylov vector is the chord direction, so this is never worse than it in ||r + J
-  // d||.
+  // 1986); d = -x. The first Krylov vector is the chord direction, so this is never worse than it in
+  // ||r + J d||.
   enum class Preconditioner { Laplacian, FrozenLu };
 
   // z = M^-1 v: the fixed pseudo-Laplacian's inverse, or the LU factors of the Jacobian of an earlier map (a
   // lagged Jacobian: close to the current one within a continuation stage).
   void precondition(Preconditioner which, std::span<const double> v, std::vector<double>& z) {
-    // GMRES works on the row-scaled system W J x = W b, so the preconditioner approximates (W J)^-1 = J^-1
-    // W^-1.
+    // GMRES works on the row-scaled system W J x = W b, so the preconditioner approximates
+    // (W J)^-1 = J^-1 W^-1.
     unscaled_.resize(v.size());
     for (std::size_t c = 0; c < v.size(); ++c) unscaled_[c] = v[c] / rowScale_[c];
     if (which == Preconditioner::Laplacian) {

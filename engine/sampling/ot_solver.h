@@ -20,8 +20,8 @@
 //   bilinearly; a prolonged start with a non-positive quad area is dropped for the identity;
 // - a density floor: rho' = max(rho, floorFraction * mean(rho)), renormalised to mean 1. Zero regions then
 //   collapse to thin quads instead of folding. The samplers' pdfs stay exact because they come from the map.
-// The converged map can hold self-intersecting quads of positive area next to a sun; ot_map.h untangles them
-// for the samplers.
+// The converged map can hold self-intersecting quads of positive area next to a sun; the samplers solve for
+// a map with their suns split off (ot_sun.h) and ot_map.h untangles what twists remain.
 #pragma once
 
 #include "engine/io/env_image.h"
@@ -37,8 +37,8 @@ namespace iblx {
 // Sampling density on an n x n grid over the lat-long parameter square, row-major, row = v (theta = pi v from
 // +Y), column = u (phi = 2 pi u): the exact integral of the nearest-texel weight (mean RGB) over each cell
 // with respect to solid angle (so sin(theta) is included), divided by the cell's parameter area, normalised
-// to mean 1. An all-black image gives sin(theta) (uniform sphere). Throws iblx::Error on a bad image or n
-// < 1.
+// to mean 1. An all-black image gives sin(theta) (uniform sphere). Throws iblx::Error on a bad image or on
+// n < 1.
 std::vector<double> otDensityFromEnv(const EnvImage& env, int n);
 // The same from W*H texel weights (texelSamplingWeights, or the smooth part of an OtSunSplit).
 std::vector<double> otDensityFromWeights(std::span<const double> weights, int width, int height, int n);
@@ -106,8 +106,8 @@ struct OtMap {
   // (P_prev - P), taken counter-clockwise, is <= 0". Negative areas and self-intersecting or non-convex quads
   // are all counted.
   int foldedQuads = 0;
-  int negativeAreaQuads =
-      0;  // the subset with signed area <= 0 (the issue's "folded": otmap.md §3 counts these)
+  // The subset with signed area <= 0 (the issue's "folded": otmap.md §3 counts these).
+  int negativeAreaQuads = 0;
   bool converged = false;  // l2 <= targetL2 and l1 <= targetL1
 };
 

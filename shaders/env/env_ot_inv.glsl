@@ -38,16 +38,10 @@ float otInversePdf(vec3 w) {
   for (int k = 0; k < 9; ++k) {
     ivec2 ij = guess + kAround[k];
     if (any(lessThan(ij, ivec2(0))) || any(greaterThanEqual(ij, ivec2(int(m))))) continue;
-    uint cell = uint(ij.y) * m + uint(ij.x);
-    vec2 c[4];
-    quadMapCorners(cell, c);
-    uint piece = quadMapPiece[cell];
-    vec2 st;
-    if (!quadPieceInvert(piece, c, x, 1e-5, st)) continue;
+    vec2 u;
     float jac;
-    quadPieceEvaluate(piece, c, st, jac);
-    jac *= float(m) * float(m);
-    return jac > 0.0 ? 1.0 / (jac * solidAngle) : 0.0;
+    if (quadMapInvertCell(uint(ij.y) * m + uint(ij.x), x, 1e-5, u, jac))
+      return jac > 0.0 ? 1.0 / (jac * solidAngle) : 0.0;
   }
   vec2 u;
   float jac;

@@ -137,6 +137,23 @@ vec2 quadMapApply(vec2 x, out float jac) {
   return p;
 }
 
+// Image point y -> domain point x inside cell `cell`'s piece (jac as for quadMapApply at x); false when y lies
+// outside the piece by more than tol (local units).
+bool quadMapInvertCell(uint cell, vec2 y, float tol, out vec2 x, out float jac) {
+  const uint m = OT_GRID;
+  vec2 c[4];
+  quadMapCorners(cell, c);
+  uint piece = quadMapPiece[cell];
+  vec2 st;
+  x = vec2(0.0);
+  jac = 0.0;
+  if (!quadPieceInvert(piece, c, y, tol, st)) return false;
+  quadPieceEvaluate(piece, c, st, jac);
+  jac *= float(m) * float(m);
+  x = (vec2(cell % m, cell / m) + st) / float(m);
+  return true;
+}
+
 // Image point y -> domain point x (jac as for quadMapApply at x). The quadtree descent has at most the
 // builder's depth (OT_TREE_DEPTH) steps and a leaf lists at most OT_LARGEST_LEAF cells, so the cost is
 // bounded by construction; false when no piece contains y (a rounding gap, or an Invalid piece).
@@ -155,19 +172,8 @@ bool quadMapInvert(vec2 y, out vec2 x, out float jac) {
   jac = 0.0;
   for (int pass = 0; pass < 2; ++pass) {
     float tol = pass == 0 ? 1e-5 : 1e-3;
-    for (uint k = 0u; k < leaf.y; ++k) {
-      uint cell = quadMapLeafCell[leaf.x + k];
-      vec2 c[4];
-      quadMapCorners(cell, c);
-      uint piece = quadMapPiece[cell];
-      vec2 st;
-      if (!quadPieceInvert(piece, c, y, tol, st)) continue;
-      quadPieceEvaluate(piece, c, st, jac);
-      jac *= float(OT_GRID) * float(OT_GRID);
-      const uint m = OT_GRID;
-      x = (vec2(cell % m, cell / m) + st) / float(m);
-      return true;
-    }
+    for (uint k = 0u; k < leaf.y; ++k)
+      if (quadMapInvertCell(quadMapLeafCell[leaf.x + k], y, tol, x, jac)) return true;
   }
   return false;
 }
