@@ -43,7 +43,7 @@ KernelParts referenceParts(const Scene& scene, const SceneGpu& gpu);
 // The two set-3 binding definitions alone (for kernels assembled elsewhere, e.g. the test probes).
 std::vector<std::pair<std::string, std::string>> brdfBindingDefines(std::size_t brdfDataBuffers);
 
-// Storage-buffer counts of sets 0..3 for these kernels.
+// Buffer counts of sets 0..3 for these kernels, and which bindings are tables (compute_kernel.h).
 KernelLayout sceneKernelLayout(uint32_t envBuffers, uint32_t brdfBuffers);
 
 }  // namespace iblx

@@ -1,4 +1,4 @@
-// Storage buffer allocation in host-visible memory and the plain-copy upload/read-back.
+// Buffer allocation in host-visible memory and the plain-copy upload/read-back.
 #include "engine/vk/buffer.h"
 
 #include "engine/core/error.h"
@@ -30,7 +30,8 @@ Buffer::Buffer(const VulkanContext& context, vk::DeviceSize size, std::string na
   using U = vk::BufferUsageFlagBits;
   buffer_ = vk::raii::Buffer(
       context.device(),
-      vk::BufferCreateInfo({}, size_, U::eStorageBuffer | U::eTransferSrc | U::eTransferDst));
+      vk::BufferCreateInfo({}, size_,
+                           U::eStorageBuffer | U::eUniformTexelBuffer | U::eTransferSrc | U::eTransferDst));
   const auto requirements = buffer_.getMemoryRequirements();
   try {
     memory_ = vk::raii::DeviceMemory(

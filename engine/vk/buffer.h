@@ -1,4 +1,5 @@
-// A storage buffer that owns its memory. Host-visible memory is used so that uploads and read-backs are plain
+// A buffer that owns its memory, bound either as a storage buffer or as a read-only table (a uniform texel
+// buffer, KernelLayout::tableBindings). Host-visible memory is used so that uploads and read-backs are plain
 // copies; device-local host-visible memory is preferred when the device has it (integrated GPUs, lavapipe,
 // ReBAR).
 #pragma once

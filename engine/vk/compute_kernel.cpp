@@ -9,12 +9,14 @@ ComputeKernel::ComputeKernel(const VulkanContext& context, std::span<const uint3
                              const KernelLayout& layout, std::string name)
     : context_(&context), layout_(layout), name_(std::move(name)) {
   const auto& device = context.device();
-  uint32_t totalBuffers = 0;
+  uint32_t storageCount = 0, tableCount = 0;
   for (uint32_t set = 0; set < 4; ++set) {
     std::vector<vk::DescriptorSetLayoutBinding> bindings;
-    for (uint32_t b = 0; b < layout.buffersPerSet[set]; ++b)
-      bindings.emplace_back(b, vk::DescriptorType::eStorageBuffer, 1, vk::ShaderStageFlagBits::eCompute);
-    totalBuffers += layout.buffersPerSet[set];
+    for (uint32_t b = 0; b < layout.buffersPerSet[set]; ++b) {
+      const vk::DescriptorType type = descriptorType(set, b);
+      ++(type == vk::DescriptorType::eStorageBuffer ? storageCount : tableCount);
+      bindings.emplace_back(b, type, 1, vk::ShaderStageFlagBits::eCompute);
+    }
     setLayouts_.emplace_back(device, vk::DescriptorSetLayoutCreateInfo({}, bindings));
   }
   std::vector<vk::DescriptorSetLayout> rawLayouts;
@@ -27,10 +29,12 @@ ComputeKernel::ComputeKernel(const VulkanContext& context, std::span<const uint3
   vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module_, "main");
   pipeline_ = vk::raii::Pipeline(device, nullptr, vk::ComputePipelineCreateInfo({}, stage, *pipelineLayout_));
 
-  vk::DescriptorPoolSize poolSize(vk::DescriptorType::eStorageBuffer, std::max(totalBuffers, 1u));
+  const std::array<vk::DescriptorPoolSize, 2> poolSizes{
+      vk::DescriptorPoolSize(vk::DescriptorType::eStorageBuffer, std::max(storageCount, 1u)),
+      vk::DescriptorPoolSize(vk::DescriptorType::eUniformTexelBuffer, std::max(tableCount, 1u))};
   pool_ = vk::raii::DescriptorPool(
       device,
-      vk::DescriptorPoolCreateInfo(vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, 4, poolSize));
+      vk::DescriptorPoolCreateInfo(vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, 4, poolSizes));
   vk::raii::DescriptorSets sets(device, vk::DescriptorSetAllocateInfo(*pool_, rawLayouts));
   for (auto& s : sets) sets_.push_back(std::move(s));
 }
@@ -45,13 +49,37 @@ void ComputeKernel::bindBuffers(uint32_t set, std::span<const Buffer* const> buf
     throw Error("kernel '" + name_ + "': set " + std::to_string(set) + " expects " +
                 std::to_string(layout_.buffersPerSet[set]) + " buffers, got " +
                 std::to_string(buffers.size()));
-  std::vector<vk::DescriptorBufferInfo> infos;
-  infos.reserve(buffers.size());
-  for (const Buffer* b : buffers) infos.emplace_back(b->handle(), 0, VK_WHOLE_SIZE);
+  const uint32_t count = uint32_t(buffers.size());
+  std::vector<vk::DescriptorBufferInfo> infos(count);
+  std::vector<vk::raii::BufferView> views;
+  std::vector<vk::BufferView> rawViews(count);
   std::vector<vk::WriteDescriptorSet> writes;
-  for (uint32_t i = 0; i < infos.size(); ++i)
-    writes.emplace_back(*sets_[set], i, 0, 1, vk::DescriptorType::eStorageBuffer, nullptr, &infos[i]);
+  for (uint32_t i = 0; i < count; ++i) {
+    const Buffer& b = *buffers[i];
+    const vk::DescriptorType type = descriptorType(set, i);
+    if (type == vk::DescriptorType::eStorageBuffer) {
+      infos[i] = vk::DescriptorBufferInfo(b.handle(), 0, VK_WHOLE_SIZE);
+      writes.emplace_back(*sets_[set], i, 0, 1, type, nullptr, &infos[i]);
+      continue;
+    }
+    const vk::DeviceSize words = b.size() / sizeof(uint32_t);
+    if (words > context_->limits().maxTexelBufferElements)
+      throw DeviceLimitError("buffer '" + b.name() + "' holds " + std::to_string(words) +
+                             " words, more than this device's largest texel buffer (" +
+                             std::to_string(context_->limits().maxTexelBufferElements) +
+                             " elements); use a smaller environment map or table");
+    views.emplace_back(context_->device(),
+                       vk::BufferViewCreateInfo({}, b.handle(), vk::Format::eR32Uint, 0, words * sizeof(uint32_t)));
+    rawViews[i] = *views.back();
+    writes.emplace_back(*sets_[set], i, 0, 1, type, nullptr, nullptr, &rawViews[i]);
+  }
   context_->device().updateDescriptorSets(writes, {});
+  tableViews_[set] = std::move(views);  // the previous views are no longer referenced by the set
+}
+
+vk::DescriptorType ComputeKernel::descriptorType(uint32_t set, uint32_t binding) const {
+  return binding < 32 && (layout_.tableBindings[set] >> binding & 1u) ? vk::DescriptorType::eUniformTexelBuffer
+                                                                      : vk::DescriptorType::eStorageBuffer;
 }
 
 void ComputeKernel::record(vk::CommandBuffer cmd, uint32_t groupsX, uint32_t groupsY,

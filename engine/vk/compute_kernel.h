@@ -1,5 +1,9 @@
 // A compute pipeline with its four role descriptor sets (DESIGN §2 / STYLE "For iblx" 6: 0 frame, 1 sequence,
-// 2 env sampler, 3 BRDF), each holding only storage buffers numbered from 0, plus one push-constant block.
+// 2 env sampler, 3 BRDF), each holding buffers numbered from 0, plus one push-constant block. A binding is a
+// storage buffer or a read-only table: a uniform texel buffer viewed as 32-bit words (R32_UINT), read in GLSL
+// through shaders/lib/table.glsl. Tables exist for speed: lavapipe turns a storage-buffer load at a
+// lane-dependent index into a loop over the SIMD lanes with a branch per lane, and a texel fetch into one
+// gather (docs/BENCHMARKS.md, "What was tried for speed").
 //
 //   ComputeKernel kernel(ctx, spirv, {.buffersPerSet = {4, 0, 2, 1}, .pushConstantBytes =
 //   sizeof(FrameParams)}, "x"); kernel.bindBuffers(0, {&gbuffer, &accum, &env, &rows});
@@ -17,14 +21,21 @@ namespace iblx {
 struct KernelLayout {
   std::array<uint32_t, 4> buffersPerSet{};
   uint32_t pushConstantBytes = 0;
+  std::array<uint32_t, 4> tableBindings{};  // per set, bit b: binding b is a table, not a storage buffer
 };
+
+// The bit mask of `count` bindings from `first` on, for KernelLayout::tableBindings.
+constexpr uint32_t bindingBits(uint32_t first, uint32_t count) {
+  return count == 0 ? 0u : ((count >= 32u ? ~0u : (1u << count) - 1u) << first);
+}
 
 class ComputeKernel {
  public:
   ComputeKernel(const VulkanContext& context, std::span<const uint32_t> spirv, const KernelLayout& layout,
                 std::string name);
 
-  // Binds buffers[i] to binding i of `set`; the count must match the layout.
+  // Binds buffers[i] to binding i of `set`; the count must match the layout. A table larger than the device's
+  // maxTexelBufferElements words throws DeviceLimitError.
   void bindBuffers(uint32_t set, std::initializer_list<const Buffer*> buffers);
   void bindBuffers(uint32_t set, std::span<const Buffer* const> buffers);
 
@@ -34,6 +45,8 @@ class ComputeKernel {
   const std::string& name() const { return name_; }
 
  private:
+  vk::DescriptorType descriptorType(uint32_t set, uint32_t binding) const;
+
   const VulkanContext* context_;
   KernelLayout layout_;
   std::string name_;
@@ -44,6 +57,7 @@ class ComputeKernel {
   vk::raii::Pipeline pipeline_ = nullptr;
   vk::raii::DescriptorPool pool_ = nullptr;
   std::vector<vk::raii::DescriptorSet> sets_;
+  std::array<std::vector<vk::raii::BufferView>, 4> tableViews_;  // the views bound to each set's tables
 };
 
 // Barrier after a dispatch: its shader writes become visible to later dispatches' shader reads and writes and,

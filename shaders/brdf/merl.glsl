@@ -1,10 +1,11 @@
 // BRDF "merl": a MERL measured isotropic table (engine/io/merl.h), looked up at the nearest-lower bin exactly
 // as MERL's reference code does (Matusik et al. 2003; brdf_explorer.md §9). Invalid bins were zeroed at load.
 // GPU twin of evalMerl in engine/io/merl.cpp.
+#include "lib/table.glsl"
 #include "lib/constants.glsl"
 
 // Planar like the file: all R, then all G, then all B; scales applied, in 1/sr.
-layout(std430, set = 3, binding = BRDF_DATA_BINDING) readonly buffer MerlTable { float merlRgb[]; };
+IBLX_TABLE(3, BRDF_DATA_BINDING, merlRgb);
 
 const uint kMerlBins = 1458000u;
 
@@ -26,5 +27,6 @@ vec3 brdfEval(vec3 wi, vec3 wo) {
   int iThetaD = clamp(int(thetaD / (0.5 * kPi) * 90.0), 0, 89);
   int iPhiD = clamp(int(phiD / kPi * 180.0), 0, 179);
   uint bin = uint(iPhiD + 180 * (iThetaD + 90 * iThetaH));
-  return vec3(merlRgb[bin], merlRgb[bin + kMerlBins], merlRgb[bin + 2u * kMerlBins]);
+  return vec3(tableFloat(merlRgb, bin), tableFloat(merlRgb, bin + kMerlBins),
+              tableFloat(merlRgb, bin + 2u * kMerlBins));
 }

@@ -1,9 +1,10 @@
 // BRDF technique "merl-table" for "merl": per-theta_o slices of 2D float CDFs of f cos over the half vector
 // (u_theta rows x u_phi columns, phi_h relative to wo's azimuth); engine/sampling/merl_sampling.cpp builds them
 // and documents the layout. sample() and pdf() pick the slice of wo the same way. Twin: MerlTableSampler.
+#include "lib/table.glsl"
 #include "lib/merl_half_vector.glsl"
 
-layout(std430, set = 3, binding = BRDF_SAMPLER_BINDING) readonly buffer MerlTableSlices { float merlTable[]; };
+IBLX_TABLE(3, BRDF_SAMPLER_BINDING, merlTable);
 
 const int kMerlSlices = 32, kMerlRows = 90, kMerlColumns = 64;
 const int kMerlSliceFloats = (kMerlRows + 1) + kMerlRows * (kMerlColumns + 1);
@@ -32,7 +33,7 @@ int merlTableBin(uint base, const int n, float u) {
   int lo = 0;
   for (int len = n; len > 1;) {
     int halfLen = len >> 1;
-    lo = merlTable[base + uint(lo + halfLen)] <= u ? lo + halfLen : lo;
+    lo = tableFloat(merlTable, base + uint(lo + halfLen)) <= u ? lo + halfLen : lo;
     len -= halfLen;
   }
   return lo;
@@ -43,10 +44,12 @@ vec3 brdfSample(vec2 u, vec3 wo, out float pdf) {
   if (wo.z <= 0.0) return vec3(0.0, 0.0, 1.0);
   uint slice = merlSliceBase(wo);
   int row = merlTableBin(slice, kMerlRows, u.y);
-  float r0 = merlTable[slice + uint(row)], rowProb = merlTable[slice + uint(row) + 1u] - r0;
+  float r0 = tableFloat(merlTable, slice + uint(row));
+  float rowProb = tableFloat(merlTable, slice + uint(row) + 1u) - r0;
   uint rowBase = merlRowBase(slice, row);
   int column = merlTableBin(rowBase, kMerlColumns, u.x);
-  float c0 = merlTable[rowBase + uint(column)], columnProb = merlTable[rowBase + uint(column) + 1u] - c0;
+  float c0 = tableFloat(merlTable, rowBase + uint(column));
+  float columnProb = tableFloat(merlTable, rowBase + uint(column) + 1u) - c0;
   // rowProb, columnProb > 0: the searches never return a zero-width bin; the guards keep the code total.
   float ty = rowProb > 0.0 ? clamp((u.y - r0) / rowProb, 0.0, kOneMinusEpsilon) : 0.5;
   float tx = columnProb > 0.0 ? clamp((u.x - c0) / columnProb, 0.0, kOneMinusEpsilon) : 0.5;
@@ -70,8 +73,9 @@ float brdfPdf(vec3 wi, vec3 wo) {
   int row = clamp(int(uTheta * float(kMerlRows)), 0, kMerlRows - 1);
   int column = clamp(int(uPhi * float(kMerlColumns)), 0, kMerlColumns - 1);
   uint rowBase = merlRowBase(slice, row);
-  float rowProb = merlTable[slice + uint(row) + 1u] - merlTable[slice + uint(row)];
-  float columnProb = merlTable[rowBase + uint(column) + 1u] - merlTable[rowBase + uint(column)];
+  float rowProb = tableFloat(merlTable, slice + uint(row) + 1u) - tableFloat(merlTable, slice + uint(row));
+  float columnProb =
+      tableFloat(merlTable, rowBase + uint(column) + 1u) - tableFloat(merlTable, rowBase + uint(column));
   float pdfU = rowProb * columnProb * float(kMerlRows * kMerlColumns);
   return merlHalfVectorPdf(pdfU, uTheta, sinThetaH, dot(wo, h));
 }

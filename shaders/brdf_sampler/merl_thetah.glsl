@@ -1,9 +1,10 @@
 // BRDF technique "merl-thetah" for "merl": the simple baseline. A 1D float CDF over MERL's 90 theta_h bins
 // (engine/sampling/merl_sampling.cpp builds it), u_theta uniform inside the bin, phi_h uniform, wi = reflect.
 // Twin: MerlThetaHSampler.
+#include "lib/table.glsl"
 #include "lib/merl_half_vector.glsl"
 
-layout(std430, set = 3, binding = BRDF_SAMPLER_BINDING) readonly buffer MerlThetaHCdf { float merlThetaHCdf[]; };
+IBLX_TABLE(3, BRDF_SAMPLER_BINDING, merlThetaHCdf);
 
 const int kMerlThetaHCells = 90;
 
@@ -12,7 +13,7 @@ int merlThetaHBin(float u) {
   int lo = 0;
   for (int len = kMerlThetaHCells; len > 1;) {
     int halfLen = len >> 1;
-    lo = merlThetaHCdf[lo + halfLen] <= u ? lo + halfLen : lo;
+    lo = tableFloat(merlThetaHCdf, lo + halfLen) <= u ? lo + halfLen : lo;
     len -= halfLen;
   }
   return lo;
@@ -22,7 +23,7 @@ vec3 brdfSample(vec2 u, vec3 wo, out float pdf) {
   pdf = 0.0;
   if (wo.z <= 0.0) return vec3(0.0, 0.0, 1.0);
   int i = merlThetaHBin(u.x);
-  float c0 = merlThetaHCdf[i], binProb = merlThetaHCdf[i + 1] - c0;
+  float c0 = tableFloat(merlThetaHCdf, i), binProb = tableFloat(merlThetaHCdf, i + 1) - c0;
   float t = binProb > 0.0 ? clamp((u.x - c0) / binProb, 0.0, kOneMinusEpsilon) : 0.5;
   float uTheta = (float(i) + t) / float(kMerlThetaHCells);
   vec3 h = merlHalfVector(uTheta, kTwoPi * u.y);
@@ -38,6 +39,6 @@ float brdfPdf(vec3 wi, vec3 wo) {
   float sinThetaH;
   float uTheta = merlUTheta(h, sinThetaH);
   int i = clamp(int(uTheta * float(kMerlThetaHCells)), 0, kMerlThetaHCells - 1);
-  float binProb = merlThetaHCdf[i + 1] - merlThetaHCdf[i];
+  float binProb = tableFloat(merlThetaHCdf, i + 1) - tableFloat(merlThetaHCdf, i);
   return merlHalfVectorPdf(binProb * float(kMerlThetaHCells), uTheta, sinThetaH, dot(wo, h));
 }

@@ -3,22 +3,23 @@
 // the bin actually sampled (the float CDF difference) divided by the texel's exact solid angle; inside a texel
 // the direction is uniform in solid angle, so radiance/pdf is constant per texel.
 // Continuous in u.x within a row; discontinuous across row boundaries.
+#include "lib/table.glsl"
 #include "lib/latlong.glsl"
 
 // cdf[0 .. H]: marginal over rows; then per row y, cdf[H+1 + y*(W+1) .. + W]: conditional over columns.
-layout(std430, set = 2, binding = 0) readonly buffer EnvCdfData { float envCdf[]; };
+IBLX_TABLE(2, 0, envCdf);
 // Guide cells (EnvCdfData in engine/sampling/env_cdf.h): the marginal's ENV_CDF_ROW_GUIDE_SIZE cells, then
 // ENV_CDF_COLUMN_GUIDE_SIZE cells per row; each packs lo | hi << 16, the range of bins its u values fall in.
-layout(std430, set = 2, binding = 1) readonly buffer EnvCdfGuide { uint envCdfGuide[]; };
+IBLX_TABLE(2, 1, envCdfGuide);
 
 // The largest i in [lo, hi] of guide cell `cell` with cdf[base + i] <= u, i.e. cdf[i] <= u < cdf[i+1], so a
 // zero-width bin is never chosen. The search runs only over the cell's bins: no step when the cell holds one.
 int envCdfFindBin(uint base, uint cell, float u) {
-  uint range = envCdfGuide[cell];
+  uint range = tableUint(envCdfGuide, cell);
   int lo = int(range & 0xffffu), len = int(range >> 16u) - lo + 1;
   while (len > 1) {
     int halfLen = len >> 1;
-    lo = envCdf[base + uint(lo + halfLen)] <= u ? lo + halfLen : lo;
+    lo = tableFloat(envCdf, base + uint(lo + halfLen)) <= u ? lo + halfLen : lo;
     len -= halfLen;
   }
   return lo;
@@ -30,11 +31,11 @@ vec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {
   // u * G is exact (G a power of two) and < G for u < 1; the min() only guards against bad input.
   const uint rowCells = ENV_CDF_ROW_GUIDE_SIZE, columnCells = ENV_CDF_COLUMN_GUIDE_SIZE;
   int y = envCdfFindBin(0u, min(uint(u.y * float(rowCells)), rowCells - 1u), u.y);
-  float c0 = envCdf[y], rowProb = envCdf[y + 1] - c0;
+  float c0 = tableFloat(envCdf, y), rowProb = tableFloat(envCdf, y + 1) - c0;
   uint base = envCdfRowBase(y);
   uint column = min(uint(u.x * float(columnCells)), columnCells - 1u);
   int x = envCdfFindBin(base, rowCells + uint(y) * columnCells + column, u.x);
-  float d0 = envCdf[base + uint(x)], colProb = envCdf[base + uint(x) + 1u] - d0;
+  float d0 = tableFloat(envCdf, base + uint(x)), colProb = tableFloat(envCdf, base + uint(x) + 1u) - d0;
   // rowProb, colProb > 0: the search never returns a zero-width bin; the guards keep the code total.
   float ty = rowProb > 0.0 ? clamp((u.y - c0) / rowProb, 0.0, kOneMinusEpsilon) : 0.5;
   float tx = colProb > 0.0 ? clamp((u.x - d0) / colProb, 0.0, kOneMinusEpsilon) : 0.5;
@@ -47,9 +48,9 @@ vec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {
 
 float envPdf(vec3 wi, vec3 n) {
   ivec2 texel = directionToTexel(wi);
-  float rowProb = envCdf[texel.y + 1] - envCdf[texel.y];
+  float rowProb = tableFloat(envCdf, texel.y + 1) - tableFloat(envCdf, texel.y);
   uint base = envCdfRowBase(texel.y) + uint(texel.x);
-  float colProb = envCdf[base + 1u] - envCdf[base];
+  float colProb = tableFloat(envCdf, base + 1u) - tableFloat(envCdf, base);
   float solidAngle = texelSolidAngle(texel);
   return solidAngle > 0.0 ? rowProb * colProb / solidAngle : 0.0;
 }

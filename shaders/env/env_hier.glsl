@@ -4,18 +4,17 @@
 // actually chosen divided by the texel's exact solid angle; inside a texel the direction is uniform in solid
 // angle. A guide over u starts each descent at the deepest node its u values share.
 #include "lib/latlong.glsl"
+#include "lib/table.glsl"
 
 // Interior nodes in heap order (EnvHierGpuData in engine/sampling/env_hier.h): node g's split (pLeft, pTop of
 // the left column, pTop of the right column, 0), 1 along an axis that does not split. Node g's children are
 // 2g + 1 + c below ENV_HIER_ONE_AXIS_NODES (levels that split the longer axis only) and
 // 4g + ENV_HIER_QUAD_CHILD_OFFSET + cx + 2cy after; nodes from ENV_HIER_LEAF_START on are texels.
-layout(std430, set = 2, binding = 0) readonly buffer EnvHierShares { vec4 hierShares[]; };
+IBLX_TABLE(2, 0, hierShares);
 // Per cell of a G x G grid over u: the deepest node containing the whole cell, where the descent starts.
-struct EnvHierStart {
-  vec4 rect;   // xy = the node's lower corner in u, zw = 1 / its size
-  uvec4 node;  // heap index, x, y, the bits of its probability
-};
-layout(std430, set = 2, binding = 1) readonly buffer EnvHierGuide { EnvHierStart hierGuide[]; };
+// Two 4-word entries per cell: rect (xy = the node's lower corner in u, zw = 1 / its size), then node (heap
+// index, x, y, the bits of its probability).
+IBLX_TABLE(2, 1, hierGuide);
 
 uint hierChild(uint g, uint cx, uint cy) {
   return g < ENV_HIER_ONE_AXIS_NODES ? 2u * g + 1u + cx + cy
@@ -36,14 +35,16 @@ uint hierChoose(float pFirst, inout float u, inout float prob) {
 vec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {
   const uint guideSize = ENV_HIER_GUIDE_SIZE;  // a power of two: u * G is exact
   uvec2 cell = min(uvec2(u * float(guideSize)), uvec2(guideSize - 1u));
-  EnvHierStart start = hierGuide[cell.y * guideSize + cell.x];
-  u = clamp((u - start.rect.xy) * start.rect.zw, vec2(0.0), vec2(kOneMinusEpsilon));
-  uint g = start.node.x, x = start.node.y, y = start.node.z;
-  float prob = uintBitsToFloat(start.node.w);
+  uint entry = 2u * (cell.y * guideSize + cell.x);
+  vec4 startRect = tableVec4(hierGuide, entry);
+  uvec4 startNode = tableUvec4(hierGuide, entry + 1u);
+  u = clamp((u - startRect.xy) * startRect.zw, vec2(0.0), vec2(kOneMinusEpsilon));
+  uint g = startNode.x, x = startNode.y, y = startNode.z;
+  float prob = uintBitsToFloat(startNode.w);
   while (g < ENV_HIER_LEAF_START) {
-    vec4 shares = hierShares[g];
-    uint cx = hierChoose(shares.x, u.x, prob);  // column first, in the CPU twin's order
-    uint cy = hierChoose(cx == 0u ? shares.y : shares.z, u.y, prob);
+    // Two fetches: pLeft, then the chosen column's pTop (words 4g, 4g + 1 + cx).
+    uint cx = hierChoose(tableFloat(hierShares, 4u * g), u.x, prob);  // column first, as the CPU twin
+    uint cy = hierChoose(tableFloat(hierShares, 4u * g + 1u + cx), u.y, prob);
     x = 2u * x + cx;  // along an axis that does not split, c = 0 and the coordinate stays 0
     y = 2u * y + cy;
     g = hierChild(g, cx, cy);
@@ -66,7 +67,7 @@ float envPdf(vec3 wi, vec3 n) {
     uint shift = interiorLevels - 1u - l;  // doublings from level l+1 down to the finest
     uint cx = l + 1u + ENV_HIER_BITS_X > interiorLevels ? (texel.x >> shift) & 1u : 0u;
     uint cy = l + 1u + ENV_HIER_BITS_Y > interiorLevels ? (texel.y >> shift) & 1u : 0u;
-    vec4 shares = hierShares[g];
+    vec4 shares = tableVec4(hierShares, g);
     prob *= cx == 0u ? shares.x : 1.0 - shares.x;
     float pTop = cx == 0u ? shares.y : shares.z;
     prob *= cy == 0u ? pTop : 1.0 - pTop;

@@ -5,24 +5,19 @@
 // (lib/ot_sun.glsl): the map carries the capped density only. The OT density of any other direction (a sun
 // sample's, or MIS's) needs its preimage under G: the forward map's image of the point names the G cell to
 // test first, then its 8 neighbours, then the quadtree over G's image.
+#include "lib/table.glsl"
 #include "lib/latlong.glsl"
 #include "lib/ot_sun.glsl"
 #include "lib/quad_grid_map.glsl"
 
 // The forward map F that G tabulates the inverse of (ot_map.h forwardMap), on the same grid: F(x) is a first
 // guess of x's preimage under G, so a sun sample's OT density costs a few piece tests, not a quadtree search.
-layout(std430, set = 2, binding = 7) readonly buffer OtForwardVertices { vec2 otForwardVertex[]; };
-layout(std430, set = 2, binding = 8) readonly buffer OtForwardPieces { uint otForwardPiece[]; };
+IBLX_TABLE(2, 7, otForwardVertex);
+IBLX_TABLE(2, 8, otForwardPiece);
 
 vec2 otForwardApply(vec2 x) {
-  const uint m = OT_GRID;
-  vec2 scaled = clamp(x, 0.0, 1.0) * float(m);
-  uvec2 ij = min(uvec2(scaled), uvec2(m - 1u));
-  uint v = ij.y * (m + 1u) + ij.x;
-  vec2 c[4] = vec2[4](otForwardVertex[v], otForwardVertex[v + 1u], otForwardVertex[v + m + 2u],
-                      otForwardVertex[v + m + 1u]);
   float jac;
-  return quadPieceEvaluate(otForwardPiece[ij.y * m + ij.x], c, clamp(scaled - vec2(ij), 0.0, 1.0), jac);
+  return quadGridApply(otForwardVertex, otForwardPiece, x, jac);
 }
 
 // The OT part's pdf per unit solid angle at w: 1 / |det DG| at the preimage of w's parameter point x, looked

@@ -2,30 +2,31 @@
 // and the push constants. Every kernel that renders the scene includes this.
 #ifndef IBLX_LIB_FRAME_RESOURCES
 #define IBLX_LIB_FRAME_RESOURCES
+#include "lib/table.glsl"
 #include "shared/frame_params.h"
 
 layout(std430, set = 0, binding = 0) readonly buffer GBufferData { GPixel gbuffer[]; };
 layout(std430, set = 0, binding = 1) buffer AccumData { AccumPixel accum[]; };
 // Linear RGB of every texel, top row first, 3 floats per texel (nearest-texel reconstruction, DESIGN §3).
-// A map larger than one storage buffer may be (maxStorageBufferRange) is split into ENV_RADIANCE_CHUNKS runs of
-// ENV_TEXELS_PER_CHUNK texels at bindings 2, 5, 6, 7 (engine/render/scene.cpp uploadScene); read it through
+// A map larger than one buffer may be (maxStorageBufferRange, maxTexelBufferElements) is split into
+// ENV_RADIANCE_CHUNKS runs of ENV_TEXELS_PER_CHUNK texels at bindings 2, 5, 6, 7 (engine/render/scene.cpp uploadScene); read it through
 // envTexelRadiance (lib/latlong.glsl).
 #ifndef ENV_RADIANCE_CHUNKS
 #define ENV_RADIANCE_CHUNKS 1
 #endif
-layout(std430, set = 0, binding = 2) readonly buffer EnvRadianceData { float envRgb[]; };
+IBLX_TABLE(0, 2, envRgb);
 #if ENV_RADIANCE_CHUNKS > 1
-layout(std430, set = 0, binding = 5) readonly buffer EnvRadianceData1 { float envRgb1[]; };
+IBLX_TABLE(0, 5, envRgb1);
 #endif
 #if ENV_RADIANCE_CHUNKS > 2
-layout(std430, set = 0, binding = 6) readonly buffer EnvRadianceData2 { float envRgb2[]; };
+IBLX_TABLE(0, 6, envRgb2);
 #endif
 #if ENV_RADIANCE_CHUNKS > 3
-layout(std430, set = 0, binding = 7) readonly buffer EnvRadianceData3 { float envRgb3[]; };
+IBLX_TABLE(0, 7, envRgb3);
 #endif
 // Per row (engine/sampling/latlong_texel.h envRowTable, computed in double): x = exact texel solid angle,
 // y, z = the squared half-angle terms at the row's edges, w = 1 for rows in the lower half.
-layout(std430, set = 0, binding = 3) readonly buffer EnvRowData { vec4 envRows[]; };
+IBLX_TABLE(0, 3, envRows);
 layout(std430, set = 0, binding = 4) buffer KernelStatsData { KernelStats stats; };
 
 layout(push_constant) uniform FrameBlock { FrameParams frame; };

@@ -25,7 +25,7 @@ ivec2 directionToTexel(vec3 w) {
 // half), linear in t.y between the row's tabulated edge values, so rows next to either pole keep full float
 // precision and no trigonometry is needed for theta.
 vec3 texelToDirection(ivec2 texel, vec2 t) {
-  vec4 row = envRows[texel.y];
+  vec4 row = tableVec4(envRows, texel.y);
   float a = mix(row.y, row.z, t.y);
   float cosTheta = row.w > 0.5 ? 2.0 * a - 1.0 : 1.0 - 2.0 * a;
   float sinTheta = 2.0 * sqrt(max(a * (1.0 - a), 0.0));
@@ -33,26 +33,30 @@ vec3 texelToDirection(ivec2 texel, vec2 t) {
   return vec3(sinTheta * cos(phi), cosTheta, sinTheta * sin(phi));
 }
 
+vec3 tableRgb(usamplerBuffer table, uint i) {
+  return vec3(tableFloat(table, i), tableFloat(table, i + 1u), tableFloat(table, i + 2u));
+}
+
 vec3 envTexelRadiance(ivec2 texel) {
   uint t = uint(texel.y) * frame.envWidth + uint(texel.x);
 #if ENV_RADIANCE_CHUNKS > 1
   uint chunk = t / ENV_TEXELS_PER_CHUNK;
   uint i = 3u * (t - chunk * ENV_TEXELS_PER_CHUNK);
-  if (chunk == 1u) return vec3(envRgb1[i], envRgb1[i + 1u], envRgb1[i + 2u]);
+  if (chunk == 1u) return tableRgb(envRgb1, i);
 #if ENV_RADIANCE_CHUNKS > 2
-  if (chunk == 2u) return vec3(envRgb2[i], envRgb2[i + 1u], envRgb2[i + 2u]);
+  if (chunk == 2u) return tableRgb(envRgb2, i);
 #endif
 #if ENV_RADIANCE_CHUNKS > 3
-  if (chunk == 3u) return vec3(envRgb3[i], envRgb3[i + 1u], envRgb3[i + 2u]);
+  if (chunk == 3u) return tableRgb(envRgb3, i);
 #endif
 #else
   uint i = 3u * t;
 #endif
-  return vec3(envRgb[i], envRgb[i + 1u], envRgb[i + 2u]);
+  return tableRgb(envRgb, i);
 }
 
 // Nearest-texel radiance in environment-frame direction w.
 vec3 envRadiance(vec3 w) { return envTexelRadiance(directionToTexel(w)); }
 
-float texelSolidAngle(ivec2 texel) { return envRows[texel.y].x; }
+float texelSolidAngle(ivec2 texel) { return tableVec4(envRows, texel.y).x; }
 #endif

@@ -4,27 +4,28 @@
 // 0-3 (lib/quad_grid_map.glsl); OT_SUN_SHARE_BITS is the float share's bit pattern, so it is exact.
 #ifndef IBLX_LIB_OT_SUN
 #define IBLX_LIB_OT_SUN
+#include "lib/table.glsl"
 #include "lib/constants.glsl"
 #include "lib/latlong.glsl"
 
-layout(std430, set = 2, binding = 4) readonly buffer OtSunTexels { uint otSunTexel[]; };  // ascending y*W+x
-layout(std430, set = 2, binding = 5) readonly buffer OtSunCdf { float otSunCdf[]; };
-layout(std430, set = 2, binding = 6) readonly buffer OtSunRows { uint otSunRowFirst[]; };  // H+1 entries
+IBLX_TABLE(2, 4, otSunTexel);  // ascending y*W+x
+IBLX_TABLE(2, 5, otSunCdf);
+IBLX_TABLE(2, 6, otSunRowFirst);  // H+1 entries
 
 float otSunShare() { return uintBitsToFloat(OT_SUN_SHARE_BITS); }
 
 // pSun per unit solid angle on texel t: its probability over its solid angle, 0 when it is not a sun texel.
 float otSunTexelPdf(ivec2 t) {
-  uint lo = otSunRowFirst[t.y], len = otSunRowFirst[t.y + 1] - lo;
+  uint lo = tableUint(otSunRowFirst, t.y), len = tableUint(otSunRowFirst, t.y + 1) - lo;
   if (len == 0u) return 0.0;
   uint target = uint(t.y) * frame.envWidth + uint(t.x);
   while (len > 1u) {  // the largest entry <= target among the row's sun texels
     uint halfLen = len >> 1u;
-    lo = otSunTexel[lo + halfLen] <= target ? lo + halfLen : lo;
+    lo = tableUint(otSunTexel, lo + halfLen) <= target ? lo + halfLen : lo;
     len -= halfLen;
   }
-  if (otSunTexel[lo] != target) return 0.0;
-  float prob = otSunCdf[lo + 1u] - otSunCdf[lo], solidAngle = texelSolidAngle(t);
+  if (tableUint(otSunTexel, lo) != target) return 0.0;
+  float prob = tableFloat(otSunCdf, lo + 1u) - tableFloat(otSunCdf, lo), solidAngle = texelSolidAngle(t);
   return solidAngle > 0.0 ? prob / solidAngle : 0.0;
 }
 
@@ -34,12 +35,12 @@ vec3 otSunSample(vec2 u, out ivec2 texel, out float pdf) {
   int lo = 0, len = OT_SUN_TEXELS;
   while (len > 1) {
     int halfLen = len >> 1;
-    lo = otSunCdf[lo + halfLen] <= u.x ? lo + halfLen : lo;
+    lo = tableFloat(otSunCdf, lo + halfLen) <= u.x ? lo + halfLen : lo;
     len -= halfLen;
   }
-  float c0 = otSunCdf[lo], width = otSunCdf[lo + 1] - c0;
+  float c0 = tableFloat(otSunCdf, lo), width = tableFloat(otSunCdf, lo + 1) - c0;
   float s = width > 0.0 ? clamp((u.x - c0) / width, 0.0, kOneMinusEpsilon) : 0.5;
-  uint index = otSunTexel[lo];
+  uint index = tableUint(otSunTexel, lo);
   texel = ivec2(index % frame.envWidth, index / frame.envWidth);
   float solidAngle = texelSolidAngle(texel);
   pdf = solidAngle > 0.0 ? width / solidAngle : 0.0;

@@ -4,27 +4,31 @@
 // (engine/render/methods.cpp) fills these buffers: vertices, pieces, quadtree nodes, leaf cell lists.
 #ifndef IBLX_LIB_QUAD_GRID_MAP
 #define IBLX_LIB_QUAD_GRID_MAP
+#include "lib/table.glsl"
 #include "lib/constants.glsl"
 #include "lib/latlong.glsl"
 
-layout(std430, set = 2, binding = 0) readonly buffer QuadMapVertices { vec2 quadMapVertex[]; };
-layout(std430, set = 2, binding = 1) readonly buffer QuadMapPieces { uint quadMapPiece[]; };
-layout(std430, set = 2, binding = 2) readonly buffer QuadMapNodes { uvec2 quadMapNode[]; };  // (first, count)
-layout(std430, set = 2, binding = 3) readonly buffer QuadMapLeaves { uint quadMapLeafCell[]; };
+IBLX_TABLE(2, 0, quadMapVertex);
+IBLX_TABLE(2, 1, quadMapPiece);
+IBLX_TABLE(2, 2, quadMapNode);  // (first, count)
+IBLX_TABLE(2, 3, quadMapLeafCell);
 
 const uint kQuadPieceBilinear = 0u, kQuadPieceSplitMain = 1u, kQuadPieceSplitAnti = 2u;
 const uint kQuadTreeInteriorNode = 0xffffffffu;
 
 float quadCross(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
 
-void quadMapCorners(uint cell, out vec2 c[4]) {
+// The corners of cell `cell` of a vertex grid (this map's, or env-ot-inv's forward map), counter-clockwise.
+void quadGridCorners(usamplerBuffer vertices, uint cell, out vec2 c[4]) {
   const uint m = OT_GRID;
   uint i = cell % m, j = cell / m, v = j * (m + 1u) + i;
-  c[0] = quadMapVertex[v];
-  c[1] = quadMapVertex[v + 1u];
-  c[2] = quadMapVertex[v + m + 2u];
-  c[3] = quadMapVertex[v + m + 1u];
+  c[0] = tableVec2(vertices, v);
+  c[1] = tableVec2(vertices, v + 1u);
+  c[2] = tableVec2(vertices, v + m + 2u);
+  c[3] = tableVec2(vertices, v + m + 1u);
 }
+
+void quadMapCorners(uint cell, out vec2 c[4]) { quadGridCorners(quadMapVertex, cell, c); }
 
 // Local (s, t) -> image point; jac = the local Jacobian determinant (per unit s, t).
 vec2 quadPieceEvaluate(uint piece, vec2 c[4], vec2 st, out float jac) {
@@ -51,7 +55,9 @@ vec2 quadPieceEvaluate(uint piece, vec2 c[4], vec2 st, out float jac) {
   return mix(mix(c[0], c[1], s), mix(c[3], c[2], s), t);
 }
 
-bool quadInUnit(vec2 q, float tol) { return all(greaterThanEqual(q, vec2(-tol))) && all(lessThanEqual(q, vec2(1.0 + tol))); }
+bool quadInUnit(vec2 q, float tol) {
+  return all(greaterThanEqual(q, vec2(-tol))) && all(lessThanEqual(q, vec2(1.0 + tol)));
+}
 
 // (s, t) of y in the triangle o + s a + t b (false when degenerate).
 bool quadSolveAffine(vec2 o, vec2 a, vec2 b, vec2 y, out vec2 q) {
@@ -125,17 +131,20 @@ bool quadPieceInvert(uint piece, vec2 c[4], vec2 y, float tol, out vec2 st) {
 }
 
 // Domain point x in [0,1]^2 -> image point; jac = det of the map's Jacobian (domain units).
-vec2 quadMapApply(vec2 x, out float jac) {
+// quadMapApply for the grid map given by `vertices` and `pieces`.
+vec2 quadGridApply(usamplerBuffer vertices, usamplerBuffer pieces, vec2 x, out float jac) {
   const uint m = OT_GRID;
   vec2 scaled = clamp(x, 0.0, 1.0) * float(m);
   uvec2 ij = min(uvec2(scaled), uvec2(m - 1u));
   uint cell = ij.y * m + ij.x;
   vec2 c[4];
-  quadMapCorners(cell, c);
-  vec2 p = quadPieceEvaluate(quadMapPiece[cell], c, clamp(scaled - vec2(ij), 0.0, 1.0), jac);
+  quadGridCorners(vertices, cell, c);
+  vec2 p = quadPieceEvaluate(tableUint(pieces, cell), c, clamp(scaled - vec2(ij), 0.0, 1.0), jac);
   jac *= float(m) * float(m);
   return p;
 }
+
+vec2 quadMapApply(vec2 x, out float jac) { return quadGridApply(quadMapVertex, quadMapPiece, x, jac); }
 
 // Image point y -> domain point x inside cell `cell`'s piece (jac as for quadMapApply at x); false when y lies
 // outside the piece by more than tol (local units).
@@ -143,7 +152,7 @@ bool quadMapInvertCell(uint cell, vec2 y, float tol, out vec2 x, out float jac) 
   const uint m = OT_GRID;
   vec2 c[4];
   quadMapCorners(cell, c);
-  uint piece = quadMapPiece[cell];
+  uint piece = tableUint(quadMapPiece, cell);
   vec2 st;
   x = vec2(0.0);
   jac = 0.0;
@@ -160,20 +169,20 @@ bool quadMapInvertCell(uint cell, vec2 y, float tol, out vec2 x, out float jac) 
 bool quadMapInvert(vec2 y, out vec2 x, out float jac) {
   uint node = 0u;
   vec2 lo = vec2(0.0), hi = vec2(1.0);
-  for (uint d = 0u; d <= OT_TREE_DEPTH && quadMapNode[node].y == kQuadTreeInteriorNode; ++d) {
+  for (uint d = 0u; d <= OT_TREE_DEPTH && tableUvec2(quadMapNode, node).y == kQuadTreeInteriorNode; ++d) {
     vec2 mid = 0.5 * (lo + hi);
     uint q = (y.x >= mid.x ? 1u : 0u) + (y.y >= mid.y ? 2u : 0u);
     if ((q & 1u) != 0u) lo.x = mid.x; else hi.x = mid.x;
     if ((q & 2u) != 0u) lo.y = mid.y; else hi.y = mid.y;
-    node = quadMapNode[node].x + q;
+    node = tableUvec2(quadMapNode, node).x + q;
   }
-  uvec2 leaf = quadMapNode[node];
+  uvec2 leaf = tableUvec2(quadMapNode, node);
   x = vec2(0.0);
   jac = 0.0;
   for (int pass = 0; pass < 2; ++pass) {
     float tol = pass == 0 ? 1e-5 : 1e-3;
     for (uint k = 0u; k < leaf.y; ++k)
-      if (quadMapInvertCell(quadMapLeafCell[leaf.x + k], y, tol, x, jac)) return true;
+      if (quadMapInvertCell(tableUint(quadMapLeafCell, leaf.x + k), y, tol, x, jac)) return true;
   }
   return false;
 }
