@@ -47,8 +47,8 @@ TechniqueData makeEnvCdf(const EnvImage& image) {
 TechniqueData makeEnvHier(const EnvImage& image) {
   const EnvHierGpuData hier = packEnvHierForGpu(buildEnvHier(image));
   TechniqueData data;
-  data.add("env-hier shares", std::span<const float>(hier.shares));
-  data.add("env-hier guide", std::span<const EnvHierStart>(hier.guide));
+  data.add("env-hier shares", std::span<const float>(hier.shares), 4);
+  data.add("env-hier guide", std::span<const EnvHierStart>(hier.guide), 4);
   // Sizes are compile-time constants of the part: read from a buffer, lavapipe would load them per lane.
   const auto u = [](uint32_t v) { return std::to_string(v) + "u"; };
   data.defines = {{"ENV_HIER_LEVELS", u(hier.levelCount)},
@@ -104,7 +104,7 @@ void addQuadMapGeometry(TechniqueData& data, const QuadGridMap& map, const std::
   const std::vector<glm::vec2> vertices(map.image().begin(), map.image().end());
   std::vector<std::uint32_t> pieces(map.pieces().size());
   for (std::size_t c = 0; c < pieces.size(); ++c) pieces[c] = std::uint32_t(map.pieces()[c]);
-  data.add(name + " vertices", std::span<const glm::vec2>(vertices));
+  data.add(name + " vertices", std::span<const glm::vec2>(vertices), 2);
   data.add(name + " pieces", std::span<const std::uint32_t>(pieces));
 }
 
@@ -113,7 +113,7 @@ TechniqueData packEnvOt(const QuadGridMap& map, const OtSunSplit& sun, int densi
                         const std::string& name) {
   TechniqueData data;
   addQuadMapGeometry(data, map, name);
-  data.add(name + " quadtree", map.nodes());
+  data.add(name + " quadtree", map.nodes(), 2);
   data.add(name + " leaf cells", map.leafCells());
   data.add(name + " sun texels", std::span<const std::uint32_t>(sun.texels));
   data.add(name + " sun cdf", std::span<const float>(sun.cdf));

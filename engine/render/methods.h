@@ -7,6 +7,7 @@
 #include "engine/io/env_image.h"
 
 #include <array>
+#include <cstdint>
 #include <cstddef>
 #include <functional>
 #include <map>
@@ -27,19 +28,22 @@ struct GpuServices {
   ShaderCompiler& compiler;
 };
 
-// GPU data of a technique or of a BRDF read from a file: storage buffers in binding order, and preprocessor
+// GPU data of a technique or of a BRDF read from a file: read-only tables in binding order (each with the
+// 32-bit words per element its GLSL part reads it with: 1, 2 or 4, shaders/lib/table.glsl), and preprocessor
 // definitions for its GLSL part (sizes known at build time, so most loops over them have constant trip counts
 // and unroll; they are part of the SPIR-V cache key through the prelude).
 struct TechniqueData {
   std::vector<std::vector<std::byte>> buffers;
   std::vector<std::string> names;
+  std::vector<uint32_t> elementWords;
   std::vector<std::pair<std::string, std::string>> defines;
 
   template <typename T>
-  void add(std::string name, std::span<const T> values) {
+  void add(std::string name, std::span<const T> values, uint32_t wordsPerElement = 1) {
     const auto* p = reinterpret_cast<const std::byte*>(values.data());
     buffers.emplace_back(p, p + values.size_bytes());
     names.push_back(std::move(name));
+    elementWords.push_back(wordsPerElement);
   }
 };
 

@@ -33,13 +33,11 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   TechniqueData envData = !method.envTechnique     ? TechniqueData{}
                           : method.misCompensation ? method.envTechnique->build(misCompensated(scene.env))
                                                    : method.envTechnique->build(scene.env);
-  for (size_t i = 0; i < envData.buffers.size(); ++i)
-    envBuffers_.push_back(Buffer::fromData(context, envData.buffers[i], envData.names[i]));
+  envBuffers_ = uploadTables(context, envData);
   TechniqueData brdfData = method.brdfTechnique && method.brdfTechnique->build
                                ? method.brdfTechnique->build(scene, {context, compiler})
                                : TechniqueData{};
-  for (size_t i = 0; i < brdfData.buffers.size(); ++i)
-    brdfTechniqueBuffers_.push_back(Buffer::fromData(context, brdfData.buffers[i], brdfData.names[i]));
+  brdfTechniqueBuffers_ = uploadTables(context, brdfData);
   const bool recording = mode == IntegratorMode::RecordPixel;
   const std::string name = (recording ? "record samples " : "integrate ") + method.label();
   const KernelParts parts = integratorParts(scene, gpu_, method, envData, brdfData, mode);

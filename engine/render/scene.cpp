@@ -206,7 +206,7 @@ SceneGpu uploadScene(const VulkanContext& context, const Scene& scene) {
   std::vector<float> params = packParams(*scene.brdf, scene.params);
   SceneGpu gpu{Buffer::fromData(context, g.pixels, "gbuffer"),
                Buffer(context, pixels * sizeof(gpu::AccumPixel), "accumulation"),
-               Buffer::fromData(context, rows, "environment row table"),
+               Buffer::fromData(context, rows, "environment row table", 4),
                Buffer(context, sizeof(gpu::KernelStats), "kernel stats"),
                Buffer::fromData(context, params, "brdf parameters")};
   const std::size_t texels = std::size_t(scene.env.width) * std::size_t(scene.env.height);
@@ -229,14 +229,17 @@ SceneGpu uploadScene(const VulkanContext& context, const Scene& scene) {
     gpu.envRgb.push_back(Buffer::fromData(
         context, chunk, chunks == 1 ? "environment radiance" : "environment radiance " + std::to_string(c)));
   }
-  if (scene.brdf->data) {
-    const TechniqueData data = scene.brdf->data(scene);
-    for (std::size_t i = 0; i < data.buffers.size(); ++i)
-      gpu.brdfData.push_back(Buffer::fromData(context, data.buffers[i], data.names[i]));
-  }
+  if (scene.brdf->data) gpu.brdfData = uploadTables(context, scene.brdf->data(scene));
   gpu.accum.fill(0);
   gpu.stats.fill(0);
   return gpu;
+}
+
+std::vector<Buffer> uploadTables(const VulkanContext& context, const TechniqueData& data) {
+  std::vector<Buffer> buffers;
+  for (std::size_t i = 0; i < data.buffers.size(); ++i)
+    buffers.push_back(Buffer::fromData(context, data.buffers[i], data.names[i], data.elementWords[i]));
+  return buffers;
 }
 
 std::array<const Buffer*, 8> SceneGpu::frameSet() const {

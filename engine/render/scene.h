@@ -126,5 +126,7 @@ struct SceneGpu {
   std::vector<const Buffer*> brdfSet(std::span<const Buffer> techniqueBuffers = {}) const;
 };
 SceneGpu uploadScene(const VulkanContext& context, const Scene& scene);
+// A technique's (or a BRDF's) tables as buffers, in binding order, each viewed with its element width.
+std::vector<Buffer> uploadTables(const VulkanContext& context, const TechniqueData& data);
 
 }  // namespace iblx

@@ -57,6 +57,12 @@ void Buffer::read(void* data, vk::DeviceSize bytes, vk::DeviceSize offset) const
   if (bytes) std::memcpy(data, static_cast<const char*>(mapped_) + offset, bytes);
 }
 
+void Buffer::setTableElementWords(uint32_t words) {
+  if (words != 1 && words != 2 && words != 4)
+    throw Error("buffer '" + name_ + "': a table has 1, 2 or 4 words per element, not " + std::to_string(words));
+  tableElementWords_ = words;
+}
+
 void Buffer::fill(uint32_t value) {
   auto* p = static_cast<uint32_t*>(mapped_);
   std::fill(p, p + size_ / 4, value);

@@ -62,14 +62,18 @@ void ComputeKernel::bindBuffers(uint32_t set, std::span<const Buffer* const> buf
       writes.emplace_back(*sets_[set], i, 0, 1, type, nullptr, &infos[i]);
       continue;
     }
-    const vk::DeviceSize words = b.size() / sizeof(uint32_t);
-    if (words > context_->limits().maxTexelBufferElements)
-      throw DeviceLimitError("buffer '" + b.name() + "' holds " + std::to_string(words) +
-                             " words, more than this device's largest texel buffer (" +
+    const uint32_t words = b.tableElementWords();
+    const vk::DeviceSize elements = b.size() / (words * sizeof(uint32_t));
+    if (elements > context_->limits().maxTexelBufferElements)
+      throw DeviceLimitError("buffer '" + b.name() + "' holds " + std::to_string(elements) +
+                             " elements, more than this device's largest texel buffer (" +
                              std::to_string(context_->limits().maxTexelBufferElements) +
-                             " elements); use a smaller environment map or table");
-    views.emplace_back(context_->device(),
-                       vk::BufferViewCreateInfo({}, b.handle(), vk::Format::eR32Uint, 0, words * sizeof(uint32_t)));
+                             "); use a smaller environment map or table");
+    const vk::Format format = words == 4   ? vk::Format::eR32G32B32A32Uint
+                              : words == 2 ? vk::Format::eR32G32Uint
+                                           : vk::Format::eR32Uint;
+    views.emplace_back(context_->device(), vk::BufferViewCreateInfo({}, b.handle(), format, 0,
+                                                                    elements * words * sizeof(uint32_t)));
     rawViews[i] = *views.back();
     writes.emplace_back(*sets_[set], i, 0, 1, type, nullptr, nullptr, &rawViews[i]);
   }

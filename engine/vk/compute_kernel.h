@@ -1,7 +1,7 @@
 // A compute pipeline with its four role descriptor sets (DESIGN §2 / STYLE "For iblx" 6: 0 frame, 1 sequence,
 // 2 env sampler, 3 BRDF), each holding buffers numbered from 0, plus one push-constant block. A binding is a
-// storage buffer or a read-only table: a uniform texel buffer viewed as 32-bit words (R32_UINT), read in GLSL
-// through shaders/lib/table.glsl. Tables exist for speed: lavapipe turns a storage-buffer load at a
+// storage buffer or a read-only table: a uniform texel buffer whose elements are 1, 2 or 4 32-bit words
+// (R32 / R32G32 / R32G32B32A32_UINT, Buffer::tableElementWords), read in GLSL through shaders/lib/table.glsl. Tables exist for speed: lavapipe turns a storage-buffer load at a
 // lane-dependent index into a loop over the SIMD lanes with a branch per lane, and a texel fetch into one
 // gather (docs/BENCHMARKS.md, "What was tried for speed").
 //
@@ -35,7 +35,7 @@ class ComputeKernel {
                 std::string name);
 
   // Binds buffers[i] to binding i of `set`; the count must match the layout. A table larger than the device's
-  // maxTexelBufferElements words throws DeviceLimitError.
+  // maxTexelBufferElements elements throws DeviceLimitError.
   void bindBuffers(uint32_t set, std::initializer_list<const Buffer*> buffers);
   void bindBuffers(uint32_t set, std::span<const Buffer* const> buffers);
 

@@ -10,11 +10,11 @@
 // the left column, pTop of the right column, 0), 1 along an axis that does not split. Node g's children are
 // 2g + 1 + c below ENV_HIER_ONE_AXIS_NODES (levels that split the longer axis only) and
 // 4g + ENV_HIER_QUAD_CHILD_OFFSET + cx + 2cy after; nodes from ENV_HIER_LEAF_START on are texels.
-IBLX_TABLE(2, 0, hierShares);
+IBLX_TABLE(2, 0, hierShares);  // 4-word elements
 // Per cell of a G x G grid over u: the deepest node containing the whole cell, where the descent starts.
-// Two 4-word entries per cell: rect (xy = the node's lower corner in u, zw = 1 / its size), then node (heap
+// Two elements per cell: rect (xy = the node's lower corner in u, zw = 1 / its size), then node (heap
 // index, x, y, the bits of its probability).
-IBLX_TABLE(2, 1, hierGuide);
+IBLX_TABLE(2, 1, hierGuide);  // 4-word elements
 
 uint hierChild(uint g, uint cx, uint cy) {
   return g < ENV_HIER_ONE_AXIS_NODES ? 2u * g + 1u + cx + cy
@@ -42,9 +42,9 @@ vec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {
   uint g = startNode.x, x = startNode.y, y = startNode.z;
   float prob = uintBitsToFloat(startNode.w);
   while (g < ENV_HIER_LEAF_START) {
-    // Two fetches: pLeft, then the chosen column's pTop (words 4g, 4g + 1 + cx).
-    uint cx = hierChoose(tableFloat(hierShares, 4u * g), u.x, prob);  // column first, as the CPU twin
-    uint cy = hierChoose(tableFloat(hierShares, 4u * g + 1u + cx), u.y, prob);
+    vec4 shares = tableVec4(hierShares, g);
+    uint cx = hierChoose(shares.x, u.x, prob);  // column first, in the CPU twin's order
+    uint cy = hierChoose(cx == 0u ? shares.y : shares.z, u.y, prob);
     x = 2u * x + cx;  // along an axis that does not split, c = 0 and the coordinate stays 0
     y = 2u * y + cy;
     g = hierChild(g, cx, cy);

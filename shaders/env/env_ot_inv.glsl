@@ -12,7 +12,7 @@
 
 // The forward map F that G tabulates the inverse of (ot_map.h forwardMap), on the same grid: F(x) is a first
 // guess of x's preimage under G, so a sun sample's OT density costs a few piece tests, not a quadtree search.
-IBLX_TABLE(2, 7, otForwardVertex);
+IBLX_TABLE(2, 7, otForwardVertex);  // vec2: 2-word elements
 IBLX_TABLE(2, 8, otForwardPiece);
 
 vec2 otForwardApply(vec2 x) {

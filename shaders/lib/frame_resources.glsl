@@ -26,7 +26,7 @@ IBLX_TABLE(0, 7, envRgb3);
 #endif
 // Per row (engine/sampling/latlong_texel.h envRowTable, computed in double): x = exact texel solid angle,
 // y, z = the squared half-angle terms at the row's edges, w = 1 for rows in the lower half.
-IBLX_TABLE(0, 3, envRows);
+IBLX_TABLE(0, 3, envRows);  // 4-word elements
 layout(std430, set = 0, binding = 4) buffer KernelStatsData { KernelStats stats; };
 
 layout(push_constant) uniform FrameBlock { FrameParams frame; };

@@ -8,9 +8,9 @@
 #include "lib/constants.glsl"
 #include "lib/latlong.glsl"
 
-IBLX_TABLE(2, 0, quadMapVertex);
+IBLX_TABLE(2, 0, quadMapVertex);  // vec2: 2-word elements
 IBLX_TABLE(2, 1, quadMapPiece);
-IBLX_TABLE(2, 2, quadMapNode);  // (first, count)
+IBLX_TABLE(2, 2, quadMapNode);  // (first, count): 2-word elements
 IBLX_TABLE(2, 3, quadMapLeafCell);
 
 const uint kQuadPieceBilinear = 0u, kQuadPieceSplitMain = 1u, kQuadPieceSplitAnti = 2u;

@@ -34,11 +34,11 @@ struct ProbeRunner {
   // envData goes to set 2 (an env technique), brdfData to set 3 after the BRDF's own buffers.
   ProbeRunner(Scene s, const std::string& kernelFile, std::vector<std::string> parts,
               const TechniqueData& envData, const TechniqueData& brdfData, glm::dvec3 v)
-      : scene(std::move(s)), gpu(uploadScene(gpuContext(), scene)), vector(v) {
-    for (size_t i = 0; i < envData.buffers.size(); ++i)
-      envBuffers.push_back(Buffer::fromData(gpuContext(), envData.buffers[i], envData.names[i]));
-    for (size_t i = 0; i < brdfData.buffers.size(); ++i)
-      brdfBuffers.push_back(Buffer::fromData(gpuContext(), brdfData.buffers[i], brdfData.names[i]));
+      : scene(std::move(s)),
+        gpu(uploadScene(gpuContext(), scene)),
+        envBuffers(uploadTables(gpuContext(), envData)),
+        brdfBuffers(uploadTables(gpuContext(), brdfData)),
+        vector(v) {
     KernelParts k{kernelFile, std::move(parts), paramBlockGlsl(*scene.brdf), envData.defines, {}};
     if (!scene.brdf->evalSource.empty()) k.sources.emplace_back(scene.brdf->evalPart, scene.brdf->evalSource);
     k.defines.insert(k.defines.end(), brdfData.defines.begin(), brdfData.defines.end());
