@@ -28,6 +28,7 @@ struct KernelLayout {
 constexpr uint32_t bindingBits(uint32_t first, uint32_t count) {
   return count == 0 ? 0u : ((count >= 32u ? ~0u : (1u << count) - 1u) << first);
 }
+static_assert(bindingBits(2, 2) == 0b1100u && bindingBits(0, 0) == 0u && bindingBits(0, 32) == ~0u);
 
 class ComputeKernel {
  public:
