@@ -29,7 +29,9 @@ BrdfEvaluator::BrdfEvaluator(const GpuServices& services, const Scene& scene, bo
   if (unguarded) parts.defines.emplace_back("IBLX_UNGUARDED_BRDF", "1");
   const auto spirv = compileKernel(services.compiler, parts, "brdf eval " + scene.brdf->name);
   const auto set3 = state_->gpu.brdfSet();
-  KernelLayout layout{{0, 2, 0, uint32_t(set3.size())}, sizeof(uint32_t), {0, 0, 0, bindingBits(1, uint32_t(set3.size()) - 1)}};
+  KernelLayout layout{{0, 2, 0, uint32_t(set3.size())},
+                      sizeof(uint32_t),
+                      {0, 0, 0, bindingBits(1, uint32_t(set3.size()) - 1)}};
   state_->kernel = std::make_unique<ComputeKernel>(services.context, spirv, layout, "brdf eval");
   state_->kernel->bindBuffers(3, set3);
 }

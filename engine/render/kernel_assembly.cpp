@@ -70,9 +70,10 @@ KernelParts referenceParts(const Scene& scene, const SceneGpu& gpu) {
 KernelLayout sceneKernelLayout(uint32_t envBuffers, uint32_t brdfBuffers) {
   // Set 0 (SceneGpu::frameSet): radiance (2, 5-7) and row table (3) are tables; the G-buffer, accumulation
   // and counters stay storage buffers. Set 2: every technique buffer. Set 3: all but the parameter block.
-  return {{8, 0, envBuffers, 1 + brdfBuffers},
-          sizeof(gpu::FrameParams),
-          {bindingBits(2, 2) | bindingBits(5, 3), 0, bindingBits(0, envBuffers), bindingBits(1, brdfBuffers)}};
+  return {
+      {8, 0, envBuffers, 1 + brdfBuffers},
+      sizeof(gpu::FrameParams),
+      {bindingBits(2, 2) | bindingBits(5, 3), 0, bindingBits(0, envBuffers), bindingBits(1, brdfBuffers)}};
 }
 
 }  // namespace iblx

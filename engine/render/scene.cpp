@@ -212,16 +212,15 @@ SceneGpu uploadScene(const VulkanContext& context, const Scene& scene) {
   const std::size_t texels = std::size_t(scene.env.width) * std::size_t(scene.env.height);
   const std::size_t bytesPerTexel = 3 * sizeof(float);
   // Each chunk is one buffer, read as a table: it must fit both limits.
-  const std::size_t chunkBytes = std::min<std::size_t>(context.limits().maxStorageBufferRange,
-                                                       std::size_t(context.limits().maxTexelBufferElements) * 4);
+  const std::size_t chunkBytes = std::min<std::size_t>(
+      context.limits().maxStorageBufferRange, std::size_t(context.limits().maxTexelBufferElements) * 4);
   gpu.envTexelsPerChunk = std::min<std::size_t>(texels, chunkBytes / bytesPerTexel);
   const std::size_t chunks = (texels + gpu.envTexelsPerChunk - 1) / gpu.envTexelsPerChunk;
   if (chunks > kMaxEnvRadianceChunks)
-    throw DeviceLimitError(
-        "the environment map's " + std::to_string(texels * bytesPerTexel >> 20) + " MiB of radiance need " +
-        std::to_string(chunks) + " buffers on this device (" + std::to_string(chunkBytes >> 20) +
-        " MiB each), more than " +
-        std::to_string(kMaxEnvRadianceChunks) + "; use a smaller map");
+    throw DeviceLimitError("the environment map's " + std::to_string(texels * bytesPerTexel >> 20) +
+                           " MiB of radiance need " + std::to_string(chunks) + " buffers on this device (" +
+                           std::to_string(chunkBytes >> 20) + " MiB each), more than " +
+                           std::to_string(kMaxEnvRadianceChunks) + "; use a smaller map");
   for (std::size_t c = 0; c < chunks; ++c) {
     const std::size_t first = c * gpu.envTexelsPerChunk,
                       count = std::min(gpu.envTexelsPerChunk, texels - first);

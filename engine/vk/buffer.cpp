@@ -59,7 +59,8 @@ void Buffer::read(void* data, vk::DeviceSize bytes, vk::DeviceSize offset) const
 
 void Buffer::setTableElementWords(uint32_t words) {
   if (words != 1 && words != 2 && words != 4)
-    throw Error("buffer '" + name_ + "': a table has 1, 2 or 4 words per element, not " + std::to_string(words));
+    throw Error("buffer '" + name_ + "': a table has 1, 2 or 4 words per element, not " +
+                std::to_string(words));
   tableElementWords_ = words;
 }
 

@@ -82,8 +82,9 @@ void ComputeKernel::bindBuffers(uint32_t set, std::span<const Buffer* const> buf
 }
 
 vk::DescriptorType ComputeKernel::descriptorType(uint32_t set, uint32_t binding) const {
-  return binding < 32 && (layout_.tableBindings[set] >> binding & 1u) ? vk::DescriptorType::eUniformTexelBuffer
-                                                                      : vk::DescriptorType::eStorageBuffer;
+  return binding < 32 && (layout_.tableBindings[set] >> binding & 1u)
+             ? vk::DescriptorType::eUniformTexelBuffer
+             : vk::DescriptorType::eStorageBuffer;
 }
 
 void ComputeKernel::record(vk::CommandBuffer cmd, uint32_t groupsX, uint32_t groupsY,

@@ -1,9 +1,10 @@
 // A compute pipeline with its four role descriptor sets (DESIGN §2 / STYLE "For iblx" 6: 0 frame, 1 sequence,
 // 2 env sampler, 3 BRDF), each holding buffers numbered from 0, plus one push-constant block. A binding is a
 // storage buffer or a read-only table: a uniform texel buffer whose elements are 1, 2 or 4 32-bit words
-// (R32 / R32G32 / R32G32B32A32_UINT, Buffer::tableElementWords), read in GLSL through shaders/lib/table.glsl. Tables exist for speed: lavapipe turns a storage-buffer load at a
-// lane-dependent index into a loop over the SIMD lanes with a branch per lane, and a texel fetch into one
-// gather (docs/BENCHMARKS.md, "What was tried for speed").
+// (R32 / R32G32 / R32G32B32A32_UINT, Buffer::tableElementWords), read in GLSL through shaders/lib/table.glsl.
+// Tables exist for speed: lavapipe turns a storage-buffer load at a lane-dependent index into a loop over the
+// SIMD lanes with a branch per lane, and a texel fetch into one gather (docs/BENCHMARKS.md, "What was tried
+// for speed").
 //
 //   ComputeKernel kernel(ctx, spirv, {.buffersPerSet = {4, 0, 2, 1}, .pushConstantBytes =
 //   sizeof(FrameParams)}, "x"); kernel.bindBuffers(0, {&gbuffer, &accum, &env, &rows});
