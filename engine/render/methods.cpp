@@ -48,17 +48,14 @@ TechniqueData makeEnvHier(const EnvImage& image) {
   const EnvHierGpuData hier = packEnvHierForGpu(buildEnvHier(image));
   TechniqueData data;
   data.add("env-hier shares", std::span<const float>(hier.shares), 4);
-  data.add("env-hier guide", std::span<const EnvHierStart>(hier.guide), 4);
+  data.add("env-hier guide rectangles", std::span<const glm::vec4>(hier.guideRects), 4);
+  data.add("env-hier guide nodes", std::span<const uint32_t>(hier.guideNodes));
+  data.add("env-hier texel probabilities", std::span<const float>(hier.texelProbability));
   // Sizes are compile-time constants of the part: read from a buffer, lavapipe would load them per lane.
   const auto u = [](uint32_t v) { return std::to_string(v) + "u"; };
-  data.defines = {{"ENV_HIER_LEVELS", u(hier.levelCount)},
-                  {"ENV_HIER_BITS_X", u(uint32_t(std::countr_zero(hier.finestWidth)))},
-                  {"ENV_HIER_BITS_Y", u(uint32_t(std::countr_zero(hier.finestHeight)))},
-                  {"ENV_HIER_ONE_AXIS_NODES", u(hier.oneAxisNodes)},
-                  {"ENV_HIER_QUAD_CHILD_OFFSET",
-                   std::string("(").append(std::to_string(hier.quadChildOffset)).append(")")},
-                  {"ENV_HIER_LEAF_START", u(hier.leafStart)},
-                  {"ENV_HIER_GUIDE_SIZE", u(hier.guideSize)}};
+  data.defines = {{"ENV_HIER_LEAF_START", u(hier.leafStart)},
+                  {"ENV_HIER_GUIDE_SIZE", u(hier.guideSize)},
+                  {"ENV_HIER_WIDTH", std::to_string(image.width)}};
   return data;
 }
 

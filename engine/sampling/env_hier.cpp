@@ -14,37 +14,48 @@
 namespace iblx {
 namespace {
 
-// Share of the left column of a 2x2 (or 2x1) block; 0.5 when the block is empty (explicit zero guard).
+// Share of the left column of a 2x2 block; 0.5 when the block is empty (explicit zero guard).
 float columnShare(float left, float right) {
   const float total = left + right;
   return total > 0.0f ? left / total : 0.5f;
 }
 
-// The GLSL part's hierChoose, operation for operation: takes the first child with probability pFirst, remaps
-// u and multiplies prob by the share taken; returns 1 for the second.
-uint32_t hierChoose(float pFirst, float& u, float& prob) {
+// The GLSL part's hierChoose, operation for operation: takes the first child when u < pFirst, remaps u into
+// it; returns 1 for the second. The share taken is never 0 (u in [0, 1) and pFirst in [0, 1]) and the
+// remapped u never negative, so only the upper clamp is needed.
+uint32_t hierChoose(float pFirst, float& u) {
   const bool second = u >= pFirst;
   const float share = second ? 1.0f - pFirst : pFirst;
-  u = share > 0.0f ? std::clamp((second ? u - pFirst : u) / share, 0.0f, kOneMinusEpsilonF) : 0.0f;
-  prob *= share;
+  u = std::min((second ? u - pFirst : u) / share, kOneMinusEpsilonF);
   return second ? 1u : 0u;
 }
 
-// Morton index of node (x, y) in a level of w x h (powers of two): the low bits of both interleaved with x on
-// the even bits, the longer axis' remaining high bits on top.
-uint64_t mortonIndex(uint32_t x, uint32_t y, uint32_t w, uint32_t h) {
-  const int shortBits = std::countr_zero(std::min(w, h));
+// Morton index of node (x, y) of a square level: x on the even bits, y on the odd bits.
+uint64_t mortonIndex(uint32_t x, uint32_t y) {
   uint64_t m = 0;
-  for (int b = 0; b < shortBits; ++b)
-    m |= (uint64_t((x >> b) & 1u) << (2 * b)) | (uint64_t((y >> b) & 1u) << (2 * b + 1));
-  const uint32_t high = w >= h ? x >> shortBits : y >> shortBits;
-  return m | (uint64_t(high) << (2 * shortBits));
+  for (int b = 0; b < 32; ++b) m |= (uint64_t((x >> b) & 1u) << (2 * b)) | (uint64_t((y >> b) & 1u) << (2 * b + 1));
+  return m;
 }
 
-// Heap index of the child (cx, cy) of node g (EnvHierGpuData): no level table needed.
-uint32_t hierChild(const EnvHierGpuData& gpu, uint32_t g, uint32_t cx, uint32_t cy) {
-  if (g < gpu.oneAxisNodes) return 2u * g + 1u + cx + cy;
-  return uint32_t(int64_t(4u) * g + gpu.quadChildOffset) + cx + 2u * cy;
+// The even bits of m, compacted: mortonIndex's inverse along one axis.
+uint32_t mortonAxis(uint64_t m) {
+  uint32_t v = 0;
+  for (int b = 0; b < 32; ++b) v |= uint32_t((m >> (2 * b)) & 1u) << b;
+  return v;
+}
+
+// Heap index of the child (cx, cy) of node g (EnvHierGpuData).
+uint32_t hierChild(uint32_t g, uint32_t cx, uint32_t cy) { return 4u * g + 1u + cx + 2u * cy; }
+
+// Interior node (x, y) of level k: its split (pLeft, pTop of the left column, pTop of the right column)
+// from its children at level k+1, in the order documented in env_hier.h.
+glm::vec3 nodeSplit(const EnvHierData& data, std::size_t k, uint32_t x, uint32_t y) {
+  const EnvHierLevel& fine = data.levels[k + 1];
+  const auto q = [&](uint32_t i, uint32_t j) {
+    return data.nodes[fine.offset + std::size_t(2 * y + j) * fine.width + (2 * x + i)];
+  };
+  return {columnShare(q(0, 0) + q(0, 1), q(1, 0) + q(1, 1)), columnShare(q(0, 0), q(0, 1)),
+          columnShare(q(1, 0), q(1, 1))};
 }
 
 }  // namespace
@@ -56,40 +67,36 @@ EnvHierData buildEnvHier(const EnvImage& image) {
     throw Error("env-hier: a " + std::to_string(width) + " x " + std::to_string(height) +
                 " map is too large for the pyramid; downsample it");
 
-  // Finest level Pw x Ph: the texel weights, zero padding beyond W x H.
-  const int paddedW = int(std::bit_ceil(unsigned(width))), paddedH = int(std::bit_ceil(unsigned(height)));
-  glm::ivec2 size(paddedW, paddedH);
+  // Finest level S x S: the texel weights, zero padding beyond W x H.
+  int size = int(std::max(std::bit_ceil(unsigned(width)), std::bit_ceil(unsigned(height))));
   std::vector<double> level;
-  if (size == glm::ivec2(width, height)) {
+  if (size == width && size == height) {
     level = std::move(weights);
   } else {
-    level.assign(std::size_t(paddedW) * std::size_t(paddedH), 0.0);
+    level.assign(std::size_t(size) * std::size_t(size), 0.0);
     for (int y = 0; y < height; ++y)
       std::copy_n(weights.begin() + std::ptrdiff_t(image.index(0, y)), width,
-                  level.begin() + std::ptrdiff_t(y) * paddedW);
+                  level.begin() + std::ptrdiff_t(y) * size);
     weights = {};
   }
 
-  // Coarser levels: each node is the sum (in double) of its 2 or 1 children per axis. Only the current level
-  // is kept in double; every level is stored as float, finest first while building.
+  // Coarser levels: each node is the sum (in double) of its 2 x 2 children. Only the current level is kept
+  // in double; every level is stored as float, finest first while building.
   std::vector<std::vector<float>> stored;
-  std::vector<glm::ivec2> sizes;
+  std::vector<int> sizes;
   const auto store = [&] {
     stored.emplace_back(level.begin(), level.end());
     sizes.push_back(size);
   };
   store();
-  while (size.x > 1 || size.y > 1) {
-    const glm::ivec2 coarse(std::max(size.x / 2, 1), std::max(size.y / 2, 1));
-    const int kx = size.x / coarse.x, ky = size.y / coarse.y;  // children per axis: 2 or 1
-    std::vector<double> sums(std::size_t(coarse.x) * std::size_t(coarse.y), 0.0);
-    for (int y = 0; y < coarse.y; ++y)
-      for (int x = 0; x < coarse.x; ++x) {
-        double sum = 0.0;
-        for (int j = 0; j < ky; ++j)
-          for (int i = 0; i < kx; ++i)
-            sum += level[std::size_t(ky * y + j) * std::size_t(size.x) + std::size_t(kx * x + i)];
-        sums[std::size_t(y) * std::size_t(coarse.x) + std::size_t(x)] = sum;
+  while (size > 1) {
+    const int coarse = size / 2;
+    std::vector<double> sums(std::size_t(coarse) * std::size_t(coarse), 0.0);
+    for (int y = 0; y < coarse; ++y)
+      for (int x = 0; x < coarse; ++x) {
+        const std::size_t top = std::size_t(2 * y) * std::size_t(size) + std::size_t(2 * x);
+        sums[std::size_t(y) * std::size_t(coarse) + std::size_t(x)] =
+            level[top] + level[top + 1] + level[top + std::size_t(size)] + level[top + std::size_t(size) + 1];
       }
     level = std::move(sums);
     size = coarse;
@@ -104,7 +111,7 @@ EnvHierData buildEnvHier(const EnvImage& image) {
   data.height = height;
   std::size_t offset = 0;
   for (std::size_t k = stored.size(); k-- > 0;) {
-    data.levels.push_back({uint32_t(offset), uint32_t(sizes[k].x), uint32_t(sizes[k].y), 0u});
+    data.levels.push_back({uint32_t(offset), uint32_t(sizes[k]), uint32_t(sizes[k]), 0u});
     offset += stored[k].size();
   }
   if (offset > std::numeric_limits<uint32_t>::max())
@@ -123,61 +130,40 @@ EnvHierSampler::EnvHierSampler(EnvHierData data, uint32_t guideSize) : data_(std
   };
   const auto& levels = data_.levels;
   if (data_.width <= 0 || data_.height <= 0 || levels.empty()) fail("empty");
-  if (levels[0].width != 1 || levels[0].height != 1) fail("the root is not 1x1");
+  std::size_t offset = 0;
   for (std::size_t k = 0; k < levels.size(); ++k) {
     const EnvHierLevel& l = levels[k];
-    if (std::size_t(l.offset) + std::size_t(l.width) * l.height > data_.nodes.size())
-      fail("nodes out of range");
-    if (k == 0) continue;
-    const EnvHierLevel& c = levels[k - 1];
-    const bool okX = l.width == 2 * c.width || (l.width == 1 && c.width == 1);
-    const bool okY = l.height == 2 * c.height || (l.height == 1 && c.height == 1);
-    if (!okX || !okY || (l.width == c.width && l.height == c.height)) fail("level sizes do not halve");
+    if (k >= 32 || l.width != (1u << k) || l.height != l.width) fail("level sizes are not 1, 2, 4, ... squared");
+    if (l.offset != offset) fail("levels are not consecutive");
+    offset += std::size_t(l.width) * l.height;
   }
+  if (offset != data_.nodes.size()) fail("node count does not match the levels");
   const EnvHierLevel& finest = levels.back();
   if (int(finest.width) < data_.width || int(finest.height) < data_.height) fail("finest level too small");
-  for (const EnvHierLevel& l : levels)
-    shift_.emplace_back(std::countr_zero(finest.width / l.width), std::countr_zero(finest.height / l.height));
   rowSolidAngles_ = rowSolidAngles(data_.width, data_.height);
   gpu_ = packEnvHierForGpu(data_, guideSize);
-}
-
-EnvHierSampler::Children EnvHierSampler::children(int level, glm::ivec2 node) const {
-  const EnvHierLevel& cur = data_.levels[std::size_t(level)];
-  const EnvHierLevel& fine = data_.levels[std::size_t(level) + 1];
-  Children ch;
-  ch.splitX = fine.width == 2 * cur.width;
-  ch.splitY = fine.height == 2 * cur.height;
-  ch.first = {ch.splitX ? 2 * node.x : node.x, ch.splitY ? 2 * node.y : node.y};
-  for (int i = 0; i < (ch.splitX ? 2 : 1); ++i)
-    for (int j = 0; j < (ch.splitY ? 2 : 1); ++j)
-      ch.q[i][j] =
-          data_.nodes[fine.offset + std::size_t(ch.first.y + j) * fine.width + std::size_t(ch.first.x + i)];
-  return ch;
 }
 
 EnvSample EnvHierSampler::sample(glm::dvec2 u) const {
   float ux = toGpuU(u.x), uy = toGpuU(u.y);
   // u * G is exact (G a power of two) and < G for u < 1.
   const uint32_t g = gpu_.guideSize;
-  const EnvHierStart& start = gpu_.guide[std::size_t(std::min(uint32_t(uy * float(g)), g - 1u)) * g +
-                                         std::min(uint32_t(ux * float(g)), g - 1u)];
-  ux = std::clamp((ux - start.minX) * start.invSizeX, 0.0f, kOneMinusEpsilonF);
-  uy = std::clamp((uy - start.minY) * start.invSizeY, 0.0f, kOneMinusEpsilonF);
-  float prob = start.prob;
-  uint32_t node = start.node;
-  glm::ivec2 n(int(start.x), int(start.y));
+  const std::size_t cell = std::size_t(std::min(uint32_t(uy * float(g)), g - 1u)) * g +
+                           std::min(uint32_t(ux * float(g)), g - 1u);
+  const glm::vec4 rect = gpu_.guideRects[cell];
+  ux = std::clamp((ux - rect.x) * rect.z, 0.0f, kOneMinusEpsilonF);
+  uy = std::clamp((uy - rect.y) * rect.w, 0.0f, kOneMinusEpsilonF);
+  uint32_t node = gpu_.guideNodes[cell];
   while (node < gpu_.leafStart) {
     const float* shares = &gpu_.shares[4 * std::size_t(node)];
-    // Column first, then the row inside the chosen column. Along an axis that does not split the share is 1,
-    // which leaves u unchanged.
-    const uint32_t column = hierChoose(shares[0], ux, prob);
-    const uint32_t row = hierChoose(shares[1 + column], uy, prob);
-    n = 2 * n + glm::ivec2(int(column), int(row));  // a 1-wide axis stays 0
-    node = hierChild(gpu_, node, column, row);
+    const uint32_t column = hierChoose(shares[0], ux);  // column first, then the row inside it
+    const uint32_t row = hierChoose(shares[1 + column], uy);
+    node = hierChild(node, column, row);
   }
+  const uint64_t m = node - gpu_.leafStart;
+  const glm::ivec2 n(int(mortonAxis(m)), int(mortonAxis(m >> 1)));
   EnvSample s;
-  if (n.x >= data_.width || n.y >= data_.height) {  // padding: unreachable unless every share underflowed
+  if (n.x >= data_.width || n.y >= data_.height) {  // padding: unreachable (its shares are 0)
     s.texel = glm::min(n, glm::ivec2(data_.width - 1, data_.height - 1));
     s.direction = texelToDirection(s.texel.x, s.texel.y, {double(ux), double(uy)}, data_.width, data_.height);
     return s;
@@ -185,29 +171,12 @@ EnvSample EnvHierSampler::sample(glm::dvec2 u) const {
   const float omega = rowSolidAngles_[std::size_t(n.y)];
   s.texel = n;
   s.direction = texelToDirection(n.x, n.y, {double(ux), double(uy)}, data_.width, data_.height);
-  s.pdfSolidAngle = omega > 0.0f ? double(prob / omega) : 0.0;
+  s.pdfSolidAngle = omega > 0.0f ? double(texelProbability(n.x, n.y) / omega) : 0.0;
   return s;
 }
 
 float EnvHierSampler::texelProbability(int x, int y) const {
-  const glm::ivec2 target(x, y);
-  float prob = 1.0f;
-  glm::ivec2 n(0);
-  for (int k = 0; k + 1 < int(data_.levels.size()); ++k) {
-    const Children ch = children(k, n);
-    const glm::ivec2 next(target.x >> shift_[std::size_t(k) + 1].x, target.y >> shift_[std::size_t(k) + 1].y);
-    const int column = next.x - ch.first.x, row = next.y - ch.first.y;
-    if (ch.splitX) {
-      const float pLeft = columnShare(ch.q[0][0] + ch.q[0][1], ch.q[1][0] + ch.q[1][1]);
-      prob *= column == 0 ? pLeft : 1.0f - pLeft;
-    }
-    if (ch.splitY) {
-      const float pTop = columnShare(ch.q[column][0], ch.q[column][1]);
-      prob *= row == 0 ? pTop : 1.0f - pTop;
-    }
-    n = next;
-  }
-  return prob;
+  return gpu_.texelProbability[std::size_t(y) * std::size_t(data_.width) + std::size_t(x)];
 }
 
 double EnvHierSampler::pdf(glm::dvec3 wi) const {
@@ -220,98 +189,100 @@ double EnvHierSampler::pdf(glm::dvec3 wi) const {
 std::optional<glm::dvec2> EnvHierSampler::invert(glm::dvec3 wi) const {
   if (!isUsableDirection(wi)) return std::nullopt;
   const glm::ivec2 target = directionToTexel(wi, data_.width, data_.height);
-  // Record the path's shares from the root down, then undo the remaps from the finest level up.
-  struct Split {
-    bool splitX, splitY;
+  // Record the path's splits from the root down, then undo the remaps from the finest level up.
+  struct Step {
     float pLeft, pTop;
-    int column, row;
+    uint32_t column, row;
   };
-  std::vector<Split> path;
-  glm::ivec2 n(0);
-  for (int k = 0; k + 1 < int(data_.levels.size()); ++k) {
-    const Children ch = children(k, n);
-    const glm::ivec2 next(target.x >> shift_[std::size_t(k) + 1].x, target.y >> shift_[std::size_t(k) + 1].y);
-    Split s{ch.splitX, ch.splitY, 1.0f, 1.0f, next.x - ch.first.x, next.y - ch.first.y};
-    if (s.splitX) s.pLeft = columnShare(ch.q[0][0] + ch.q[0][1], ch.q[1][0] + ch.q[1][1]);
-    if (s.splitY) s.pTop = columnShare(ch.q[s.column][0], ch.q[s.column][1]);
-    if ((s.splitX && (s.column == 0 ? s.pLeft : 1.0f - s.pLeft) == 0.0f) ||
-        (s.splitY && (s.row == 0 ? s.pTop : 1.0f - s.pTop) == 0.0f))
+  std::vector<Step> path;
+  const int finestLevel = int(data_.levels.size()) - 1;
+  for (int k = 0; k < finestLevel; ++k) {
+    const uint32_t x = uint32_t(target.x) >> (finestLevel - k), y = uint32_t(target.y) >> (finestLevel - k);
+    const glm::vec3 split = nodeSplit(data_, std::size_t(k), x, y);
+    const uint32_t column = (uint32_t(target.x) >> (finestLevel - k - 1)) & 1u;
+    const uint32_t row = (uint32_t(target.y) >> (finestLevel - k - 1)) & 1u;
+    const Step step{split.x, column == 0 ? split.y : split.z, column, row};
+    if ((column == 0 ? step.pLeft : 1.0f - step.pLeft) == 0.0f || (row == 0 ? step.pTop : 1.0f - step.pTop) == 0.0f)
       return std::nullopt;
-    path.push_back(s);
-    n = next;
+    path.push_back(step);
   }
   glm::dvec2 u = directionToTexelOffset(wi, target, data_.width, data_.height);
   for (auto it = path.rbegin(); it != path.rend(); ++it) {
-    // Inverse of chooseBranch: u_before = p * u (first) or p + (1 - p) * u (second).
-    if (it->splitX)
-      u.x = it->column == 0 ? double(it->pLeft) * u.x : double(it->pLeft) + double(1.0f - it->pLeft) * u.x;
-    if (it->splitY)
-      u.y = it->row == 0 ? double(it->pTop) * u.y : double(it->pTop) + double(1.0f - it->pTop) * u.y;
+    // Inverse of hierChoose: u_before = p * u (first) or p + (1 - p) * u (second).
+    u.x = it->column == 0 ? double(it->pLeft) * u.x : double(it->pLeft) + double(1.0f - it->pLeft) * u.x;
+    u.y = it->row == 0 ? double(it->pTop) * u.y : double(it->pTop) + double(1.0f - it->pTop) * u.y;
   }
   return glm::min(u, glm::dvec2(double(kOneMinusEpsilonF)));
 }
 
 EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize) {
+  for (std::size_t k = 0; k < data.levels.size(); ++k)
+    if (k >= 32 || data.levels[k].width != (1u << k) || data.levels[k].height != (1u << k))
+      throw Error("env-hier: the pyramid's levels are not 1, 2, 4, ... squared; rebuild it with buildEnvHier");
   EnvHierGpuData gpu;
   const EnvHierLevel& finest = data.levels.back();
-  const int bitsX = std::countr_zero(finest.width), bitsY = std::countr_zero(finest.height);
-  const int oneAxisLevels = std::abs(bitsX - bitsY);
   gpu.levelCount = uint32_t(data.levels.size());
-  gpu.finestWidth = finest.width;
-  gpu.finestHeight = finest.height;
-  gpu.oneAxisNodes = (1u << oneAxisLevels) - 1u;
-  gpu.quadChildOffset = 3 - (int32_t(1) << (oneAxisLevels + 1));
+  gpu.finestSize = finest.width;
   gpu.leafStart = finest.offset;  // levels are stored root first, so the finest level starts after the rest
 
-  // Interior nodes in heap order: level k's node (x, y) is gpu node levels[k].offset + morton(x, y).
+  // Interior nodes in heap order: level k's node (x, y) is gpu node levels[k].offset + morton(x, y). Texel
+  // probabilities top-down, one level at a time, in the descent's order: column share, then row share.
   gpu.shares.assign(4 * std::size_t(gpu.leafStart), 0.0f);
+  std::vector<float> prob{1.0f}, finer;
   for (std::size_t k = 0; k + 1 < data.levels.size(); ++k) {
-    const EnvHierLevel& coarse = data.levels[k];
-    const EnvHierLevel& fine = data.levels[k + 1];
-    const bool splitX = fine.width > coarse.width, splitY = fine.height > coarse.height;
-    for (uint32_t y = 0; y < coarse.height; ++y)
-      for (uint32_t x = 0; x < coarse.width; ++x) {
-        const uint32_t x0 = splitX ? 2 * x : x, y0 = splitY ? 2 * y : y;
-        auto node = [&](uint32_t cx, uint32_t cy) { return data.nodes[fine.offset + cy * fine.width + cx]; };
-        const float q00 = node(x0, y0), q10 = splitX ? node(x0 + 1, y0) : 0.0f;
-        const float q01 = splitY ? node(x0, y0 + 1) : 0.0f,
-                    q11 = splitX && splitY ? node(x0 + 1, y0 + 1) : 0.0f;
-        // The same float operations as texelProbability, so sample() and pdf() multiply identical shares.
-        float* shares = &gpu.shares[4 * (coarse.offset + mortonIndex(x, y, coarse.width, coarse.height))];
-        shares[0] = splitX ? columnShare(q00 + q01, q10 + q11) : 1.0f;
-        shares[1] = splitY ? columnShare(q00, q01) : 1.0f;
-        shares[2] = splitY ? columnShare(q10, q11) : 1.0f;
+    const uint32_t size = data.levels[k].width;
+    finer.assign(4 * prob.size(), 0.0f);
+    for (uint32_t y = 0; y < size; ++y)
+      for (uint32_t x = 0; x < size; ++x) {
+        const glm::vec3 split = nodeSplit(data, k, x, y);
+        float* shares = &gpu.shares[4 * (data.levels[k].offset + mortonIndex(x, y))];
+        shares[0] = split.x;
+        shares[1] = split.y;
+        shares[2] = split.z;
+        const float parent = prob[std::size_t(y) * size + x];
+        for (uint32_t column = 0; column < 2; ++column) {
+          const float shareX = column == 0 ? split.x : 1.0f - split.x;
+          const float pTop = column == 0 ? split.y : split.z;
+          for (uint32_t row = 0; row < 2; ++row)
+            finer[std::size_t(2 * y + row) * (2 * size) + (2 * x + column)] =
+                parent * shareX * (row == 0 ? pTop : 1.0f - pTop);
+        }
       }
+    prob.swap(finer);
   }
+  gpu.texelProbability.resize(std::size_t(data.width) * std::size_t(data.height));
+  for (int y = 0; y < data.height; ++y)
+    std::copy_n(prob.begin() + std::ptrdiff_t(y) * finest.width, data.width,
+                gpu.texelProbability.begin() + std::ptrdiff_t(y) * data.width);
 
   // The guide: walk the tree in double, tracking each node's rectangle in u, down to the nodes still as large
   // as a guide cell; every cell records the deepest node that contains it (parents are marked first).
-  gpu.guideSize =
-      guideSize != 0 ? guideSize : std::min<uint32_t>(256u, std::max(finest.width, finest.height));
+  gpu.guideSize = guideSize != 0 ? guideSize : std::min(kEnvHierGuideSize, finest.width);
   if (!std::has_single_bit(gpu.guideSize)) throw Error("env-hier: the guide size must be a power of two");
   const uint32_t cells = gpu.guideSize;
   const double cellsD = double(cells);
-  gpu.guide.assign(std::size_t(cells) * cells, EnvHierStart{});
+  gpu.guideRects.assign(std::size_t(cells) * cells, glm::vec4(0.0f, 0.0f, 1.0f, 1.0f));
+  gpu.guideNodes.assign(std::size_t(cells) * cells, 0u);
   struct Pending {
-    EnvHierStart start;
+    uint32_t node;
     glm::dvec2 lo, hi;  // the node's rectangle in u
   };
-  std::vector<Pending> stack{{EnvHierStart{}, glm::dvec2(0.0), glm::dvec2(1.0)}};
+  std::vector<Pending> stack{{0u, glm::dvec2(0.0), glm::dvec2(1.0)}};
   while (!stack.empty()) {
     const Pending p = stack.back();
     stack.pop_back();
-    EnvHierStart start = p.start;
-    start.minX = float(p.lo.x);
-    start.minY = float(p.lo.y);
-    start.invSizeX = float(1.0 / (p.hi.x - p.lo.x));
-    start.invSizeY = float(1.0 / (p.hi.y - p.lo.y));
+    const glm::vec4 rect(float(p.lo.x), float(p.lo.y), float(1.0 / (p.hi.x - p.lo.x)),
+                         float(1.0 / (p.hi.y - p.lo.y)));
     // Cells i with i / G >= lo and (i + 1) / G <= hi.
     const uint32_t x0 = uint32_t(std::ceil(p.lo.x * cellsD)), x1 = uint32_t(std::floor(p.hi.x * cellsD));
     const uint32_t y0 = uint32_t(std::ceil(p.lo.y * cellsD)), y1 = uint32_t(std::floor(p.hi.y * cellsD));
     for (uint32_t cy = y0; cy < y1; ++cy)
-      for (uint32_t cx = x0; cx < x1; ++cx) gpu.guide[std::size_t(cy) * cells + cx] = start;
-    if (p.start.node >= gpu.leafStart) continue;
-    const float* shares = &gpu.shares[4 * std::size_t(p.start.node)];
+      for (uint32_t cx = x0; cx < x1; ++cx) {
+        gpu.guideRects[std::size_t(cy) * cells + cx] = rect;
+        gpu.guideNodes[std::size_t(cy) * cells + cx] = p.node;
+      }
+    if (p.node >= gpu.leafStart) continue;
+    const float* shares = &gpu.shares[4 * std::size_t(p.node)];
     const float pLeft = shares[0];
     for (uint32_t column = 0; column < 2; ++column) {
       const float shareX = column == 0 ? pLeft : 1.0f - pLeft;
@@ -325,12 +296,7 @@ EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize) {
         const double splitY = p.lo.y + double(pTop) * (p.hi.y - p.lo.y);
         const double loY = row == 0 ? p.lo.y : splitY, hiY = row == 0 ? splitY : p.hi.y;
         if ((hiX - loX) * cellsD < 1.0 || (hiY - loY) * cellsD < 1.0) continue;  // holds no whole cell
-        Pending child{p.start, {loX, loY}, {hiX, hiY}};
-        child.start.prob = p.start.prob * shareX * shareY;  // the GPU's order: prob *= shareX; prob *= shareY
-        child.start.node = hierChild(gpu, p.start.node, column, row);
-        child.start.x = 2 * p.start.x + column;
-        child.start.y = 2 * p.start.y + row;
-        stack.push_back(child);
+        stack.push_back({hierChild(p.node, column, row), {loX, loY}, {hiX, hiY}});
       }
     }
   }

@@ -8,6 +8,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <vector>
@@ -18,24 +19,27 @@ TEST_CASE("env-hier: hand-worked 4x2 table") {
   const EnvHierData data = buildEnvHier(test::handWorkedImage());
   REQUIRE(data.width == 4);
   REQUIRE(data.height == 2);
-  // Finest 4x2: weight * pi/2 = {pi/2, 0, 3pi/2, 0; pi, pi, pi, pi}; 2x1: {5pi/2, 7pi/2}; root 6pi.
+  // Finest 4x4 (rows 2 and 3 padding): weight * pi/2 = {pi/2, 0, 3pi/2, 0; pi, pi, pi, pi; 0...}; 2x2:
+  // {5pi/2, 7pi/2; 0, 0}; root 6pi.
   REQUIRE(data.levels.size() == 3);
   const auto level = [&](int k) {
     const EnvHierLevel& l = data.levels[std::size_t(k)];
     return std::vector<uint32_t>{l.offset, l.width, l.height, l.pad};
   };
   CHECK(level(0) == std::vector<uint32_t>{0, 1, 1, 0});
-  CHECK(level(1) == std::vector<uint32_t>{1, 2, 1, 0});
-  CHECK(level(2) == std::vector<uint32_t>{3, 4, 2, 0});
+  CHECK(level(1) == std::vector<uint32_t>{1, 2, 2, 0});
+  CHECK(level(2) == std::vector<uint32_t>{5, 4, 4, 0});
   const double p = kPi;
-  const std::vector<double> nodes{6 * p, 2.5 * p, 3.5 * p, p / 2, 0, 1.5 * p, 0, p, p, p, p};
+  const std::vector<double> nodes{6 * p, 2.5 * p, 3.5 * p, 0, 0,  // root, level 1
+                                  p / 2, 0, 1.5 * p, 0, p, p, p, p, 0, 0, 0, 0, 0, 0, 0, 0};
   REQUIRE(data.nodes.size() == nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i) CHECK(data.nodes[i] == float(nodes[i]));
 
   const EnvHierSampler sampler(data);
-  // u = (0.5, 0.2): root -> 2x1: pLeft = (5/2)/6 = 5/12, u.x >= pLeft: right, u.x = (1/12)/(7/12) = 1/7,
-  // prob = 7/12. Node (1,0) -> columns {2, 3}: pLeft = (3/2 + 1)/(7/2) = 5/7, u.x < pLeft: left, u.x = 1/5,
-  // prob = 5/12; rows of column 2: pTop = (3/2)/(5/2) = 3/5, u.y = 0.2 < pTop: top, u.y = 1/3, prob = 1/4.
+  // u = (0.5, 0.2): root -> 2x2: pLeft = (5/2)/6 = 5/12, u.x >= pLeft: right, u.x = (1/12)/(7/12) = 1/7,
+  // prob = 7/12; the right column's pTop = 1 (its lower node is padding): top, u.y stays 0.2. Node (1,0) ->
+  // columns {2, 3}: pLeft = (3/2 + 1)/(7/2) = 5/7, u.x < pLeft: left, u.x = 1/5, prob = 5/12; rows of column
+  // 2: pTop = (3/2)/(5/2) = 3/5, u.y = 0.2 < pTop: top, u.y = 1/3, prob = 1/4.
   // pdf = (1/4) / (pi/2) = 1 / (2 pi), the same as env-cdf: both are exactly proportional to the texel
   // weight.
   const EnvSample s = sampler.sample({0.5, 0.2});
@@ -64,7 +68,7 @@ TEST_CASE("env-hier: hand-worked 4x2 table") {
 }
 
 TEST_CASE("env-hier: hand-worked 3x1 table with padding") {
-  // Weights {1, 2, 3}, Omega = 4 pi / 3 each; finest level 4x1 = {4pi/3, 8pi/3, 4pi, 0 (padding)}.
+  // Weights {1, 2, 3}, Omega = 4 pi / 3 each; finest level 4x4 = {4pi/3, 8pi/3, 4pi, 0; 0...} (padding).
   const EnvImage img = makeEnv(3, 1, [](int x, int, double, double) {
     const double v = x + 1.0;
     return std::array<double, 3>{v, v, v};
@@ -72,11 +76,12 @@ TEST_CASE("env-hier: hand-worked 3x1 table with padding") {
   const EnvHierData data = buildEnvHier(img);
   REQUIRE(data.levels.size() == 3);
   CHECK(data.levels.back().width == 4);
-  CHECK(data.levels.back().height == 1);
+  CHECK(data.levels.back().height == 4);
   CHECK(data.nodes.back() == 0.0f);
   const EnvHierSampler sampler(data);
-  // u.x = 0.75: root pLeft = 4pi / 8pi = 1/2 -> right, u.x = 1/2, prob 1/2; node 1 -> {2, 3 (padding)}:
-  // pLeft = 1 -> texel 2 with u.x = 1/2; pdf = (1/2) / (4 pi / 3) = 3 / (8 pi) = 3 / (sum of weight * Omega).
+  // u.x = 0.75: root pLeft = 4pi / 8pi = 1/2 -> right, u.x = 1/2, prob 1/2, pTop = 1 (padding below); node
+  // (1, 0) -> {2, 3 (padding)}: pLeft = 1 -> texel 2 with u.x = 1/2; pdf = (1/2) / (4 pi / 3) = 3 / (8 pi)
+  // = 3 / (sum of weight * Omega).
   const EnvSample s = sampler.sample({0.75, 0.5});
   CHECK(s.texel == glm::ivec2(2, 0));
   CHECK(s.pdfSolidAngle == doctest::Approx(3.0 / (8.0 * kPi)).epsilon(1e-6));
@@ -91,8 +96,8 @@ TEST_CASE("env-hier: pyramid layout on hard envs") {
     CHECK(d.levels.front().width == 1);
     CHECK(d.levels.front().height == 1);
     const EnvHierLevel& finest = d.levels.back();
-    CHECK(finest.width == std::bit_ceil(unsigned(d.width)));
-    CHECK(finest.height == std::bit_ceil(unsigned(d.height)));
+    CHECK(finest.width == std::max(std::bit_ceil(unsigned(d.width)), std::bit_ceil(unsigned(d.height))));
+    CHECK(finest.height == finest.width);
     std::size_t offset = 0;
     for (const EnvHierLevel& l : d.levels) {
       CHECK(l.offset == offset);
@@ -116,6 +121,22 @@ TEST_CASE("env-hier: pyramid layout on hard envs") {
           CHECK(d.nodes[c.offset + y * c.width + x] == doctest::Approx(sum).epsilon(1e-5));
         }
     }
+  }
+}
+
+TEST_CASE("env-hier: a texel's probability is its weight over the total (the shares telescope)") {
+  for (const auto& env : test::samplerTestEnvs()) {
+    CAPTURE(env.name);
+    const EnvHierSampler sampler(buildEnvHier(env.image));
+    const EnvHierData& d = sampler.data();
+    const EnvHierLevel& finest = d.levels.back();
+    const double total = d.nodes[0];
+    for (int y = 0; y < d.height; ++y)
+      for (int x = 0; x < d.width; ++x) {
+        const double weight = d.nodes[finest.offset + std::size_t(y) * finest.width + std::size_t(x)];
+        // float shares multiplied over up to 8 levels: a few ulps per level
+        CHECK(double(sampler.texelProbability(x, y)) == doctest::Approx(weight / total).epsilon(1e-5));
+      }
   }
 }
 
@@ -150,7 +171,7 @@ TEST_CASE("env-hier: rejects invalid images") {
 }
 
 TEST_CASE("env-hier: the guide only skips levels (same warp as the descent from the root)") {
-  // Wide, tall (the one-axis levels split y), padded and 1-texel maps next to the hard ones.
+  // Wide, tall (padded to a square along x), padded and 1-texel maps next to the hard ones.
   std::vector<test::NamedEnv> envs = test::samplerTestEnvs();
   for (const auto& [w, h] : {std::pair{8, 32}, std::pair{3, 13}, std::pair{1, 1}, std::pair{16, 1}})
     envs.push_back({std::to_string(w) + "x" + std::to_string(h) + " random",
@@ -164,22 +185,23 @@ TEST_CASE("env-hier: the guide only skips levels (same warp as the descent from 
     const EnvHierSampler fromRoot(data, 1);  // one cell: every descent starts at the root
     const EnvHierSampler guided(data);
     const EnvHierGpuData& gpu = guided.gpuData();
-    CHECK(fromRoot.gpuData().guide.size() == 1);
-    CHECK(fromRoot.gpuData().guide[0].node == 0);
+    CHECK(fromRoot.gpuData().guideNodes.size() == 1);
+    CHECK(fromRoot.gpuData().guideNodes[0] == 0);
     // Every cell's start node contains the cell: its rectangle covers the cell's corners.
     const double g = double(gpu.guideSize);
     std::size_t deeperThanRoot = 0;
     for (uint32_t cy = 0; cy < gpu.guideSize; ++cy)
       for (uint32_t cx = 0; cx < gpu.guideSize; ++cx) {
-        const EnvHierStart& s = gpu.guide[std::size_t(cy) * gpu.guideSize + cx];
-        deeperThanRoot += s.node != 0 ? 1 : 0;
+        const std::size_t cell = std::size_t(cy) * gpu.guideSize + cx;
+        const glm::vec4 rect = gpu.guideRects[cell];
+        deeperThanRoot += gpu.guideNodes[cell] != 0 ? 1 : 0;
         const double slack = 1e-6;
-        REQUIRE(double(s.minX) <= cx / g + slack);
-        REQUIRE(double(s.minY) <= cy / g + slack);
-        REQUIRE(double(s.minX) + 1.0 / double(s.invSizeX) >= (cx + 1) / g - slack);
-        REQUIRE(double(s.minY) + 1.0 / double(s.invSizeY) >= (cy + 1) / g - slack);
+        REQUIRE(double(rect.x) <= cx / g + slack);
+        REQUIRE(double(rect.y) <= cy / g + slack);
+        REQUIRE(double(rect.x) + 1.0 / double(rect.z) >= (cx + 1) / g - slack);
+        REQUIRE(double(rect.y) + 1.0 / double(rect.w) >= (cy + 1) / g - slack);
       }
-    if (data.levels.size() > 3) CHECK(deeperThanRoot > gpu.guide.size() / 2);  // the guide does skip levels
+    if (data.levels.size() > 3) CHECK(deeperThanRoot > gpu.guideNodes.size() / 2);  // the guide skips levels
     // The same texel, pdf and direction up to float rounding near split lines.
     std::size_t differentTexel = 0;
     const auto points = test::uniformPoints(20000, 11);

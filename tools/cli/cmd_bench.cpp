@@ -27,7 +27,7 @@ int cmdBench(const Args& args) {
                [&](const std::string& v) { sequences.push_back(v); });
   parser.value("--method", "NAME", "only this method (repeatable; default: every method)",
                [&](const std::string& v) { methods.push_back(findMethod(v).name); });
-  parser.value("--repeat", "N", "measure every method N times, in rounds, and report medians (default 1)",
+  parser.value("--repeat", "N", "measure every method N times, in rounds, and report medians (of rates, and of the per-round ratio to uniform; default 1)",
                [&](const std::string& v) { repeat = parseUint("--repeat", v, 1, 1000); });
   parser.toggle("--json", "one JSON object per line instead of the table", [&] { spec.json = true; });
   if (parser.parseOrShowHelp(args)) return 0;
@@ -46,7 +46,7 @@ int cmdBench(const Args& args) {
         "method", "Msamples/s GPU", "Msamples/s wall", "vs uniform");
   // Every (sequence, method) is measured `repeat` times in rounds, so slow phases of a noisy machine spread
   // over all methods; each measurement is the median over timed passes, and the figure is the median over
-  // rounds.
+  // rounds (of the rate, and of the ratio to uniform within a round).
   struct Row {
     std::string label;
     std::vector<double> gpu, wall;
@@ -81,14 +81,23 @@ int cmdBench(const Args& args) {
                      rows[r].label);
     }
   endProgressLine();
-  std::map<std::string, double> uniformRate;  // per sequence
+  // "vs uniform" is the median over rounds of the ratio within each round: uniform and the method ran close
+  // together, so a slow phase of the machine cancels out of the ratio instead of landing on one of them.
+  std::map<std::string, std::size_t> uniformRow;  // per sequence
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    if (resolved[r].method->name == "uniform") uniformRow[resolved[r].sequence->name] = r;
+  const auto roundRates = [](const Row& row) { return row.gpu.front() > 0 ? row.gpu : row.wall; };
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const Row& row = rows[r];
     const double gpuRate = median(row.gpu), wallRate = median(row.wall);
-    const double rate = gpuRate > 0 ? gpuRate : wallRate;
-    const std::string& sequence = resolved[r].sequence->name;
-    if (resolved[r].method->name == "uniform") uniformRate[sequence] = rate;
-    const double ratio = uniformRate.count(sequence) ? uniformRate[sequence] / rate : 0.0;
+    double ratio = 0.0;
+    if (const auto u = uniformRow.find(resolved[r].sequence->name); u != uniformRow.end()) {
+      const std::vector<double> uniformRates = roundRates(rows[u->second]), rates = roundRates(row);
+      std::vector<double> ratios;
+      for (std::size_t k = 0; k < rates.size(); ++k)
+        if (rates[k] > 0) ratios.push_back(uniformRates[k] / rates[k]);
+      if (!ratios.empty()) ratio = median(ratios);
+    }
     const auto [lo, hi] = std::minmax_element(row.gpu.begin(), row.gpu.end());
     if (spec.json)
       std::printf(
