@@ -33,7 +33,8 @@ uint32_t hierChoose(float pFirst, float& u) {
 // Morton index of node (x, y) of a square level: x on the even bits, y on the odd bits.
 uint64_t mortonIndex(uint32_t x, uint32_t y) {
   uint64_t m = 0;
-  for (int b = 0; b < 32; ++b) m |= (uint64_t((x >> b) & 1u) << (2 * b)) | (uint64_t((y >> b) & 1u) << (2 * b + 1));
+  for (int b = 0; b < 32; ++b)
+    m |= (uint64_t((x >> b) & 1u) << (2 * b)) | (uint64_t((y >> b) & 1u) << (2 * b + 1));
   return m;
 }
 
@@ -45,7 +46,9 @@ uint32_t mortonAxis(uint64_t m) {
 }
 
 // Heap index of the child (cx, cy) of node g (EnvHierGpuData).
-uint32_t hierChild(uint32_t g, uint32_t cx, uint32_t cy) { return 4u * g + 1u + cx + 2u * cy; }
+uint32_t hierChild(uint32_t g, uint32_t cx, uint32_t cy) {
+  return 4u * g + 1u + cx + 2u * cy;
+}
 
 // Interior node (x, y) of level k: its split (pLeft, pTop of the left column, pTop of the right column)
 // from its children at level k+1, in the order documented in env_hier.h.
@@ -133,7 +136,8 @@ EnvHierSampler::EnvHierSampler(EnvHierData data, uint32_t guideSize) : data_(std
   std::size_t offset = 0;
   for (std::size_t k = 0; k < levels.size(); ++k) {
     const EnvHierLevel& l = levels[k];
-    if (k >= 32 || l.width != (1u << k) || l.height != l.width) fail("level sizes are not 1, 2, 4, ... squared");
+    if (k >= 32 || l.width != (1u << k) || l.height != l.width)
+      fail("level sizes are not 1, 2, 4, ... squared");
     if (l.offset != offset) fail("levels are not consecutive");
     offset += std::size_t(l.width) * l.height;
   }
@@ -148,8 +152,8 @@ EnvSample EnvHierSampler::sample(glm::dvec2 u) const {
   float ux = toGpuU(u.x), uy = toGpuU(u.y);
   // u * G is exact (G a power of two) and < G for u < 1.
   const uint32_t g = gpu_.guideSize;
-  const std::size_t cell = std::size_t(std::min(uint32_t(uy * float(g)), g - 1u)) * g +
-                           std::min(uint32_t(ux * float(g)), g - 1u);
+  const std::size_t cell =
+      std::size_t(std::min(uint32_t(uy * float(g)), g - 1u)) * g + std::min(uint32_t(ux * float(g)), g - 1u);
   const glm::vec4 rect = gpu_.guideRects[cell];
   ux = std::clamp((ux - rect.x) * rect.z, 0.0f, kOneMinusEpsilonF);
   uy = std::clamp((uy - rect.y) * rect.w, 0.0f, kOneMinusEpsilonF);
@@ -202,7 +206,8 @@ std::optional<glm::dvec2> EnvHierSampler::invert(glm::dvec3 wi) const {
     const uint32_t column = (uint32_t(target.x) >> (finestLevel - k - 1)) & 1u;
     const uint32_t row = (uint32_t(target.y) >> (finestLevel - k - 1)) & 1u;
     const Step step{split.x, column == 0 ? split.y : split.z, column, row};
-    if ((column == 0 ? step.pLeft : 1.0f - step.pLeft) == 0.0f || (row == 0 ? step.pTop : 1.0f - step.pTop) == 0.0f)
+    if ((column == 0 ? step.pLeft : 1.0f - step.pLeft) == 0.0f ||
+        (row == 0 ? step.pTop : 1.0f - step.pTop) == 0.0f)
       return std::nullopt;
     path.push_back(step);
   }
@@ -218,7 +223,8 @@ std::optional<glm::dvec2> EnvHierSampler::invert(glm::dvec3 wi) const {
 EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize) {
   for (std::size_t k = 0; k < data.levels.size(); ++k)
     if (k >= 32 || data.levels[k].width != (1u << k) || data.levels[k].height != (1u << k))
-      throw Error("env-hier: the pyramid's levels are not 1, 2, 4, ... squared; rebuild it with buildEnvHier");
+      throw Error(
+          "env-hier: the pyramid's levels are not 1, 2, 4, ... squared; rebuild it with buildEnvHier");
   EnvHierGpuData gpu;
   const EnvHierLevel& finest = data.levels.back();
   gpu.levelCount = uint32_t(data.levels.size());

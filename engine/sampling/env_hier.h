@@ -23,9 +23,9 @@ static_assert(sizeof(EnvHierLevel) == 16, "EnvHierLevel is a std430 uvec4");
 // image.weight(x, y) * Omega(y) for x < W, y < H, else 0 (padding). Level k+1 coarser than k has size
 // (w/2) x (h/2), each node the sum of its 2 x 2 children (sums in double, stored as float). An all-zero image
 // uses Omega(y). levels[0] is the 1x1 root, levels.back() the finest level; nodes are laid out in the same
-// order. Padding a 2:1 map to a square adds one split at the root whose second row is empty (pTop = 1), so the
-// warp is the same as a pyramid of 2:1 levels; every level splitting both axes keeps the GPU's child index
-// one formula.
+// order. Padding a 2:1 map to a square adds one split at the root whose second row is empty (pTop = 1), so
+// the warp is the same as a pyramid of 2:1 levels; every level splitting both axes keeps the GPU's child
+// index one formula.
 struct EnvHierData {
   int width = 0, height = 0;  // the environment map's W x H (the finest level is larger: padding)
   std::vector<float> nodes;

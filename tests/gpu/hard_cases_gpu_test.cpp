@@ -80,8 +80,8 @@ TEST_CASE("hard case huge-map: more than 2^24 texels, closed-form reference") {
   for (const char* name : {"env-cdf", "env-hier", "mis", "ris"})
     methods.push_back(resolveMethod({name}, *scene.brdf));
   // Its radiance (216 MiB) is uploaded in chunks when one storage buffer cannot hold it; env-hier's shares
-  // (16 B for each of the (8192^2 - 1) / 3 interior nodes of its padded pyramid, 341 MiB) must fit one buffer,
-  // so a device with less (lavapipe: 128 MiB) skips env-hier with the reason.
+  // (16 B for each of the (8192^2 - 1) / 3 interior nodes of its padded pyramid, 341 MiB) must fit one
+  // buffer, so a device with less (lavapipe: 128 MiB) skips env-hier with the reason.
   const auto skipped = checkHardCase(huge, methods, 256);
   const std::size_t hierShareBytes = 16 * ((std::size_t(8192) * 8192 - 1) / 3);
   const bool hierFits = gpuContext().limits().maxStorageBufferRange >= hierShareBytes;

@@ -31,7 +31,7 @@ TEST_CASE("env-hier: hand-worked 4x2 table") {
   CHECK(level(2) == std::vector<uint32_t>{5, 4, 4, 0});
   const double p = kPi;
   const std::vector<double> nodes{6 * p, 2.5 * p, 3.5 * p, 0, 0,  // root, level 1
-                                  p / 2, 0, 1.5 * p, 0, p, p, p, p, 0, 0, 0, 0, 0, 0, 0, 0};
+                                  p / 2, 0,       1.5 * p, 0, p, p, p, p, 0, 0, 0, 0, 0, 0, 0, 0};
   REQUIRE(data.nodes.size() == nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i) CHECK(data.nodes[i] == float(nodes[i]));
 

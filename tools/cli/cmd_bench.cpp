@@ -27,7 +27,9 @@ int cmdBench(const Args& args) {
                [&](const std::string& v) { sequences.push_back(v); });
   parser.value("--method", "NAME", "only this method (repeatable; default: every method)",
                [&](const std::string& v) { methods.push_back(findMethod(v).name); });
-  parser.value("--repeat", "N", "measure every method N times, in rounds, and report medians (of rates, and of the per-round ratio to uniform; default 1)",
+  parser.value("--repeat", "N",
+               "measure every method N times, in rounds, and report medians (of rates, and of the per-round "
+               "ratio to uniform; default 1)",
                [&](const std::string& v) { repeat = parseUint("--repeat", v, 1, 1000); });
   parser.toggle("--json", "one JSON object per line instead of the table", [&] { spec.json = true; });
   if (parser.parseOrShowHelp(args)) return 0;
