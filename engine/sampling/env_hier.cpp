@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <bit>
 #include <limits>
 #include <string>
@@ -227,8 +226,6 @@ EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize) {
           "env-hier: the pyramid's levels are not 1, 2, 4, ... squared; rebuild it with buildEnvHier");
   EnvHierGpuData gpu;
   const EnvHierLevel& finest = data.levels.back();
-  gpu.levelCount = uint32_t(data.levels.size());
-  gpu.finestSize = finest.width;
   gpu.leafStart = finest.offset;  // levels are stored root first, so the finest level starts after the rest
 
   // Interior nodes in heap order: level k's node (x, y) is gpu node levels[k].offset + morton(x, y). Texel

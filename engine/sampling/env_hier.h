@@ -57,9 +57,7 @@ struct EnvHierGpuData {
   std::vector<glm::vec4> guideRects;  // (minX, minY, invSizeX, invSizeY) per cell
   std::vector<uint32_t> guideNodes;   // heap index per cell; >= leafStart for a texel
   uint32_t guideSize = 1;
-  uint32_t levelCount = 1;  // levels including the root and the finest
   uint32_t leafStart = 0;
-  uint32_t finestSize = 1;  // S
 };
 // guideSize 0 picks min(kEnvHierGuideSize, S). Throws iblx::Error when guideSize is not a power of two or
 // the levels are not square.
