@@ -47,10 +47,9 @@ TechniqueData makeEnvCdf(const EnvImage& image) {
 TechniqueData makeEnvHier(const EnvImage& image) {
   const EnvHierGpuData hier = packEnvHierForGpu(buildEnvHier(image));
   TechniqueData data;
-  data.add("env-hier shares", std::span<const float>(hier.shares), 4);
-  data.add("env-hier guide rectangles", std::span<const glm::vec4>(hier.guideRects), 4);
-  data.add("env-hier guide nodes", std::span<const uint32_t>(hier.guideNodes));
-  data.add("env-hier texel probabilities", std::span<const float>(hier.texelProbability));
+  data.add("env-hier splits", std::span<const glm::vec4>(hier.splits), 4);
+  data.add("env-hier guide", std::span<const uint32_t>(hier.guideNodes));
+  data.add("env-hier texel rectangles", std::span<const glm::vec4>(hier.texelRects), 4);
   // Sizes are compile-time constants of the part: read from a buffer, lavapipe would load them per lane.
   const auto u = [](uint32_t v) { return std::to_string(v) + "u"; };
   data.defines = {{"ENV_HIER_LEAF_START", u(hier.leafStart)},

@@ -13,20 +13,22 @@
 namespace iblx {
 namespace {
 
-// Share of the left column of a 2x2 block; 0.5 when the block is empty (explicit zero guard).
-float columnShare(float left, float right) {
-  const float total = left + right;
-  return total > 0.0f ? left / total : 0.5f;
+// Where a node's rectangle [lo, hi) splits along one axis for a first child of `share` of its mass, rounded
+// to float once: lo for share 0 and hi for share 1 exactly (the empty child is never chosen); otherwise
+// strictly inside whenever [lo, hi) holds two float steps, so a child of positive mass stays reachable.
+float splitPoint(float lo, float hi, double share) {
+  if (!(share > 0.0)) return lo;
+  if (!(share < 1.0)) return hi;
+  float split = float(double(lo) + share * (double(hi) - double(lo)));
+  if (split <= lo) split = std::nextafter(lo, hi);
+  if (split >= hi) split = std::nextafter(hi, lo);
+  return std::clamp(split, lo, hi);
 }
 
-// The GLSL part's hierChoose, operation for operation: takes the first child when u < pFirst, remaps u into
-// it; returns 1 for the second. The share taken is never 0 (u in [0, 1) and pFirst in [0, 1]) and the
-// remapped u never negative, so only the upper clamp is needed.
-uint32_t hierChoose(float pFirst, float& u) {
-  const bool second = u >= pFirst;
-  const float share = second ? 1.0f - pFirst : pFirst;
-  u = std::min((second ? u - pFirst : u) / share, kOneMinusEpsilonF);
-  return second ? 1u : 0u;
+// Share of the first of two child masses; 0.5 for an empty pair (never reached: its parent's share is 0).
+double firstShare(double first, double second) {
+  const double total = first + second;
+  return total > 0.0 ? first / total : 0.5;
 }
 
 // Morton index of node (x, y) of a square level: x on the even bits, y on the odd bits.
@@ -47,17 +49,6 @@ uint32_t mortonAxis(uint64_t m) {
 // Heap index of the child (cx, cy) of node g (EnvHierGpuData).
 uint32_t hierChild(uint32_t g, uint32_t cx, uint32_t cy) {
   return 4u * g + 1u + cx + 2u * cy;
-}
-
-// Interior node (x, y) of level k: its split (pLeft, pTop of the left column, pTop of the right column)
-// from its children at level k+1, in the order documented in env_hier.h.
-glm::vec3 nodeSplit(const EnvHierData& data, std::size_t k, uint32_t x, uint32_t y) {
-  const EnvHierLevel& fine = data.levels[k + 1];
-  const auto q = [&](uint32_t i, uint32_t j) {
-    return data.nodes[fine.offset + std::size_t(2 * y + j) * fine.width + (2 * x + i)];
-  };
-  return {columnShare(q(0, 0) + q(0, 1), q(1, 0) + q(1, 1)), columnShare(q(0, 0), q(0, 1)),
-          columnShare(q(1, 0), q(1, 1))};
 }
 
 }  // namespace
@@ -148,38 +139,38 @@ EnvHierSampler::EnvHierSampler(EnvHierData data, uint32_t guideSize) : data_(std
 }
 
 EnvSample EnvHierSampler::sample(glm::dvec2 u) const {
-  float ux = toGpuU(u.x), uy = toGpuU(u.y);
+  const float ux = toGpuU(u.x), uy = toGpuU(u.y);
   // u * G is exact (G a power of two) and < G for u < 1.
   const uint32_t g = gpu_.guideSize;
-  const std::size_t cell =
-      std::size_t(std::min(uint32_t(uy * float(g)), g - 1u)) * g + std::min(uint32_t(ux * float(g)), g - 1u);
-  const glm::vec4 rect = gpu_.guideRects[cell];
-  ux = std::clamp((ux - rect.x) * rect.z, 0.0f, kOneMinusEpsilonF);
-  uy = std::clamp((uy - rect.y) * rect.w, 0.0f, kOneMinusEpsilonF);
-  uint32_t node = gpu_.guideNodes[cell];
+  uint32_t node = gpu_.guideNodes[std::size_t(std::min(uint32_t(uy * float(g)), g - 1u)) * g +
+                                  std::min(uint32_t(ux * float(g)), g - 1u)];
   while (node < gpu_.leafStart) {
-    const float* shares = &gpu_.shares[4 * std::size_t(node)];
-    const uint32_t column = hierChoose(shares[0], ux);  // column first, then the row inside it
-    const uint32_t row = hierChoose(shares[1 + column], uy);
+    const glm::vec4& split = gpu_.splits[node];
+    const uint32_t column = ux >= split.x ? 1u : 0u;  // column first, then the row inside it
+    const uint32_t row = uy >= (column == 0 ? split.y : split.z) ? 1u : 0u;
     node = hierChild(node, column, row);
   }
   const uint64_t m = node - gpu_.leafStart;
   const glm::ivec2 n(int(mortonAxis(m)), int(mortonAxis(m >> 1)));
   EnvSample s;
-  if (n.x >= data_.width || n.y >= data_.height) {  // padding: unreachable (its shares are 0)
+  if (n.x >= data_.width || n.y >= data_.height) {  // padding: unreachable (its rectangles are empty)
     s.texel = glm::min(n, glm::ivec2(data_.width - 1, data_.height - 1));
-    s.direction = texelToDirection(s.texel.x, s.texel.y, {double(ux), double(uy)}, data_.width, data_.height);
+    s.direction = texelToDirection(s.texel.x, s.texel.y, {0.5, 0.5}, data_.width, data_.height);
     return s;
   }
+  const glm::vec4& rect = gpu_.texelRects[std::size_t(n.y) * std::size_t(data_.width) + std::size_t(n.x)];
+  const float tx = std::clamp((ux - rect.x) / rect.z, 0.0f, kOneMinusEpsilonF);
+  const float ty = std::clamp((uy - rect.y) / rect.w, 0.0f, kOneMinusEpsilonF);
   const float omega = rowSolidAngles_[std::size_t(n.y)];
   s.texel = n;
-  s.direction = texelToDirection(n.x, n.y, {double(ux), double(uy)}, data_.width, data_.height);
-  s.pdfSolidAngle = omega > 0.0f ? double(texelProbability(n.x, n.y) / omega) : 0.0;
+  s.direction = texelToDirection(n.x, n.y, {double(tx), double(ty)}, data_.width, data_.height);
+  s.pdfSolidAngle = omega > 0.0f ? double(rect.z * rect.w / omega) : 0.0;
   return s;
 }
 
 float EnvHierSampler::texelProbability(int x, int y) const {
-  return gpu_.texelProbability[std::size_t(y) * std::size_t(data_.width) + std::size_t(x)];
+  const glm::vec4& rect = gpu_.texelRects[std::size_t(y) * std::size_t(data_.width) + std::size_t(x)];
+  return rect.z * rect.w;
 }
 
 double EnvHierSampler::pdf(glm::dvec3 wi) const {
@@ -191,31 +182,12 @@ double EnvHierSampler::pdf(glm::dvec3 wi) const {
 
 std::optional<glm::dvec2> EnvHierSampler::invert(glm::dvec3 wi) const {
   if (!isUsableDirection(wi)) return std::nullopt;
-  const glm::ivec2 target = directionToTexel(wi, data_.width, data_.height);
-  // Record the path's splits from the root down, then undo the remaps from the finest level up.
-  struct Step {
-    float pLeft, pTop;
-    uint32_t column, row;
-  };
-  std::vector<Step> path;
-  const int finestLevel = int(data_.levels.size()) - 1;
-  for (int k = 0; k < finestLevel; ++k) {
-    const uint32_t x = uint32_t(target.x) >> (finestLevel - k), y = uint32_t(target.y) >> (finestLevel - k);
-    const glm::vec3 split = nodeSplit(data_, std::size_t(k), x, y);
-    const uint32_t column = (uint32_t(target.x) >> (finestLevel - k - 1)) & 1u;
-    const uint32_t row = (uint32_t(target.y) >> (finestLevel - k - 1)) & 1u;
-    const Step step{split.x, column == 0 ? split.y : split.z, column, row};
-    if ((column == 0 ? step.pLeft : 1.0f - step.pLeft) == 0.0f ||
-        (row == 0 ? step.pTop : 1.0f - step.pTop) == 0.0f)
-      return std::nullopt;
-    path.push_back(step);
-  }
-  glm::dvec2 u = directionToTexelOffset(wi, target, data_.width, data_.height);
-  for (auto it = path.rbegin(); it != path.rend(); ++it) {
-    // Inverse of hierChoose: u_before = p * u (first) or p + (1 - p) * u (second).
-    u.x = it->column == 0 ? double(it->pLeft) * u.x : double(it->pLeft) + double(1.0f - it->pLeft) * u.x;
-    u.y = it->row == 0 ? double(it->pTop) * u.y : double(it->pTop) + double(1.0f - it->pTop) * u.y;
-  }
+  const glm::ivec2 texel = directionToTexel(wi, data_.width, data_.height);
+  const glm::vec4& rect =
+      gpu_.texelRects[std::size_t(texel.y) * std::size_t(data_.width) + std::size_t(texel.x)];
+  if (!(rect.z > 0.0f && rect.w > 0.0f)) return std::nullopt;
+  const glm::dvec2 t = directionToTexelOffset(wi, texel, data_.width, data_.height);
+  const glm::dvec2 u(double(rect.x) + t.x * double(rect.z), double(rect.y) + t.y * double(rect.w));
   return glm::min(u, glm::dvec2(double(kOneMinusEpsilonF)));
 }
 
@@ -228,80 +200,75 @@ EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize) {
   const EnvHierLevel& finest = data.levels.back();
   gpu.leafStart = finest.offset;  // levels are stored root first, so the finest level starts after the rest
 
-  // Interior nodes in heap order: level k's node (x, y) is gpu node levels[k].offset + morton(x, y). Texel
-  // probabilities top-down, one level at a time, in the descent's order: column share, then row share.
-  gpu.shares.assign(4 * std::size_t(gpu.leafStart), 0.0f);
-  std::vector<float> prob{1.0f}, finer;
+  // Splits of the interior nodes in heap order (level k's node (x, y) is levels[k].offset + morton(x, y)),
+  // from the rectangles, one level at a time from the root: (lo.x, lo.y, hi.x, hi.y) per node, row-major.
+  gpu.splits.assign(gpu.leafStart, glm::vec4(0.0f));
+  std::vector<glm::vec4> rects{glm::vec4(0.0f, 0.0f, 1.0f, 1.0f)}, finer;
   for (std::size_t k = 0; k + 1 < data.levels.size(); ++k) {
     const uint32_t size = data.levels[k].width;
-    finer.assign(4 * prob.size(), 0.0f);
+    const EnvHierLevel& fine = data.levels[k + 1];
+    finer.assign(4 * rects.size(), glm::vec4(0.0f));
     for (uint32_t y = 0; y < size; ++y)
       for (uint32_t x = 0; x < size; ++x) {
-        const glm::vec3 split = nodeSplit(data, k, x, y);
-        float* shares = &gpu.shares[4 * (data.levels[k].offset + mortonIndex(x, y))];
-        shares[0] = split.x;
-        shares[1] = split.y;
-        shares[2] = split.z;
-        const float parent = prob[std::size_t(y) * size + x];
-        for (uint32_t column = 0; column < 2; ++column) {
-          const float shareX = column == 0 ? split.x : 1.0f - split.x;
-          const float pTop = column == 0 ? split.y : split.z;
+        const auto q = [&](uint32_t i, uint32_t j) {
+          return double(data.nodes[fine.offset + std::size_t(2 * y + j) * fine.width + (2 * x + i)]);
+        };
+        const glm::vec4 r = rects[std::size_t(y) * size + x];
+        const float splitX = splitPoint(r.x, r.z, firstShare(q(0, 0) + q(0, 1), q(1, 0) + q(1, 1)));
+        const float splitY[2] = {splitPoint(r.y, r.w, firstShare(q(0, 0), q(0, 1))),
+                                 splitPoint(r.y, r.w, firstShare(q(1, 0), q(1, 1)))};
+        gpu.splits[data.levels[k].offset + mortonIndex(x, y)] = glm::vec4(splitX, splitY[0], splitY[1], 0.0f);
+        for (uint32_t column = 0; column < 2; ++column)
           for (uint32_t row = 0; row < 2; ++row)
             finer[std::size_t(2 * y + row) * (2 * size) + (2 * x + column)] =
-                parent * shareX * (row == 0 ? pTop : 1.0f - pTop);
-        }
+                glm::vec4(column == 0 ? r.x : splitX, row == 0 ? r.y : splitY[column],
+                          column == 0 ? splitX : r.z, row == 0 ? splitY[column] : r.w);
       }
-    prob.swap(finer);
+    rects.swap(finer);
   }
-  gpu.texelProbability.resize(std::size_t(data.width) * std::size_t(data.height));
+  gpu.texelRects.resize(std::size_t(data.width) * std::size_t(data.height));
   for (int y = 0; y < data.height; ++y)
-    std::copy_n(prob.begin() + std::ptrdiff_t(y) * finest.width, data.width,
-                gpu.texelProbability.begin() + std::ptrdiff_t(y) * data.width);
+    for (int x = 0; x < data.width; ++x) {
+      const glm::vec4 r = rects[std::size_t(y) * finest.width + std::size_t(x)];
+      gpu.texelRects[std::size_t(y) * std::size_t(data.width) + std::size_t(x)] =
+          glm::vec4(r.x, r.y, r.z - r.x, r.w - r.y);
+    }
 
-  // The guide: walk the tree in double, tracking each node's rectangle in u, down to the nodes still as large
-  // as a guide cell; every cell records the deepest node that contains it (parents are marked first).
+  // The guide: walk the tree, tracking each node's rectangle, down to the nodes still as large as a guide
+  // cell; every cell records the deepest node that contains it (parents are marked first).
   gpu.guideSize = guideSize != 0 ? guideSize : std::min(kEnvHierGuideSize, finest.width);
   if (!std::has_single_bit(gpu.guideSize)) throw Error("env-hier: the guide size must be a power of two");
   const uint32_t cells = gpu.guideSize;
   const double cellsD = double(cells);
-  gpu.guideRects.assign(std::size_t(cells) * cells, glm::vec4(0.0f, 0.0f, 1.0f, 1.0f));
   gpu.guideNodes.assign(std::size_t(cells) * cells, 0u);
   struct Pending {
     uint32_t node;
-    glm::dvec2 lo, hi;  // the node's rectangle in u
+    glm::vec4 rect;  // (lo.x, lo.y, hi.x, hi.y)
   };
-  std::vector<Pending> stack{{0u, glm::dvec2(0.0), glm::dvec2(1.0)}};
+  std::vector<Pending> stack{{0u, glm::vec4(0.0f, 0.0f, 1.0f, 1.0f)}};
   while (!stack.empty()) {
     const Pending p = stack.back();
     stack.pop_back();
-    const glm::vec4 rect(float(p.lo.x), float(p.lo.y), float(1.0 / (p.hi.x - p.lo.x)),
-                         float(1.0 / (p.hi.y - p.lo.y)));
-    // Cells i with i / G >= lo and (i + 1) / G <= hi.
-    const uint32_t x0 = uint32_t(std::ceil(p.lo.x * cellsD)), x1 = uint32_t(std::floor(p.hi.x * cellsD));
-    const uint32_t y0 = uint32_t(std::ceil(p.lo.y * cellsD)), y1 = uint32_t(std::floor(p.hi.y * cellsD));
+    // Cells i with i / G >= lo and (i + 1) / G <= hi: every u of the cell lies in [lo, hi).
+    const uint32_t x0 = uint32_t(std::ceil(double(p.rect.x) * cellsD));
+    const uint32_t x1 = uint32_t(std::floor(double(p.rect.z) * cellsD));
+    const uint32_t y0 = uint32_t(std::ceil(double(p.rect.y) * cellsD));
+    const uint32_t y1 = uint32_t(std::floor(double(p.rect.w) * cellsD));
     for (uint32_t cy = y0; cy < y1; ++cy)
-      for (uint32_t cx = x0; cx < x1; ++cx) {
-        gpu.guideRects[std::size_t(cy) * cells + cx] = rect;
-        gpu.guideNodes[std::size_t(cy) * cells + cx] = p.node;
-      }
+      for (uint32_t cx = x0; cx < x1; ++cx) gpu.guideNodes[std::size_t(cy) * cells + cx] = p.node;
     if (p.node >= gpu.leafStart) continue;
-    const float* shares = &gpu.shares[4 * std::size_t(p.node)];
-    const float pLeft = shares[0];
-    for (uint32_t column = 0; column < 2; ++column) {
-      const float shareX = column == 0 ? pLeft : 1.0f - pLeft;
-      if (!(shareX > 0.0f)) continue;
-      const double splitX = p.lo.x + double(pLeft) * (p.hi.x - p.lo.x);
-      const double loX = column == 0 ? p.lo.x : splitX, hiX = column == 0 ? splitX : p.hi.x;
-      const float pTop = shares[1 + column];
+    const glm::vec4 split = gpu.splits[p.node];
+    for (uint32_t column = 0; column < 2; ++column)
       for (uint32_t row = 0; row < 2; ++row) {
-        const float shareY = row == 0 ? pTop : 1.0f - pTop;
-        if (!(shareY > 0.0f)) continue;
-        const double splitY = p.lo.y + double(pTop) * (p.hi.y - p.lo.y);
-        const double loY = row == 0 ? p.lo.y : splitY, hiY = row == 0 ? splitY : p.hi.y;
-        if ((hiX - loX) * cellsD < 1.0 || (hiY - loY) * cellsD < 1.0) continue;  // holds no whole cell
-        stack.push_back({hierChild(p.node, column, row), {loX, loY}, {hiX, hiY}});
+        const float splitY = column == 0 ? split.y : split.z;
+        const glm::vec4 child(column == 0 ? p.rect.x : split.x, row == 0 ? p.rect.y : splitY,
+                              column == 0 ? split.x : p.rect.z, row == 0 ? splitY : p.rect.w);
+        // A child narrower than a cell holds no whole cell.
+        if ((double(child.z) - double(child.x)) * cellsD < 1.0 ||
+            (double(child.w) - double(child.y)) * cellsD < 1.0)
+          continue;
+        stack.push_back({hierChild(p.node, column, row), child});
       }
-    }
   }
   return gpu;
 }

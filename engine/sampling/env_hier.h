@@ -37,64 +37,63 @@ EnvHierData buildEnvHier(const EnvImage& image);
 
 // The layout shaders/env/env_hier.glsl reads.
 //
-// Nodes are numbered as a heap: level by level from the root, each level in Morton order (x on the even
-// bits), so node g's children are 4g + 1 + cx + 2 cy, found without any per-level table. shares[4g .. 4g+3]
-// holds interior node g's split: (pLeft, pTop of the left column, pTop of the right column, 0), computed from
-// its children q as the descent uses them, so a step of the descent is one load and no division for the
-// shares; nodes >= leafStart are the finest level (the texels), which need no record.
+// Every node covers a rectangle of u, [lo, hi) per axis, with float corners: the root [0, 1)^2; a node splits
+// its rectangle at x = splitX into columns, and each column at its own y (splitYLeft, splitYRight) into rows,
+// each split where the children's masses put it (splitPoint in env_hier.cpp, from the child sums in double,
+// rounded to float once). The descent compares u with the stored splits: u.x >= splitX picks the right
+// column, then u.y >= that column's split the lower row. No u is remapped on the way, so the CPU twin and the
+// GPU take the same path bit for bit, and a texel is chosen exactly when u lies in its rectangle: the
+// probability of texel t is the area of its rectangle, sizeX * sizeY in float, which is what sample() and
+// pdf() return. A child of zero mass has an empty rectangle (never chosen, probability 0); a child of
+// positive mass keeps at least one float step of width wherever its parent has two.
 //
-// texelProbability[y * W + x] is the probability of texel (x, y): the float product of the shares on its
-// path (column before row at each level, root first). The descent reads it at its texel instead of
-// multiplying shares, and pdf() of any direction is the same single read, so both agree bit for bit.
+// Nodes are numbered as a heap: level by level from the root, each level in Morton order (x on the even
+// bits), so node g's children are 4g + 1 + cx + 2 cy, found without any per-level table. splits[g] holds
+// interior node g's (splitX, splitYLeft, splitYRight, 0); nodes from leafStart on are the finest level (the
+// texels, in Morton order), which need no record.
+//
+// texelRects[y * W + x] is texel (x, y)'s rectangle (minX, minY, sizeX, sizeY): the descent reads it once to
+// place the direction inside the texel, t = (u - min) / size, and pdf() reads it for the probability.
 //
 // The guide (guideSize^2 cells over u, row-major) lets the descent skip the levels every u of a cell shares:
-// per cell the deepest node whose preimage in u (a rectangle, since every split is along u.x or u.y)
-// contains the whole cell, as its heap index (guideNodes) and its rectangle (guideRects: the lower corner
-// min, then 1 / size, so that u_local = clamp((u - min) * invSize, 0, 1 - 2^-24) in float).
+// per cell the heap index of the deepest node whose rectangle contains the whole cell. Since the rectangles
+// are exact float sets, starting there gives the same texel as starting at the root.
 struct EnvHierGpuData {
-  std::vector<float> shares;  // 4 floats per interior node
-  std::vector<float> texelProbability;
-  std::vector<glm::vec4> guideRects;  // (minX, minY, invSizeX, invSizeY) per cell
+  std::vector<glm::vec4> splits;      // per interior node
+  std::vector<glm::vec4> texelRects;  // per texel: (minX, minY, sizeX, sizeY)
   std::vector<uint32_t> guideNodes;   // heap index per cell; >= leafStart for a texel
   uint32_t guideSize = 1;
   uint32_t leafStart = 0;
 };
 // guideSize 0 picks min(kEnvHierGuideSize, S). Throws iblx::Error when guideSize is not a power of two or
 // the levels are not square.
-inline constexpr uint32_t kEnvHierGuideSize = 256;
+inline constexpr uint32_t kEnvHierGuideSize = 128;
 EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize = 0);
 
 // CPU twin of the env-hier GLSL part, step by step in float as the GPU computes it.
 //
-// sample(): u as the float the GPU receives (toGpuU) selects its guide cell min(floor(u * G), G - 1); the
-// descent starts at that cell's node with u = clamp((u - min) * invSize, 0, 1 - 2^-24). In exact arithmetic
-// this is the descent from the root (the guide only skips the levels the cell's u values share); in float the
-// start differs by rounding. Going from level k to k+1, the children of node (x, y) are {2x, 2x+1} x
-// {2y, 2y+1}. With q(i, j) the child values (i: column, j: row):
-//   column: left = q(0,0) + q(0,1); right = q(1,0) + q(1,1); total = left + right (in this order);
-//           pLeft = total > 0 ? left / total : 0.5;
-//           u.x < pLeft ? (left,  u.x = u.x / pLeft)
-//                       : (right, u.x = (u.x - pLeft) / (1 - pLeft));
-//   row, within the chosen column c: top = q(c,0); sum = top + q(c,1); pTop = sum > 0 ? top / sum : 0.5, and
-//           the same choice with u.y;
-//   each remapped u is clamped to at most 1 - 2^-24 (it is never negative, and the share taken is never 0: a
-//   share of 0 would need u < 0 or u >= 1).
-// At the finest level, texel (x, y) and t = the remaining u give direction = texelToDirection(x, y, t) and
-// pdfSolidAngle = texelProbability(x, y) / Omega_f(y).
+// sample(): u as the float the GPU receives (toGpuU) selects its guide cell min(floor(u * G), G - 1); from
+// that cell's node the descent goes down by comparisons with the splits (EnvHierGpuData) to texel (x, y).
+// There, t = clamp((u - min) / size, 0, 1 - 2^-24) gives direction = texelToDirection(x, y, t), and
+// pdfSolidAngle = sizeX * sizeY / Omega_f(y).
 //
 // Trade-offs (sampling_sota §1 and §6.1; Mitsuba 3 Hierarchical2D in distr_2d.h; Clarberg et al. 2005):
-// - Robust in float: each level splits by a local ratio q0 / (q0 + q1), so the relative precision of every
-//   share stays about 2^-24 per level, whatever the dynamic range; a sky texel next to a 1e6 sun keeps an
-//   accurate probability where a globally normalised float CDF rounds it off (env-cdf). A share of exactly 0
-//   is never chosen, and the 0.5 guard on an all-zero block is explicit.
+// - Each level splits by the local ratio q0 / (q0 + q1), computed in double from the child sums; the split is
+//   placed in u with float precision (2^-24 near 1, finer towards 0). A u is itself a float on a 2^-24 grid,
+//   so no warp can resolve finer than that; here the reported probability is the area of exactly the set of u
+//   that reach the texel, so pdf and sampling agree even for texels a few grid steps wide. A texel of
+//   positive weight loses its rectangle only where its parent is one float step wide (its mass then goes to
+//   its sibling, and MIS still sees pdf 0 there, consistently).
 // - Low distortion: a 2x2 block is split into halves of its own mass, so neighbourhoods in u stay compact
 //   (good for Sobol / QMC), with no row-long shear around isolated peaks.
 // - Discontinuous at every quadtree split (at all scales): a u crossing a split jumps between blocks.
-// - Cost: one guide load (two tables), then the levels below the start node, one load each, and one load of
-//   the texel's probability; pdf() is one load. On SIMD hardware the slowest lane sets the pace: on the
-//   default 256x128 sky, the slowest of 8 lanes walks about 3.5 levels below a 256^2 guide's start.
-//   Memory: the shares take 16 B per interior node, about 11 B per texel of a 2:1 map (padding it to a
-//   square doubles them), the texel probabilities 4 B per texel, the guide 20 B per cell (1.3 MB at 256^2).
+// - Cost: one guide load, then one load and two comparisons per level below the start node, and one load of
+//   the texel's rectangle; pdf() is one load. On SIMD hardware the slowest lane sets the pace: on the
+//   default 256x128 sky, the slowest of 8 lanes walks about 3.5 levels below a 256^2 guide's start. The
+//   guide is 128^2 by default: on lavapipe a 256^2 guide saved 7 instructions per sample but no time, and
+//   512^2 (1 MB) and 1024^2 (4 MB) guides ran slower (cache misses).
+//   Memory: 16 B per interior node (about 11 B per texel of a 2:1 map: padding it to a square doubles them),
+//   16 B per texel for the rectangles, 4 B per guide cell (64 KB at 128^2).
 class EnvHierSampler {
  public:
   // Keeps a copy of the pyramid and packs it as the GPU reads it (guideSize as in packEnvHierForGpu).
@@ -104,10 +103,10 @@ class EnvHierSampler {
   EnvSample sample(glm::dvec2 u) const;
   // The same density for any direction: the product of the shares on the path to wi's texel / Omega_f(y).
   double pdf(glm::dvec3 wi) const;
-  // u with sample(u).direction == wi (up to float rounding); empty when a share on the path is 0.
+  // u with sample(u).direction == wi (up to float rounding); empty when the texel's rectangle is empty.
   std::optional<glm::dvec2> invert(glm::dvec3 wi) const;
 
-  // Probability (float) of texel (x, y): the product of the shares on its path (EnvHierGpuData).
+  // Probability (float) of texel (x, y): the area of its rectangle in u (EnvHierGpuData).
   float texelProbability(int x, int y) const;
   const EnvHierData& data() const { return data_; }
   const EnvHierGpuData& gpuData() const { return gpu_; }
