@@ -29,15 +29,7 @@ float tableAzimuthOrigin(vec3 wo) {
 uint merlRowBase(uint slice, int row) { return slice + uint(kMerlRows + 1 + row * (kMerlColumns + 1)); }
 
 // Largest i in [0, n) with table[base + i] <= u (table[base + n] = 1 > u). n is a constant: the loop unrolls.
-int merlTableBin(uint base, const int n, float u) {
-  int lo = 0;
-  for (int len = n; len > 1;) {
-    int halfLen = len >> 1;
-    lo = tableFloat(merlTable, base + uint(lo + halfLen)) <= u ? lo + halfLen : lo;
-    len -= halfLen;
-  }
-  return lo;
-}
+int merlTableBin(uint base, const int n, float u) { return tableSearchFloat(merlTable, base, 0, n, u); }
 
 vec3 brdfSample(vec2 u, vec3 wo, out float pdf) {
   pdf = 0.0;

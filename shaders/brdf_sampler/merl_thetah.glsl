@@ -9,15 +9,7 @@ IBLX_TABLE(3, BRDF_SAMPLER_BINDING, merlThetaHCdf);
 const int kMerlThetaHCells = 90;
 
 // Largest i with cdf[i] <= u (cdf[90] = 1 > u): a zero-width bin is never chosen. Constant trip count.
-int merlThetaHBin(float u) {
-  int lo = 0;
-  for (int len = kMerlThetaHCells; len > 1;) {
-    int halfLen = len >> 1;
-    lo = tableFloat(merlThetaHCdf, lo + halfLen) <= u ? lo + halfLen : lo;
-    len -= halfLen;
-  }
-  return lo;
-}
+int merlThetaHBin(float u) { return tableSearchFloat(merlThetaHCdf, 0u, 0, kMerlThetaHCells, u); }
 
 vec3 brdfSample(vec2 u, vec3 wo, out float pdf) {
   pdf = 0.0;

@@ -16,13 +16,8 @@ IBLX_TABLE(2, 1, envCdfGuide);
 // zero-width bin is never chosen. The search runs only over the cell's bins: no step when the cell holds one.
 int envCdfFindBin(uint base, uint cell, float u) {
   uint range = tableUint(envCdfGuide, cell);
-  int lo = int(range & 0xffffu), len = int(range >> 16u) - lo + 1;
-  while (len > 1) {
-    int halfLen = len >> 1;
-    lo = tableFloat(envCdf, base + uint(lo + halfLen)) <= u ? lo + halfLen : lo;
-    len -= halfLen;
-  }
-  return lo;
+  int lo = int(range & 0xffffu);
+  return tableSearchFloat(envCdf, base, lo, int(range >> 16u) - lo + 1, u);
 }
 
 uint envCdfRowBase(int y) { return frame.envHeight + 1u + uint(y) * (frame.envWidth + 1u); }

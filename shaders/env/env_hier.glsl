@@ -24,7 +24,9 @@ uint hierMortonAxis(uint m) {
   return (m | (m >> 8u)) & 0x0000ffffu;
 }
 
-vec4 hierTexelRect(ivec2 texel) { return tableVec4(hierTexelRects, uint(texel.y * ENV_HIER_WIDTH + texel.x)); }
+vec4 hierTexelRect(ivec2 texel) {
+  return tableVec4(hierTexelRects, uint(texel.y * ENV_HIER_WIDTH + texel.x));
+}
 
 vec3 envSample(vec2 u, vec3 n, out float pdf, out vec3 radiance) {
   const uint guideSize = ENV_HIER_GUIDE_SIZE;  // a power of two: u * G is exact

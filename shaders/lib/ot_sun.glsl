@@ -19,11 +19,8 @@ float otSunTexelPdf(ivec2 t) {
   uint lo = tableUint(otSunRowFirst, t.y), len = tableUint(otSunRowFirst, t.y + 1) - lo;
   if (len == 0u) return 0.0;
   uint target = uint(t.y) * frame.envWidth + uint(t.x);
-  while (len > 1u) {  // the largest entry <= target among the row's sun texels
-    uint halfLen = len >> 1u;
-    lo = tableUint(otSunTexel, lo + halfLen) <= target ? lo + halfLen : lo;
-    len -= halfLen;
-  }
+  // The largest entry <= target among the row's sun texels.
+  lo = tableSearchUint(otSunTexel, lo, len, target);
   if (tableUint(otSunTexel, lo) != target) return 0.0;
   float prob = tableFloat(otSunCdf, lo + 1u) - tableFloat(otSunCdf, lo), solidAngle = texelSolidAngle(t);
   return solidAngle > 0.0 ? prob / solidAngle : 0.0;
@@ -32,12 +29,7 @@ float otSunTexelPdf(ivec2 t) {
 // A direction of the sun part: u.x picks the texel (the largest k with cdf[k] <= u.x, so a zero-width entry is
 // never chosen) and, remapped, places the direction across it; u.y along it. Returns the texel and its pSun.
 vec3 otSunSample(vec2 u, out ivec2 texel, out float pdf) {
-  int lo = 0, len = OT_SUN_TEXELS;
-  while (len > 1) {
-    int halfLen = len >> 1;
-    lo = tableFloat(otSunCdf, lo + halfLen) <= u.x ? lo + halfLen : lo;
-    len -= halfLen;
-  }
+  int lo = tableSearchFloat(otSunCdf, 0u, 0, OT_SUN_TEXELS, u.x);
   float c0 = tableFloat(otSunCdf, lo), width = tableFloat(otSunCdf, lo + 1) - c0;
   float s = width > 0.0 ? clamp((u.x - c0) / width, 0.0, kOneMinusEpsilon) : 0.5;
   uint index = tableUint(otSunTexel, lo);

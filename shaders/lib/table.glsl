@@ -18,4 +18,24 @@ vec2 tableVec2(usamplerBuffer table, uint i) { return uintBitsToFloat(texelFetch
 // 4-word elements.
 uvec4 tableUvec4(usamplerBuffer table, uint i) { return texelFetch(table, int(i)); }
 vec4 tableVec4(usamplerBuffer table, uint i) { return uintBitsToFloat(texelFetch(table, int(i))); }
+
+// Binary search over sorted 1-word entries: the largest i in [lo, lo + len) with table[base + i] <= value,
+// lo itself when none is. Over a CDF (cdf[i] <= u < cdf[i + 1]) that is u's bin, and a bin of zero width is
+// never chosen. With a constant len the trip count is constant and the loop unrolls.
+int tableSearchFloat(usamplerBuffer table, uint base, int lo, int len, float value) {
+  while (len > 1) {
+    int halfLen = len >> 1;
+    lo = tableFloat(table, base + uint(lo + halfLen)) <= value ? lo + halfLen : lo;
+    len -= halfLen;
+  }
+  return lo;
+}
+uint tableSearchUint(usamplerBuffer table, uint lo, uint len, uint value) {
+  while (len > 1u) {
+    uint halfLen = len >> 1u;
+    lo = tableUint(table, lo + halfLen) <= value ? lo + halfLen : lo;
+    len -= halfLen;
+  }
+  return lo;
+}
 #endif
