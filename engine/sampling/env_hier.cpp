@@ -51,6 +51,21 @@ uint32_t hierChild(uint32_t g, uint32_t cx, uint32_t cy) {
   return 4u * g + 1u + cx + 2u * cy;
 }
 
+// Rectangle (lo.x, lo.y, hi.x, hi.y) of child (column, row) of a node with rectangle `rect` and splits
+// (splitX, splitY of the left column, splitY of the right column).
+glm::vec4 childRect(glm::vec4 rect, glm::vec4 split, uint32_t column, uint32_t row) {
+  const float splitY = column == 0 ? split.y : split.z;
+  return {column == 0 ? rect.x : split.x, row == 0 ? rect.y : splitY, column == 0 ? split.x : rect.z,
+          row == 0 ? splitY : rect.w};
+}
+
+// Level k is 2^k x 2^k, as buildEnvHier makes them.
+bool hasSquareLevels(const std::vector<EnvHierLevel>& levels) {
+  for (std::size_t k = 0; k < levels.size(); ++k)
+    if (k >= 32 || levels[k].width != (1u << k) || levels[k].height != (1u << k)) return false;
+  return true;
+}
+
 }  // namespace
 
 EnvHierData buildEnvHier(const EnvImage& image) {
@@ -123,11 +138,9 @@ EnvHierSampler::EnvHierSampler(EnvHierData data, uint32_t guideSize) : data_(std
   };
   const auto& levels = data_.levels;
   if (data_.width <= 0 || data_.height <= 0 || levels.empty()) fail("empty");
+  if (!hasSquareLevels(levels)) fail("level sizes are not 1, 2, 4, ... squared");
   std::size_t offset = 0;
-  for (std::size_t k = 0; k < levels.size(); ++k) {
-    const EnvHierLevel& l = levels[k];
-    if (k >= 32 || l.width != (1u << k) || l.height != l.width)
-      fail("level sizes are not 1, 2, 4, ... squared");
+  for (const EnvHierLevel& l : levels) {
     if (l.offset != offset) fail("levels are not consecutive");
     offset += std::size_t(l.width) * l.height;
   }
@@ -158,7 +171,7 @@ EnvSample EnvHierSampler::sample(glm::dvec2 u) const {
     s.direction = texelToDirection(s.texel.x, s.texel.y, {0.5, 0.5}, data_.width, data_.height);
     return s;
   }
-  const glm::vec4& rect = gpu_.texelRects[std::size_t(n.y) * std::size_t(data_.width) + std::size_t(n.x)];
+  const glm::vec4& rect = texelRect(n.x, n.y);
   const float tx = std::clamp((ux - rect.x) / rect.z, 0.0f, kOneMinusEpsilonF);
   const float ty = std::clamp((uy - rect.y) / rect.w, 0.0f, kOneMinusEpsilonF);
   const float omega = rowSolidAngles_[std::size_t(n.y)];
@@ -168,8 +181,12 @@ EnvSample EnvHierSampler::sample(glm::dvec2 u) const {
   return s;
 }
 
+const glm::vec4& EnvHierSampler::texelRect(int x, int y) const {
+  return gpu_.texelRects[std::size_t(y) * std::size_t(data_.width) + std::size_t(x)];
+}
+
 float EnvHierSampler::texelProbability(int x, int y) const {
-  const glm::vec4& rect = gpu_.texelRects[std::size_t(y) * std::size_t(data_.width) + std::size_t(x)];
+  const glm::vec4& rect = texelRect(x, y);
   return rect.z * rect.w;
 }
 
@@ -183,8 +200,7 @@ double EnvHierSampler::pdf(glm::dvec3 wi) const {
 std::optional<glm::dvec2> EnvHierSampler::invert(glm::dvec3 wi) const {
   if (!isUsableDirection(wi)) return std::nullopt;
   const glm::ivec2 texel = directionToTexel(wi, data_.width, data_.height);
-  const glm::vec4& rect =
-      gpu_.texelRects[std::size_t(texel.y) * std::size_t(data_.width) + std::size_t(texel.x)];
+  const glm::vec4& rect = texelRect(texel.x, texel.y);
   if (!(rect.z > 0.0f && rect.w > 0.0f)) return std::nullopt;
   const glm::dvec2 t = directionToTexelOffset(wi, texel, data_.width, data_.height);
   const glm::dvec2 u(double(rect.x) + t.x * double(rect.z), double(rect.y) + t.y * double(rect.w));
@@ -192,10 +208,8 @@ std::optional<glm::dvec2> EnvHierSampler::invert(glm::dvec3 wi) const {
 }
 
 EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize) {
-  for (std::size_t k = 0; k < data.levels.size(); ++k)
-    if (k >= 32 || data.levels[k].width != (1u << k) || data.levels[k].height != (1u << k))
-      throw Error(
-          "env-hier: the pyramid's levels are not 1, 2, 4, ... squared; rebuild it with buildEnvHier");
+  if (!hasSquareLevels(data.levels))
+    throw Error("env-hier: the pyramid's levels are not 1, 2, 4, ... squared; rebuild it with buildEnvHier");
   EnvHierGpuData gpu;
   const EnvHierLevel& finest = data.levels.back();
   gpu.leafStart = finest.offset;  // levels are stored root first, so the finest level starts after the rest
@@ -214,15 +228,14 @@ EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize) {
           return double(data.nodes[fine.offset + std::size_t(2 * y + j) * fine.width + (2 * x + i)]);
         };
         const glm::vec4 r = rects[std::size_t(y) * size + x];
-        const float splitX = splitPoint(r.x, r.z, firstShare(q(0, 0) + q(0, 1), q(1, 0) + q(1, 1)));
-        const float splitY[2] = {splitPoint(r.y, r.w, firstShare(q(0, 0), q(0, 1))),
-                                 splitPoint(r.y, r.w, firstShare(q(1, 0), q(1, 1)))};
-        gpu.splits[data.levels[k].offset + mortonIndex(x, y)] = glm::vec4(splitX, splitY[0], splitY[1], 0.0f);
+        const glm::vec4 split(splitPoint(r.x, r.z, firstShare(q(0, 0) + q(0, 1), q(1, 0) + q(1, 1))),
+                              splitPoint(r.y, r.w, firstShare(q(0, 0), q(0, 1))),
+                              splitPoint(r.y, r.w, firstShare(q(1, 0), q(1, 1))), 0.0f);
+        gpu.splits[data.levels[k].offset + mortonIndex(x, y)] = split;
         for (uint32_t column = 0; column < 2; ++column)
           for (uint32_t row = 0; row < 2; ++row)
             finer[std::size_t(2 * y + row) * (2 * size) + (2 * x + column)] =
-                glm::vec4(column == 0 ? r.x : splitX, row == 0 ? r.y : splitY[column],
-                          column == 0 ? splitX : r.z, row == 0 ? splitY[column] : r.w);
+                childRect(r, split, column, row);
       }
     rects.swap(finer);
   }
@@ -260,9 +273,7 @@ EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize) {
     const glm::vec4 split = gpu.splits[p.node];
     for (uint32_t column = 0; column < 2; ++column)
       for (uint32_t row = 0; row < 2; ++row) {
-        const float splitY = column == 0 ? split.y : split.z;
-        const glm::vec4 child(column == 0 ? p.rect.x : split.x, row == 0 ? p.rect.y : splitY,
-                              column == 0 ? split.x : p.rect.z, row == 0 ? splitY : p.rect.w);
+        const glm::vec4 child = childRect(p.rect, split, column, row);
         // A child narrower than a cell holds no whole cell.
         if ((double(child.z) - double(child.x)) * cellsD < 1.0 ||
             (double(child.w) - double(child.y)) * cellsD < 1.0)

@@ -112,6 +112,8 @@ class EnvHierSampler {
   const EnvHierGpuData& gpuData() const { return gpu_; }
 
  private:
+  const glm::vec4& texelRect(int x, int y) const;  // gpu_.texelRects of texel (x, y)
+
   EnvHierData data_;
   EnvHierGpuData gpu_;  // sample() walks the GPU layout, as the GLSL part does
   std::vector<float> rowSolidAngles_;
