@@ -44,8 +44,9 @@ constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 4 + 4 + 8 * 4 + 4 + 4 + 4;
 // A new OtSolverOptions field usually changes this size (not always: padding may absorb a bool): add it to
 // otMapCacheKey (or say why it does not change the result) and update the number.
 static_assert(sizeof(OtSolverOptions) == 168, "OtSolverOptions changed: review otMapCacheKey");
-// Likewise a new OtMap field must be stored (readEntry, writeEntry) and kFormatVersion bumped.
-static_assert(sizeof(OtMap) == 136, "OtMap changed: review the file layout");
+// Likewise a new OtMap field must be stored (readEntry, writeEntry) and kFormatVersion bumped. (`levels`, the
+// per-level diagnostics, is not stored: a cached map reports none.)
+static_assert(sizeof(OtMap) == 160, "OtMap changed: review the file layout");
 #endif
 
 std::size_t payloadBytes(int n) {

@@ -137,7 +137,11 @@ class LevelSolver {
     int iterations = 0;
     double l2 = 0.0, l1 = 0.0, linf = 0.0;
     double maxLogError = 0.0;  // max_c |log(A_c / m_c)|
+    int stages = 0, undoneStages = 0;
   };
+
+  int factorisations() const { return factorisations_; }
+  int krylovSteps() const { return krylovSteps_; }
 
   // Homotopy in the target (a continuation method): the masses go from the starting map's own areas A0 (s =
   // 0, solved by the start) to the target (s = 1) in stages m_s = A0^(1 - s) m^s (renormalised). A stage that
@@ -184,6 +188,7 @@ class LevelSolver {
       // unconditionally.
       const bool strict = step > options_.minStageStep;
       const int before = s.iterations;
+      ++s.stages;
       const bool ok = iterate(psi, s, last ? targetL2 : -1.0, budget,
                               last ? progress : std::function<void(int, double)>{}, strict);
       if (ok) {
@@ -197,6 +202,7 @@ class LevelSolver {
       if (step <= options_.minStageStep) break;  // keep the best map reached
       psi = savedPsi, pos_ = savedPos;           // undo the stage and take a smaller one
       step *= 0.5, retried = true;
+      ++s.undoneStages;
     }
     mass_ = target;
     evaluateResidual(s);
@@ -437,6 +443,7 @@ class LevelSolver {
     int k = 0;
     for (; k < m; ++k) {
       precondition(which, basis_[std::size_t(k)], scratch_);
+      ++krylovSteps_;
       applyJacobian(scratch_, basis_[std::size_t(k + 1)]);
       auto& w = basis_[std::size_t(k + 1)];
       for (std::size_t c = 0; c < size; ++c) w[c] *= rowScale_[c];
@@ -754,7 +761,7 @@ class LevelSolver {
   Eigen::SparseMatrix<double> jacobian_;
   Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu_;
   bool luAnalysed_ = false, luValid_ = false, laplacianFailed_ = false;
-  int factorisations_ = 0;
+  int factorisations_ = 0, krylovSteps_ = 0;
   Eigen::VectorXd luRhs_, luSolution_;
   std::vector<double> scratch_;
 };
@@ -807,6 +814,7 @@ struct LevelResult {
   std::vector<Vec2> positions;
   LevelSolver::Stats stats;
   int coarseIterations = 0;
+  std::vector<OtLevelStats> levels;  // coarsest first
 };
 
 LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOptions& options, bool finest) {
@@ -816,9 +824,11 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
     LevelResult c = solveLevels(coarse, n / 2, options, false);
     result.coarseIterations = c.coarseIterations + c.stats.iterations;
     result.psi = prolongPotential(c.psi, n / 2);
+    result.levels = std::move(c.levels);
   } else {
     result.psi.assign(std::size_t(n) * n, 0.0);
   }
+  const auto start = std::chrono::steady_clock::now();
   LevelSolver solver(n, rho, options);
   // A prolonged potential whose map has a non-positive quad area is no start for a guarded search (its stalls
   // could never undo the fold): start that level from the identity instead.
@@ -827,6 +837,12 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
   result.stats = solver.run(result.psi, target, options.maxIterations,
                             finest ? options.progress : std::function<void(int, double)>{});
   if (finest) result.positions = solver.positions();
+  OtLevelStats level;
+  level.n = n, level.iterations = result.stats.iterations, level.stages = result.stats.stages;
+  level.undoneStages = result.stats.undoneStages, level.factorisations = solver.factorisations();
+  level.krylovSteps = solver.krylovSteps(), level.l2 = result.stats.l2;
+  level.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.levels.push_back(level);
   return result;
 }
 
@@ -889,6 +905,7 @@ OtMap solveOtMap(std::span<const double> density, int n, const OtSolverOptions& 
   map.psi = std::move(levels.psi);
   map.iterations = levels.stats.iterations;
   map.coarseIterations = levels.coarseIterations;
+  map.levels = std::move(levels.levels);
   // Final metrics from the returned vertices, independently of the iteration's bookkeeping.
   const std::vector<double> areas = otQuadAreas(map.vertices, n);
   for (std::size_t c = 0; c < areas.size(); ++c) {

@@ -87,6 +87,18 @@ struct OtSolverOptions {
 // Bumped whenever the solver's algorithm changes its results, so that cached maps (ot_cache.h) are re-solved.
 inline constexpr int kOtSolverVersion = 3;
 
+// What one grid level of the coarse-to-fine solve did (coarsest first in OtMap::levels).
+struct OtLevelStats {
+  int n = 0;
+  int iterations = 0;      // Newton iterations (line searches that moved)
+  int stages = 0;          // continuation stages attempted (1 for an easy density)
+  int undoneStages = 0;    // stages undone and retried with a smaller step in s
+  int factorisations = 0;  // sparse LU factorisations of the exact Jacobian
+  int krylovSteps = 0;     // GMRES steps, each one preconditioner solve and one Jacobian product
+  double seconds = 0.0;    // wall time of the level
+  double l2 = 0.0;         // E reached at this level
+};
+
 struct OtMap {
   int n = 0;
   // (n+1)^2 vertices, row-major j*(n+1)+i: where grid vertex (i/n, j/n) of the density square maps to in the
@@ -97,6 +109,7 @@ struct OtMap {
   std::vector<double> psi;      // the potential, one value per cell (n^2), mean 0
   int iterations = 0;           // at the finest level
   int coarseIterations = 0;     // summed over the coarse levels
+  std::vector<OtLevelStats> levels;  // coarsest first, the finest (n) last; empty when read from the cache
   double seconds = 0.0;         // wall time of the whole solve, coarse levels included
   double l2 = 0.0;              // E = sum_c h^2 (A_c/h^2 - rho_c)^2
   double l1 = 0.0;              // sum_c |A_c - h^2 rho_c|

@@ -1,6 +1,7 @@
 // Benchmark of the OT map solver (engine/sampling/ot_solver.h): iterations, time, L2 / L1 / Linf mass errors
 // and folded quads for n = 128, 256, 512, 1024 on synthetic densities and on any .exr/.hdr given.
-//   build/iblx_ot_bench [--sizes 128,256] [--cases smooth,sun1e5] [--threads T] [--no-coarse] [FILE.exr ...]
+//   build/iblx_ot_bench [--sizes 128,256] [--cases smooth,sun1e5] [--threads T] [--no-coarse] [--levels]
+//                     [FILE.exr ...]
 #include "engine/core/error.h"
 #include "engine/io/env_image.h"
 #include "engine/sampling/ot_solver.h"
@@ -90,6 +91,7 @@ int main(int argc, char** argv) {
     std::vector<int> sizes{128, 256, 512, 1024};
     std::vector<std::string> caseFilter, files;
     OtSolverOptions options;
+    bool printLevels = false;  // one line per coarse-to-fine level under each result
     for (int a = 1; a < argc; ++a) {
       const std::string arg = argv[a];
       const auto value = [&]() -> std::string {
@@ -103,6 +105,8 @@ int main(int argc, char** argv) {
         caseFilter = split(value());
       } else if (arg == "--threads") {
         options.threads = std::stoi(value());
+      } else if (arg == "--levels") {
+        printLevels = true;
       } else if (arg == "--no-coarse") {
         options.coarseToFine = false;
       } else if (arg == "--boundary-fraction") {
@@ -135,7 +139,7 @@ int main(int argc, char** argv) {
       } else if (arg == "--help") {
         std::printf(
             "usage: iblx_ot_bench [--sizes 128,256,...] [--cases smooth,sun1e3,sun1e5,halfzero,skyzero]\n"
-            "                     [--threads T] [--no-coarse] [--max-iter N] [FILE.exr|FILE.hdr ...]\n");
+            "                     [--threads T] [--no-coarse] [--levels] [--max-iter N] [FILE.exr|FILE.hdr ...]\n");
         return 0;
       } else if (!arg.empty() && arg[0] == '-') {
         throw Error(arg + ": unknown flag (see --help)");
@@ -162,6 +166,11 @@ int main(int argc, char** argv) {
         std::printf("%-28s %5d %6d %7d %9.3f %10.2e %10.2e %10.2e %7d %7d %s\n", c.name.c_str(), n,
                     map.iterations, map.coarseIterations, map.seconds, map.l2, map.l1, map.linf,
                     map.foldedQuads, map.negativeAreaQuads, map.converged ? "yes" : "no");
+        if (printLevels)
+          for (const OtLevelStats& l : map.levels)
+            std::printf("    level %4d: %4d iters %3d stages (%d undone) %3d LU %5d krylov %8.3f s  L2 %.2e\n",
+                        l.n, l.iterations, l.stages, l.undoneStages, l.factorisations, l.krylovSteps,
+                        l.seconds, l.l2);
         std::fflush(stdout);
       }
     return 0;
