@@ -149,7 +149,7 @@ int cmdOtMap(const Args& args) {
                [&](const std::string& v) { envPath = v; });
   parser.value("--size", "N", "grid size n of the map, 64-1024 (default 256)",
                [&](const std::string& v) { n = int(parseUint("--size", v, 64, 1024)); });
-  parser.value("--floor", "EPS", "density floor as a fraction of the mean, in [1e-12, 1] (default 1e-4)",
+  parser.value("--floor", "EPS", "density floor as a fraction of the mean, in [1e-12, 1] (default 1e-2)",
                [&](const std::string& v) { options.floorFraction = parseDouble("--floor", v, 1e-12, 1.0); });
   parser.value(
       "--max-iter", "N", "iteration cap at each grid level (default 2000)",
