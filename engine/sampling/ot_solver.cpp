@@ -138,6 +138,7 @@ class LevelSolver {
     double l2 = 0.0, l1 = 0.0, linf = 0.0;
     double maxLogError = 0.0;  // max_c |log(A_c / m_c)|
     int stages = 0, undoneStages = 0;
+    int negativeAreas = 0;  // quads with signed area <= 0 (only a folded start has any)
   };
 
   int factorisations() const { return factorisations_; }
@@ -150,8 +151,14 @@ class LevelSolver {
   // the step that just failed; measured, about half of all stages were undone, mostly such retries). Each
   // stage starts from the secant predictor: psi extrapolated along the last two stage solutions, cut back so
   // that every quad keeps boundaryFraction of its area. Easy densities take the single stage s = 1.
+  //
+  // A start with folded quads (a prolonged coarse map can fold a few quads next to a sun) is allowed: those
+  // quads start their continuation at their final target, are no constraint of the guarded line search
+  // until they unfold, and the run gives up (returning with negativeAreas > 0) when they have not unfolded
+  // after kUnfoldStages stages.
   Stats run(std::vector<double>& psi, double targetL2, int maxIterations,
             const std::function<void(int, double)>& progress) {
+    constexpr int kUnfoldStages = 4;
     const int n = n_;
     gradient(psi, pos_);
     for (int j = 0; j < v_; ++j)
@@ -161,7 +168,8 @@ class LevelSolver {
     evaluateResidual(s);
     std::vector<double> logStart(target.size()), logTarget(target.size());
     for (std::size_t c = 0; c < target.size(); ++c) {
-      logStart[c] = std::log(std::max(residual_[c] + target[c], 1e-300));
+      const double area = residual_[c] + target[c];
+      logStart[c] = std::log(area > 0.0 ? area : target[c]);
       logTarget[c] = std::log(target[c]);
     }
     double reached = 0.0, step = 1.0, previous = -1.0;  // previous: the stage solved before `reached`
@@ -169,6 +177,7 @@ class LevelSolver {
     std::vector<double> savedPsi, previousPsi;
     std::vector<Vec2> savedPos;
     while (s.iterations < maxIterations) {
+      if (s.negativeAreas > 0 && s.stages >= kUnfoldStages) break;  // the fold stays: give up
       const double next = std::min(1.0, reached + step);
       if (next == 1.0) {
         mass_ = target;
@@ -203,6 +212,7 @@ class LevelSolver {
       psi = savedPsi, pos_ = savedPos;           // undo the stage and take a smaller one
       step *= 0.5, retried = true;
       ++s.undoneStages;
+      if (s.negativeAreas > 0) evaluateResidual(s);  // the fold count of the restored map
     }
     mass_ = target;
     evaluateResidual(s);
@@ -560,10 +570,10 @@ class LevelSolver {
 
   void evaluateResidual(Stats& s) {
     const int n = n_;
-    const auto sums = reduceChunks<4>(
+    const auto sums = reduceChunks<5>(
         threads_, n, 8,
         [&](int lo, int hi) {
-          std::array<double, 4> acc{0.0, 0.0, 0.0, 0.0};
+          std::array<double, 5> acc{0.0, 0.0, 0.0, 0.0, 0.0};
           for (int j = lo; j < hi; ++j)
             for (int i = 0; i < n; ++i) {
               const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
@@ -573,12 +583,14 @@ class LevelSolver {
               residual_[c] = r;
               acc[0] += r * r, acc[1] += std::abs(r), acc[2] = std::max(acc[2], std::abs(r));
               acc[3] = std::max(acc[3], area > 0.0 ? std::abs(std::log(area / mass_[c])) : kInf);
+              acc[4] += area > 0.0 ? 0.0 : 1.0;
             }
           return acc;
         },
-        {false, false, true, true});
+        {false, false, true, true, false});
     const double cells = double(n) * n;
     s.l2 = sums[0] * cells, s.l1 = sums[1], s.linf = sums[2] * cells, s.maxLogError = sums[3];
+    s.negativeAreas = int(sums[4]);
   }
 
   // Exact line search along the vertex motion gradDir_: every area is r + b t + a t^2, so E(t) is a quartic
@@ -778,34 +790,42 @@ std::vector<double> restrictDensity(std::span<const double> rho, int n) {
   return out;
 }
 
-// Bilinear interpolation of cell-centred psi from m x m to 2m x 2m (values clamped at the border, which keeps
-// the zero normal gradient there). psi is a function on the unit square, so no rescaling.
+// Coarse psi (m x m) to the fine grid (2m x 2m): psi averaged over the four cells around each coarse vertex,
+// then interpolated bilinearly between the coarse vertices at the fine cell centres. The average removes the
+// checkerboard (-1)^(i+j), which the 2x2 gradient stencil does not see at interior vertices (otmap.md §2.2),
+// so a converged coarse psi can carry any amount of it; interpolated directly from the cell centres it became
+// steep fine gradients (measured: 30-45 % of the fine quads folded on every real map and sun, so every level
+// had restarted from the identity). Averaging psi keeps x^2/2 + psi convex where it was (a mean of convex
+// functions), so the prolonged map stays monotone away from the coarse map's twisted quads. psi is a
+// function on the unit square, so no rescaling.
 std::vector<double> prolongPotential(std::span<const double> psi, int m) {
-  const int n = 2 * m;
+  const int n = 2 * m, v = m + 1;
+  std::vector<double> corner(std::size_t(v) * v);
+  for (int y = 0; y < v; ++y)
+    for (int x = 0; x < v; ++x) {
+      const int x0 = std::clamp(x - 1, 0, m - 1), x1 = std::clamp(x, 0, m - 1);
+      const int y0 = std::clamp(y - 1, 0, m - 1), y1 = std::clamp(y, 0, m - 1);
+      corner[std::size_t(y) * v + x] = 0.25 * (psi[std::size_t(y0) * m + x0] + psi[std::size_t(y0) * m + x1] +
+                                               psi[std::size_t(y1) * m + x0] + psi[std::size_t(y1) * m + x1]);
+    }
   std::vector<double> out(std::size_t(n) * n);
-  const auto axis = [m](int f, int& c0, int& c1, double& w) {
-    const double x = 0.5 * (f + 0.5) - 0.5;  // fine cell centre in coarse cell units
-    const int base = int(std::floor(x));
-    w = x - base;
-    c0 = std::clamp(base, 0, m - 1), c1 = std::clamp(base + 1, 0, m - 1);
-  };
   for (int j = 0; j < n; ++j) {
-    int j0, j1;
-    double wy;
-    axis(j, j0, j1, wy);
+    const double y = 0.5 * (j + 0.5);  // fine cell centre in coarse cell units, the coarse vertices at 0..m
+    const int y0 = std::min(int(y), m - 1);
+    const double wy = y - y0;
     for (int i = 0; i < n; ++i) {
-      int i0, i1;
-      double wx;
-      axis(i, i0, i1, wx);
-      const auto at = [&](int x, int y) { return psi[std::size_t(y) * m + x]; };
-      out[std::size_t(j) * n + i] = (1 - wy) * ((1 - wx) * at(i0, j0) + wx * at(i1, j0)) +
-                                    wy * ((1 - wx) * at(i0, j1) + wx * at(i1, j1));
+      const double x = 0.5 * (i + 0.5);
+      const int x0 = std::min(int(x), m - 1);
+      const double wx = x - x0;
+      const auto at = [&](int a, int b) { return corner[std::size_t(b) * v + a]; };
+      out[std::size_t(j) * n + i] = (1 - wy) * ((1 - wx) * at(x0, y0) + wx * at(x0 + 1, y0)) +
+                                    wy * ((1 - wx) * at(x0, y0 + 1) + wx * at(x0 + 1, y0 + 1));
     }
   }
   double mean = 0.0;
-  for (double v : out) mean += v;
+  for (double value : out) mean += value;
   mean /= double(out.size());
-  for (double& v : out) v -= mean;
+  for (double& value : out) value -= mean;
   return out;
 }
 
@@ -814,6 +834,7 @@ struct LevelResult {
   std::vector<Vec2> positions;
   LevelSolver::Stats stats;
   int coarseIterations = 0;
+  int restarts = 0;                  // 1 when this level's folded prolonged start was given up
   std::vector<OtLevelStats> levels;  // coarsest first
 };
 
@@ -830,17 +851,30 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
   }
   const auto start = std::chrono::steady_clock::now();
   LevelSolver solver(n, rho, options);
-  // A prolonged potential whose map has a non-positive quad area is no start for a guarded search (its stalls
-  // could never undo the fold): start that level from the identity instead.
-  if (!solver.startIsUnfolded(result.psi)) std::fill(result.psi.begin(), result.psi.end(), 0.0);
   const double target = finest ? options.targetL2 : std::max(options.targetL2, options.coarseTargetL2);
-  result.stats = solver.run(result.psi, target, options.maxIterations,
-                            finest ? options.progress : std::function<void(int, double)>{});
+  const std::function<void(int, double)> progress = finest ? options.progress : nullptr;
+  // A prolonged start with folded quads is tried first (LevelSolver::run); when they stay folded, the level
+  // starts again from the identity with what is left of the iteration budget.
+  const bool folded = !solver.startIsUnfolded(result.psi);
+  result.stats = solver.run(result.psi, target, options.maxIterations, progress);
+  if (folded && result.stats.negativeAreas > 0) {
+    const LevelSolver::Stats first = result.stats;
+    std::fill(result.psi.begin(), result.psi.end(), 0.0);
+    const auto shifted = [&](int iteration, double e) {
+      if (progress) progress(first.iterations + iteration, e);
+    };
+    result.stats = solver.run(result.psi, target, std::max(0, options.maxIterations - first.iterations),
+                              shifted);
+    result.stats.iterations += first.iterations, result.stats.stages += first.stages;
+    result.stats.undoneStages += first.undoneStages;
+    ++result.restarts;
+  }
   if (finest) result.positions = solver.positions();
   OtLevelStats level;
   level.n = n, level.iterations = result.stats.iterations, level.stages = result.stats.stages;
   level.undoneStages = result.stats.undoneStages, level.factorisations = solver.factorisations();
   level.krylovSteps = solver.krylovSteps(), level.l2 = result.stats.l2;
+  level.foldedStart = folded, level.restarted = result.restarts > 0;
   level.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.levels.push_back(level);
   return result;

@@ -17,7 +17,8 @@
 //   stage whose Newton step falls below stageMinStep is undone and retried with half the step in s (see
 //   LevelSolver::run). Easy densities take the single stage s = 1;
 // - coarse-to-fine: the density is box-restricted to n/2, n/4, ..., solved there and psi is prolonged
-//   bilinearly; a prolonged start with a non-positive quad area is dropped for the identity;
+//   (averaged at the coarse vertices, then bilinear); a prolonged start may fold a few quads next to a sun,
+//   which the level's continuation unfolds, or else the level restarts from the identity;
 // - a density floor: rho' = max(rho, floorFraction * mean(rho)), renormalised to mean 1. Zero regions then
 //   collapse to thin quads instead of folding. The samplers' pdfs stay exact because they come from the map.
 //   The default eps = 1e-2 costs a sampler at most a factor 1 + eps in the second moment of f / p (the
@@ -99,6 +100,8 @@ struct OtLevelStats {
   int undoneStages = 0;    // stages undone and retried with a smaller step in s
   int factorisations = 0;  // sparse LU factorisations of the exact Jacobian
   int krylovSteps = 0;     // GMRES steps, each one preconditioner solve and one Jacobian product
+  bool foldedStart = false;  // the prolonged coarse map had folded quads here
+  bool restarted = false;    // ... which did not unfold, so the level started again from the identity
   double seconds = 0.0;    // wall time of the level
   double l2 = 0.0;         // E reached at this level
 };

@@ -168,9 +168,10 @@ int main(int argc, char** argv) {
                     map.foldedQuads, map.negativeAreaQuads, map.converged ? "yes" : "no");
         if (printLevels)
           for (const OtLevelStats& l : map.levels)
-            std::printf("    level %4d: %4d iters %3d stages (%d undone) %3d LU %5d krylov %8.3f s  L2 %.2e\n",
+            std::printf("    level %4d: %4d iters %3d stages (%d undone) %3d LU %5d krylov %8.3f s  L2 %.2e%s\n",
                         l.n, l.iterations, l.stages, l.undoneStages, l.factorisations, l.krylovSteps,
-                        l.seconds, l.l2);
+                        l.seconds, l.l2,
+                        l.restarted ? "  folded start, restarted" : l.foldedStart ? "  folded start" : "");
         std::fflush(stdout);
       }
     return 0;
