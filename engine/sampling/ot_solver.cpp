@@ -404,8 +404,9 @@ class LevelSolver {
   // Newton direction: GMRES with the cheap Laplacian preconditioner while it reaches its tolerance; when it
   // does not (a strongly distorted map), GMRES preconditioned by the LU factors of the exact Jacobian,
   // refactored at the current map when the lagged factors no longer reach the tolerance either. A
-  // factorisation costs about 20 solves at n = 512 (1.4 s against 0.07 s), so lagged factors are kept as
-  // long as GMRES fixes their mismatch in a few steps. They are asked for a tighter tolerance than fresh
+  // factorisation costs about 15 solves at n = 512 (0.7 s against 0.047 s), so lagged factors are kept as
+  // long as GMRES fixes their mismatch in at most 4 steps (8 gave sunrise at n = 512 526 solves and 31 s,
+  // against 314 and 21 s; city, forest and sun1e5 moved within the noise, measured). They are asked for a tighter tolerance than fresh
   // ones, which meet krylovTolerance in one or two steps and so give nearly exact directions: lagged factors
   // at krylovTolerance gave inexact directions that cost more Newton iterations than the factorisations
   // saved (measured). A short step is no sign of poor factors (the guard cuts the first step of most
@@ -417,7 +418,7 @@ class LevelSolver {
       if (rel <= options_.krylovTolerance || !options_.directNewton) return;
       laplacianFailed_ = true;
     }
-    constexpr int kLaggedSteps = 8;
+    constexpr int kLaggedSteps = 4;
     constexpr double kLaggedTolerance = 0.01;
     if (luValid_ && gmres(d, Preconditioner::FrozenLu, kLaggedSteps, kLaggedTolerance) <= kLaggedTolerance)
       return;
