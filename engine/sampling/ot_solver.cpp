@@ -142,6 +142,11 @@ class LevelSolver {
   };
 
   int factorisations() const { return factorisations_; }
+  // True once the Laplacian-preconditioned GMRES missed its tolerance on this level (the map is too distorted
+  // for it); the next level starts with LU directions when the coarse one ended that way (setLuFirst),
+  // which spares it a failing GMRES(krylovSteps) of DCT solves (0.2 s at n = 512, 1 s at n = 1024).
+  bool laplacianFailed() const { return laplacianFailed_; }
+  void setLuFirst() { laplacianFailed_ = true; }
   int krylovSteps() const { return krylovSteps_; }
 
   // Homotopy in the target (a continuation method): the masses go from the starting map's own areas A0 (s =
@@ -224,7 +229,7 @@ class LevelSolver {
   // margin, so the guarded iteration can start from it (the full extrapolation folded quads next to suns in
   // most stages). Measured: 20-50 % fewer Newton directions at n = 256 and 512. dirHat_ and gradDir_ serve as
   // scratch: iterate() recomputes both before using them.
-  void predict(std::vector<double>& psi, std::span<const double> previousPsi, double ratio) {
+  double predict(std::vector<double>& psi, std::span<const double> previousPsi, double ratio) {
     const int n = n_;
     for (std::size_t c = 0; c < psi.size(); ++c) dirHat_[c] = ratio * (psi[c] - previousPsi[c]);
     gradient(dirHat_, gradDir_);
@@ -246,6 +251,18 @@ class LevelSolver {
     const double tau = std::min(1.0, options_.boundaryFraction * -limit);
     for (std::size_t c = 0; c < psi.size(); ++c) psi[c] += tau * dirHat_[c];
     for (std::size_t v = 0; v < pos_.size(); ++v) pos_[v] += tau * gradDir_[v];
+    return tau;
+  }
+
+  // psi = tau * toward with the largest tau <= 1 that keeps every quad boundaryFraction of the way from the
+  // identity to degenerate (predict() from the identity): a start for a level whose prolonged potential
+  // folds quads that the continuation could not unfold. Returns tau.
+  double startToward(std::span<const double> toward, std::vector<double>& psi) {
+    std::vector<double> negated(toward.size());
+    for (std::size_t c = 0; c < toward.size(); ++c) negated[c] = -toward[c];
+    std::fill(psi.begin(), psi.end(), 0.0);
+    startIsUnfolded(psi);  // pos_ = the identity grid
+    return predict(psi, negated, 1.0);
   }
 
   // The iteration of otmap.md §2.3 until E <= targetL2 and L1 <= targetL1 (true), or a stall or the budget
@@ -836,6 +853,8 @@ struct LevelResult {
   LevelSolver::Stats stats;
   int coarseIterations = 0;
   int restarts = 0;                  // 1 when this level's folded prolonged start was given up
+  double restartScale = 0.0;         // ... and the fraction of the prolonged potential it restarted from
+  bool laplacianFailed = false;      // the level ended with LU-preconditioned directions
   std::vector<OtLevelStats> levels;  // coarsest first
 };
 
@@ -846,21 +865,24 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
     LevelResult c = solveLevels(coarse, n / 2, options, false);
     result.coarseIterations = c.coarseIterations + c.stats.iterations;
     result.psi = prolongPotential(c.psi, n / 2);
+    result.laplacianFailed = c.laplacianFailed;
     result.levels = std::move(c.levels);
   } else {
     result.psi.assign(std::size_t(n) * n, 0.0);
   }
   const auto start = std::chrono::steady_clock::now();
   LevelSolver solver(n, rho, options);
+  if (result.laplacianFailed) solver.setLuFirst();
   const double target = finest ? options.targetL2 : std::max(options.targetL2, options.coarseTargetL2);
   const std::function<void(int, double)> progress = finest ? options.progress : nullptr;
   // A prolonged start with folded quads is tried first (LevelSolver::run); when they stay folded, the level
   // starts again from the identity with what is left of the iteration budget.
   const bool folded = !solver.startIsUnfolded(result.psi);
+  const std::vector<double> prolonged = folded ? result.psi : std::vector<double>{};
   result.stats = solver.run(result.psi, target, options.maxIterations, progress);
   if (folded && result.stats.negativeAreas > 0) {
     const LevelSolver::Stats first = result.stats;
-    std::fill(result.psi.begin(), result.psi.end(), 0.0);
+    result.restartScale = solver.startToward(prolonged, result.psi);
     const auto shifted = [&](int iteration, double e) {
       if (progress) progress(first.iterations + iteration, e);
     };
@@ -871,11 +893,12 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
     ++result.restarts;
   }
   if (finest) result.positions = solver.positions();
+  result.laplacianFailed = solver.laplacianFailed();
   OtLevelStats level;
   level.n = n, level.iterations = result.stats.iterations, level.stages = result.stats.stages;
   level.undoneStages = result.stats.undoneStages, level.factorisations = solver.factorisations();
   level.krylovSteps = solver.krylovSteps(), level.l2 = result.stats.l2;
-  level.foldedStart = folded, level.restarted = result.restarts > 0;
+  level.foldedStart = folded, level.restarted = result.restarts > 0, level.restartScale = result.restartScale;
   level.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.levels.push_back(level);
   return result;

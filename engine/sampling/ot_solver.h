@@ -101,7 +101,8 @@ struct OtLevelStats {
   int factorisations = 0;  // sparse LU factorisations of the exact Jacobian
   int krylovSteps = 0;     // GMRES steps, each one preconditioner solve and one Jacobian product
   bool foldedStart = false;  // the prolonged coarse map had folded quads here
-  bool restarted = false;    // ... which did not unfold, so the level started again from the identity
+  bool restarted = false;    // ... which did not unfold, so the level started again, from the identity
+  double restartScale = 0.0;  // moved this fraction of the way to the prolonged map (all quads unfolded)
   double seconds = 0.0;    // wall time of the level
   double l2 = 0.0;         // E reached at this level
 };

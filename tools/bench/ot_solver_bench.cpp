@@ -171,7 +171,9 @@ int main(int argc, char** argv) {
             std::printf("    level %4d: %4d iters %3d stages (%d undone) %3d LU %5d krylov %8.3f s  L2 %.2e%s\n",
                         l.n, l.iterations, l.stages, l.undoneStages, l.factorisations, l.krylovSteps,
                         l.seconds, l.l2,
-                        l.restarted ? "  folded start, restarted" : l.foldedStart ? "  folded start" : "");
+                        l.restarted   ? ("  folded start, restarted at " + std::to_string(l.restartScale)).c_str()
+                        : l.foldedStart ? "  folded start"
+                                        : "");
         std::fflush(stdout);
       }
     return 0;
