@@ -105,6 +105,8 @@ int main(int argc, char** argv) {
         caseFilter = split(value());
       } else if (arg == "--threads") {
         options.threads = std::stoi(value());
+      } else if (arg == "--coarse-target") {
+        options.coarseTargetL2 = std::stod(value());
       } else if (arg == "--levels") {
         printLevels = true;
       } else if (arg == "--no-coarse") {
@@ -139,7 +141,8 @@ int main(int argc, char** argv) {
       } else if (arg == "--help") {
         std::printf(
             "usage: iblx_ot_bench [--sizes 128,256,...] [--cases smooth,sun1e3,sun1e5,halfzero,skyzero]\n"
-            "                     [--threads T] [--no-coarse] [--levels] [--max-iter N] [FILE.exr|FILE.hdr ...]\n");
+            "                     [--threads T] [--no-coarse] [--coarse-target L2] [--levels] [--max-iter N]\n"
+            "                     [FILE.exr|FILE.hdr ...]\n");
         return 0;
       } else if (!arg.empty() && arg[0] == '-') {
         throw Error(arg + ": unknown flag (see --help)");
