@@ -423,12 +423,12 @@ class LevelSolver {
   // refactored at the current map when the lagged factors no longer reach the tolerance either. A
   // factorisation costs about 15 solves at n = 512 (0.7 s against 0.047 s), so lagged factors are kept as
   // long as GMRES fixes their mismatch in at most 4 steps (8 gave sunrise at n = 512 526 solves and 31 s,
-  // against 314 and 21 s; city, forest and sun1e5 moved within the noise, measured). They are asked for a tighter tolerance than fresh
-  // ones, which meet krylovTolerance in one or two steps and so give nearly exact directions: lagged factors
-  // at krylovTolerance gave inexact directions that cost more Newton iterations than the factorisations
-  // saved (measured). A short step is no sign of poor factors (the guard cuts the first step of most
-  // continuation stages): renewing them after every short step made sunrise at n = 512 factorise 118 times
-  // without finishing in 240 s.
+  // against 314 and 21 s; city, forest and sun1e5 moved within the noise, measured). They are asked for a
+  // tighter tolerance than fresh ones, which meet krylovTolerance in one or two steps and so give nearly
+  // exact directions: lagged factors at krylovTolerance gave inexact directions that cost more Newton
+  // iterations than the factorisations saved (measured). A short step is no sign of poor factors (the guard
+  // cuts the first step of most continuation stages): renewing them after every short step made sunrise
+  // at n = 512 factorise 118 times without finishing in 240 s.
   void newtonDirection(std::vector<double>& d) {
     if (!laplacianFailed_ || !options_.directNewton) {
       const double rel = gmres(d, Preconditioner::Laplacian);
@@ -876,7 +876,8 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
   const double target = finest ? options.targetL2 : std::max(options.targetL2, options.coarseTargetL2);
   const std::function<void(int, double)> progress = finest ? options.progress : nullptr;
   // A prolonged start with folded quads is tried first (LevelSolver::run); when they stay folded, the level
-  // starts again from the identity with what is left of the iteration budget.
+  // starts again, as far along the prolonged map as every quad stays unfolded (startToward; measured 0.3-0.6
+  // of the way on night, studio and interior at n = 128-512), with what is left of the iteration budget.
   const bool folded = !solver.startIsUnfolded(result.psi);
   const std::vector<double> prolonged = folded ? result.psi : std::vector<double>{};
   result.stats = solver.run(result.psi, target, options.maxIterations, progress);
@@ -886,8 +887,8 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
     const auto shifted = [&](int iteration, double e) {
       if (progress) progress(first.iterations + iteration, e);
     };
-    result.stats = solver.run(result.psi, target, std::max(0, options.maxIterations - first.iterations),
-                              shifted);
+    result.stats =
+        solver.run(result.psi, target, std::max(0, options.maxIterations - first.iterations), shifted);
     result.stats.iterations += first.iterations, result.stats.stages += first.stages;
     result.stats.undoneStages += first.undoneStages;
     ++result.restarts;

@@ -18,7 +18,8 @@
 //   LevelSolver::run). Easy densities take the single stage s = 1;
 // - coarse-to-fine: the density is box-restricted to n/2, n/4, ..., solved there and psi is prolonged
 //   (averaged at the coarse vertices, then bilinear); a prolonged start may fold a few quads next to a sun,
-//   which the level's continuation unfolds, or else the level restarts from the identity;
+//   which the level's continuation unfolds, or else the level restarts part of the way from the identity
+//   towards it; a level whose coarser one needed LU-preconditioned directions starts with them;
 // - a density floor: rho' = max(rho, floorFraction * mean(rho)), renormalised to mean 1. Zero regions then
 //   collapse to thin quads instead of folding. The samplers' pdfs stay exact because they come from the map.
 //   The default eps = 1e-2 costs a sampler at most a factor 1 + eps in the second moment of f / p (the
@@ -90,21 +91,21 @@ struct OtSolverOptions {
 };
 
 // Bumped whenever the solver's algorithm changes its results, so that cached maps (ot_cache.h) are re-solved.
-inline constexpr int kOtSolverVersion = 3;
+inline constexpr int kOtSolverVersion = 4;
 
 // What one grid level of the coarse-to-fine solve did (coarsest first in OtMap::levels).
 struct OtLevelStats {
   int n = 0;
-  int iterations = 0;      // Newton iterations (line searches that moved)
-  int stages = 0;          // continuation stages attempted (1 for an easy density)
-  int undoneStages = 0;    // stages undone and retried with a smaller step in s
-  int factorisations = 0;  // sparse LU factorisations of the exact Jacobian
-  int krylovSteps = 0;     // GMRES steps, each one preconditioner solve and one Jacobian product
-  bool foldedStart = false;  // the prolonged coarse map had folded quads here
-  bool restarted = false;    // ... which did not unfold, so the level started again, from the identity
-  double restartScale = 0.0;  // moved this fraction of the way to the prolonged map (all quads unfolded)
-  double seconds = 0.0;    // wall time of the level
-  double l2 = 0.0;         // E reached at this level
+  int iterations = 0;         // Newton iterations (line searches that moved)
+  int stages = 0;             // continuation stages attempted (1 for an easy density)
+  int undoneStages = 0;       // stages undone and retried with a smaller step in s
+  int factorisations = 0;     // sparse LU factorisations of the exact Jacobian
+  int krylovSteps = 0;        // GMRES steps, each one preconditioner solve and one Jacobian product
+  bool foldedStart = false;   // the prolonged coarse map had folded quads here
+  bool restarted = false;     // ... which did not unfold, so the level started again
+  double restartScale = 0.0;  // from this fraction of the way to the prolonged map (all unfolded)
+  double seconds = 0.0;       // wall time of the level
+  double l2 = 0.0;            // E reached at this level
 };
 
 struct OtMap {

@@ -141,8 +141,8 @@ int main(int argc, char** argv) {
       } else if (arg == "--help") {
         std::printf(
             "usage: iblx_ot_bench [--sizes 128,256,...] [--cases smooth,sun1e3,sun1e5,halfzero,skyzero]\n"
-            "                     [--threads T] [--no-coarse] [--coarse-target L2] [--levels] [--max-iter N]\n"
-            "                     [FILE.exr|FILE.hdr ...]\n");
+            "                     [--threads T] [--no-coarse] [--coarse-target L2] [--levels]\n"
+            "                     [--max-iter N] [FILE.exr|FILE.hdr ...]\n");
         return 0;
       } else if (!arg.empty() && arg[0] == '-') {
         throw Error(arg + ": unknown flag (see --help)");
@@ -171,12 +171,12 @@ int main(int argc, char** argv) {
                     map.foldedQuads, map.negativeAreaQuads, map.converged ? "yes" : "no");
         if (printLevels)
           for (const OtLevelStats& l : map.levels)
-            std::printf("    level %4d: %4d iters %3d stages (%d undone) %3d LU %5d krylov %8.3f s  L2 %.2e%s\n",
-                        l.n, l.iterations, l.stages, l.undoneStages, l.factorisations, l.krylovSteps,
-                        l.seconds, l.l2,
-                        l.restarted   ? ("  folded start, restarted at " + std::to_string(l.restartScale)).c_str()
-                        : l.foldedStart ? "  folded start"
-                                        : "");
+            std::printf(
+                "    level %4d: %4d iters %3d stages (%d undone) %3d LU %5d krylov %8.3f s  L2 %.2e%s\n", l.n,
+                l.iterations, l.stages, l.undoneStages, l.factorisations, l.krylovSteps, l.seconds, l.l2,
+                l.restarted     ? ("  folded start, restarted at " + std::to_string(l.restartScale)).c_str()
+                : l.foldedStart ? "  folded start"
+                                : "");
         std::fflush(stdout);
       }
     return 0;
