@@ -181,6 +181,31 @@ TEST_CASE("OT solver: every level starts from the prolonged coarse map (textured
   CHECK(map.levels.back().n == n);
 }
 
+// The other branch: a 10^5 sun on a sky textured by e^+-3 per cell, at n = 64, leaves folded quads at level 32
+// that its continuation cannot unfold. The level must restart part of the way towards the prolonged map (not
+// from the identity, not past a fold) and still converge with no negative area.
+TEST_CASE("OT solver: a folded prolonged start that stays folded restarts part of the way towards it") {
+  constexpr int n = 64;
+  std::vector<double> density = sunDensity(n, 1e5);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> texture(-3.0, 3.0);
+  for (double& v : density) v *= std::exp(texture(rng));
+  const OtSolverOptions options;
+  const OtMap map = solveOtMap(density, n, options);
+  CHECK(map.converged);
+  CHECK(map.negativeAreaQuads == 0);
+  int restarts = 0;
+  for (const OtLevelStats& level : map.levels) {
+    CAPTURE(level.n);
+    if (!level.restarted) continue;
+    ++restarts;
+    CHECK(level.foldedStart);
+    CHECK(level.restartScale > 0.0);
+    CHECK(level.restartScale < 1.0);  // the whole prolonged map folds, so only part of the way
+  }
+  CHECK(restarts >= 1);
+}
+
 TEST_CASE("OT solver: the Convex guard never makes a quad non-convex (smooth density, coarse-to-fine off)") {
   OtSolverOptions options;
   options.foldGuard = OtFoldGuard::Convex;
