@@ -67,6 +67,14 @@ void checkMap(const OtMap& map, const OtSolverOptions& options) {
                  << ", non-convex quads " << map.foldedQuads);
 }
 
+// density times e^u per cell, u uniform in [-amplitude, amplitude] (fixed seed): a real map's detail.
+std::vector<double> textured(std::vector<double> density, double amplitude, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> texture(-amplitude, amplitude);
+  for (double& v : density) v *= std::exp(texture(rng));
+  return density;
+}
+
 }  // namespace
 
 TEST_CASE("OT DCT: forward rows match the definition and inverse rows undo them") {
@@ -165,12 +173,7 @@ TEST_CASE("OT solver: sun 1e5 over a few cells, n = 64 and 128") {
 // past a corner by up to 5e-4, a known limit of the boundary rule, see docs/BENCHMARKS.md.)
 TEST_CASE("OT solver: every level starts from the prolonged coarse map (textured density, n = 128)") {
   constexpr int n = 128;
-  std::vector<double> density = smoothDensity(n);
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> texture(-2.0, 2.0);
-  for (double& v : density) v *= std::exp(texture(rng));
-  const OtSolverOptions options;
-  const OtMap map = solveOtMap(density, n, options);
+  const OtMap map = solveOtMap(textured(smoothDensity(n), 2.0, 7), n);
   CHECK(map.converged);
   CHECK(map.negativeAreaQuads == 0);
   REQUIRE(map.levels.size() == 4);  // 16, 32, 64, 128
@@ -186,12 +189,7 @@ TEST_CASE("OT solver: every level starts from the prolonged coarse map (textured
 // from the identity, not past a fold) and still converge with no negative area.
 TEST_CASE("OT solver: a folded prolonged start that stays folded restarts part of the way towards it") {
   constexpr int n = 64;
-  std::vector<double> density = sunDensity(n, 1e5);
-  std::mt19937 rng(2);
-  std::uniform_real_distribution<double> texture(-3.0, 3.0);
-  for (double& v : density) v *= std::exp(texture(rng));
-  const OtSolverOptions options;
-  const OtMap map = solveOtMap(density, n, options);
+  const OtMap map = solveOtMap(textured(sunDensity(n, 1e5), 3.0, 2), n);
   CHECK(map.converged);
   CHECK(map.negativeAreaQuads == 0);
   int restarts = 0;
