@@ -35,9 +35,17 @@ check "PNG signature" [ "$(head -c 8 "$tmp/map.png" | od -An -tx1 | tr -d ' \n')
 size=$(od -An -tu1 -j16 -N8 "$tmp/map.png" | awk '{ print $3 * 256 + $4 "x" $7 * 256 + $8 }')
 check "PNG size $size" [ "$size" = "$(field "$json" out_width)x$(field "$json" out_height)" ]
 check "no warning on the first run: $(cat "$tmp/err")" [ ! -s "$tmp/err" ]
+# Per-level diagnostics: the coarse-to-fine levels 16, 32, 64 in order, the finest one's L2 the map's (the
+# solver's running sum against the one recomputed from the vertices: equal to rounding).
+grids=$(printf '%s' "$json" | grep -o '"grid": [0-9]*' | awk '{ printf "%s ", $2 }')
+check "levels 16 32 64: '$grids'" [ "$grids" = "16 32 64 " ]
+finest_l2=$(printf '%s' "$json" | grep -o '"level_l2": [^,}]*' | tail -1 | awk '{ print $2 }')
+check "finest level's L2 $finest_l2 is the map's $(field "$json" l2)" \
+  awk -v a="$finest_l2" -v b="$(field "$json" l2)" 'BEGIN { exit !(a != "" && (a - b) ^ 2 <= (1e-6 * b) ^ 2) }'
 
 json2=$("$iblx" otmap --env "$tmp/sky.exr" --size 64 --json --out "$tmp/map2.png" 2> /dev/null)
 check "second run from the cache: $json2" [ "$(field "$json2" from_cache)" = true ]
+check "no levels from the cache" grep -q '"levels": \[\]' <<< "$json2"
 check "same iterations from the cache" [ "$(field "$json2" iterations)" = "$(field "$json" iterations)" ]
 check "same figure from the cache" cmp -s "$tmp/map.png" "$tmp/map2.png"
 json3=$("$iblx" otmap --env "$tmp/sky.exr" --size 64 --json --no-cache --out "$tmp/map3.png" 2> /dev/null)

@@ -213,19 +213,34 @@ int cmdOtMap(const Args& args) {
   for (std::size_t c = 0; c < samplerAreas.size(); ++c)
     samplerL1 += std::abs(samplerAreas[c] - map.density[c] / (double(n) * n));
   if (json) {
+    // One object per coarse-to-fine level, coarsest first (none when the map came from the cache); their keys
+    // differ from the top-level ones so that a flat reader of the top level is not misled.
+    std::string levels;
+    for (const OtLevelStats& l : map.levels) {
+      char entry[512];
+      std::snprintf(entry, sizeof entry,
+                    "%s{\"grid\": %d, \"newton_iterations\": %d, \"stages\": %d, \"undone_stages\": %d, "
+                    "\"lu_factorisations\": %d, \"krylov_steps\": %d, \"level_seconds\": %.6f, "
+                    "\"level_l2\": %.9g, \"folded_start\": %s, \"restart_scale\": %.6g}",
+                    levels.empty() ? "" : ", ", l.n, l.iterations, l.stages, l.undoneStages, l.factorisations,
+                    l.krylovSteps, l.seconds, l.l2, l.foldedStart ? "true" : "false",
+                    l.restarted ? l.restartScale : 0.0);
+      levels += entry;
+    }
     std::printf(
         "{\"env\": \"%s\", \"env_width\": %d, \"env_height\": %d, \"n\": %d, \"floor\": %.9g, "
         "\"iterations\": %d, \"coarse_iterations\": %d, \"seconds\": %.6f, \"wall_s\": %.6f, \"l2\": %.9g, "
         "\"l1\": %.9g, \"linf\": %.9g, \"folded\": %d, \"non_convex\": %d, \"invalid_pieces\": %d, "
         "\"sampler_l1\": %.9g, \"tree_depth\": %d, \"largest_leaf\": %u, \"sun_clip\": %.9g, "
         "\"sun_share\": %.9g, \"sun_texels\": %zu, "
-        "\"converged\": %s, \"from_cache\": %s, \"out\": \"%s\", \"out_width\": %d, \"out_height\": %d}\n",
+        "\"converged\": %s, \"from_cache\": %s, \"out\": \"%s\", \"out_width\": %d, \"out_height\": %d, "
+        "\"levels\": [%s]}\n",
         jsonEscape(envPath.string()).c_str(), env.width, env.height, n, options.floorFraction, map.iterations,
         map.coarseIterations, map.seconds, wall, map.l2, map.l1, map.linf, map.negativeAreaQuads,
         map.foldedQuads, forward.invalidPieces(), samplerL1, forward.treeDepth(), forward.largestLeaf(),
         sunClip, double(sun.sunShare), sun.sunShare > 0.0f ? sun.texels.size() : std::size_t(0),
         map.converged ? "true" : "false", fromCache ? "true" : "false", jsonEscape(out).c_str(), figure.width,
-        figure.height);
+        figure.height, levels.c_str());
   } else {
     std::printf("otmap of %s (%dx%d) on a %dx%d grid, floor %g x mean\n", envPath.string().c_str(), env.width,
                 env.height, n, n, options.floorFraction);
@@ -239,6 +254,13 @@ int cmdOtMap(const Args& args) {
           sunClip, 100.0 * kOtSunMinShare);
     std::printf("iterations: %d (+%d on coarser grids), solved in %.3f s%s\n", map.iterations,
                 map.coarseIterations, map.seconds, fromCache ? " (when it was stored in the cache)" : "");
+    for (const OtLevelStats& l : map.levels)
+      std::printf("  level %4d: %3d Newton iterations, %2d stages (%d undone), %2d LU factorisations, %4d "
+                  "Krylov steps, %.3f s, L2 %.3g%s\n",
+                  l.n, l.iterations, l.stages, l.undoneStages, l.factorisations, l.krylovSteps, l.seconds, l.l2,
+                  l.restarted ? ", folded start, restarted part of the way"
+                  : l.foldedStart ? ", folded start"
+                                  : "");
     std::printf("mass error: L2 %.3g, L1 %.3g, Linf %.3g\n", map.l2, map.l1, map.linf);
     std::printf("quads: %d folded (area <= 0), %d not strictly convex, %d without a valid piece\n",
                 map.negativeAreaQuads, map.foldedQuads, forward.invalidPieces());
