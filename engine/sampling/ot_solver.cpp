@@ -854,8 +854,6 @@ struct LevelResult {
   std::vector<Vec2> positions;
   LevelSolver::Stats stats;
   int coarseIterations = 0;
-  int restarts = 0;                  // 1 when this level's folded prolonged start was given up
-  double restartScale = 0.0;         // ... and the fraction of the prolonged potential it restarted from
   bool laplacianFailed = false;      // the level ended with LU-preconditioned directions
   std::vector<OtLevelStats> levels;  // coarsest first
 };
@@ -873,6 +871,8 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
     result.psi.assign(std::size_t(n) * n, 0.0);
   }
   const auto start = std::chrono::steady_clock::now();
+  OtLevelStats level;
+  level.n = n;
   LevelSolver solver(n, rho, options);
   if (result.laplacianFailed) solver.setLuFirst();
   const double target = finest ? options.targetL2 : std::max(options.targetL2, options.coarseTargetL2);
@@ -880,12 +880,13 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
   // A prolonged start with folded quads is tried first (LevelSolver::run); when they stay folded, the level
   // starts again, as far along the prolonged map as every quad stays unfolded (startToward; measured 0.3-0.6
   // of the way on night, studio and interior at n = 128-512), with what is left of the iteration budget.
-  const bool folded = !solver.startIsUnfolded(result.psi);
-  const std::vector<double> prolonged = folded ? result.psi : std::vector<double>{};
+  level.foldedStart = !solver.startIsUnfolded(result.psi);
+  const std::vector<double> prolonged = level.foldedStart ? result.psi : std::vector<double>{};
   result.stats = solver.run(result.psi, target, options.maxIterations, progress);
-  if (folded && result.stats.negativeAreas > 0) {
+  if (level.foldedStart && result.stats.negativeAreas > 0) {
     const LevelSolver::Stats first = result.stats;
-    result.restartScale = solver.startToward(prolonged, result.psi);
+    level.restarted = true;
+    level.restartScale = solver.startToward(prolonged, result.psi);
     const auto shifted = [&](int iteration, double e) {
       if (progress) progress(first.iterations + iteration, e);
     };
@@ -893,15 +894,12 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
         solver.run(result.psi, target, std::max(0, options.maxIterations - first.iterations), shifted);
     result.stats.iterations += first.iterations, result.stats.stages += first.stages;
     result.stats.undoneStages += first.undoneStages;
-    ++result.restarts;
   }
   if (finest) result.positions = solver.positions();
   result.laplacianFailed = solver.laplacianFailed();
-  OtLevelStats level;
-  level.n = n, level.iterations = result.stats.iterations, level.stages = result.stats.stages;
+  level.iterations = result.stats.iterations, level.stages = result.stats.stages;
   level.undoneStages = result.stats.undoneStages, level.factorisations = solver.factorisations();
   level.krylovSteps = solver.krylovSteps(), level.l2 = result.stats.l2;
-  level.foldedStart = folded, level.restarted = result.restarts > 0, level.restartScale = result.restartScale;
   level.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.levels.push_back(level);
   return result;
