@@ -39,6 +39,8 @@ check "no warning on the first run: $(cat "$tmp/err")" [ ! -s "$tmp/err" ]
 # solver's running sum against the one recomputed from the vertices: equal to rounding).
 grids=$(printf '%s' "$json" | grep -o '"grid": [0-9]*' | awk '{ printf "%s ", $2 }')
 check "levels 16 32 64: '$grids'" [ "$grids" = "16 32 64 " ]
+curved=$(printf '%s' "$json" | grep -o '"curved_steps": [0-9]*' | wc -l)
+check "every level reports its curved steps ($curved)" [ "$curved" = 3 ]
 finest_l2=$(printf '%s' "$json" | grep -o '"level_l2": [^,}]*' | tail -1 | awk '{ print $2 }')
 check "finest level's L2 $finest_l2 is the map's $(field "$json" l2)" \
   awk -v a="$finest_l2" -v b="$(field "$json" l2)" 'BEGIN { exit !(a != "" && (a - b) ^ 2 <= (1e-6 * b) ^ 2) }'

@@ -1,7 +1,7 @@
 // Benchmark of the OT map solver (engine/sampling/ot_solver.h): iterations, time, L2 / L1 / Linf mass errors
 // and folded quads for n = 128, 256, 512, 1024 on synthetic densities and on any .exr/.hdr given.
-//   build/iblx_ot_bench [--sizes 128,256] [--cases smooth,sun1e5] [--threads T] [--no-coarse] [--levels]
-//                     [FILE.exr ...]
+//   build/iblx_ot_bench [--sizes 128,256] [--cases smooth,sun1e5] [--threads T] [--no-coarse] [--no-curved]
+//                       [--coarse-target L2] [--levels] [--max-iter N] [FILE.exr ...]
 #include "engine/core/error.h"
 #include "engine/io/env_image.h"
 #include "engine/sampling/ot_solver.h"
@@ -111,6 +111,8 @@ int main(int argc, char** argv) {
         printLevels = true;
       } else if (arg == "--no-coarse") {
         options.coarseToFine = false;
+      } else if (arg == "--no-curved") {
+        options.secondOrderCorrection = false;
       } else if (arg == "--boundary-fraction") {
         options.boundaryFraction = std::stod(value());
       } else if (arg == "--krylov") {
@@ -141,7 +143,7 @@ int main(int argc, char** argv) {
       } else if (arg == "--help") {
         std::printf(
             "usage: iblx_ot_bench [--sizes 128,256,...] [--cases smooth,sun1e3,sun1e5,halfzero,skyzero]\n"
-            "                     [--threads T] [--no-coarse] [--coarse-target L2] [--levels]\n"
+            "                     [--threads T] [--no-coarse] [--no-curved] [--coarse-target L2] [--levels]\n"
             "                     [--max-iter N] [FILE.exr|FILE.hdr ...]\n");
         return 0;
       } else if (!arg.empty() && arg[0] == '-') {
@@ -172,8 +174,10 @@ int main(int argc, char** argv) {
         if (printLevels)
           for (const OtLevelStats& l : map.levels)
             std::printf(
-                "    level %4d: %4d iters %3d stages (%d undone) %3d LU %5d krylov %8.3f s  L2 %.2e%s\n", l.n,
-                l.iterations, l.stages, l.undoneStages, l.factorisations, l.krylovSteps, l.seconds, l.l2,
+                "    level %4d: %4d iters %3d stages (%d undone) %3d LU %5d krylov %3d curved %8.3f s  L2 "
+                "%.2e%s\n",
+                l.n, l.iterations, l.stages, l.undoneStages, l.factorisations, l.krylovSteps, l.curvedSteps,
+                l.seconds, l.l2,
                 l.restarted     ? ("  folded start, restarted at " + std::to_string(l.restartScale)).c_str()
                 : l.foldedStart ? "  folded start"
                                 : "");
