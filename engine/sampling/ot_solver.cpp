@@ -352,8 +352,8 @@ class LevelSolver {
   // solve with the current LU factors (or the Laplacian's, before any): it need not be exact. Returns the
   // longest tau in {1, 0.8, 0.64, ...} above t at which every quad keeps an area above 1e-3 of its target
   // (those with a positive area now) and the merit is below the straight step's, or 0 when there is none.
-  // Measured on sunrise at n = 512 (no suns split off): 63 Newton iterations in 21 continuation stages
-  // became 25 (9.6 s against 15.8 s); at n = 1024 148 became 28.
+  // Measured on sunrise (no suns split off): 66 Newton iterations became 24 at n = 512 (9.6 s against 15.5 s),
+  // 148 became 30 at n = 1024 (93 s against 164 s); interior at 512: 73 became 25 (12 s against 23 s).
   double curvedStep(double t) {
     const int n = n_;
     rhs_.resize(residual_.size());
