@@ -251,6 +251,7 @@ std::uint64_t otMapCacheKey(std::span<const double> density, int n, const OtSolv
   hashField(hash, "logNewton", o.logNewton);
   hashField(hash, "relativeResidual", o.relativeResidual);
   hashField(hash, "boundaryFraction", o.boundaryFraction);
+  hashField(hash, "secondOrderCorrection", o.secondOrderCorrection);
   // Not hashed: `threads` (only the order of some float sums) and `progress` (a callback).
   return hash.value();
 }

@@ -142,6 +142,7 @@ TEST_CASE("OT cache: every input that changes the map changes the key") {
   CHECK(differs([](OtSolverOptions& o) { o.merit = OtMerit::Barrier; }));
   CHECK(differs([](OtSolverOptions& o) { o.logNewton = !o.logNewton; }));
   CHECK(differs([](OtSolverOptions& o) { o.relativeResidual = !o.relativeResidual; }));
+  CHECK(differs([](OtSolverOptions& o) { o.secondOrderCorrection = !o.secondOrderCorrection; }));
   CHECK(differs([](OtSolverOptions& o) { o.boundaryFraction = 0.5; }));
 }
 
