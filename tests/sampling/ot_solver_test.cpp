@@ -295,6 +295,8 @@ TEST_CASE("OT solver: curved steps on textured suns converge in fewer Newton ite
         curvedSteps += level.curvedSteps;
       }
     }
+  MESSAGE("Newton iterations, curved against straight: " << curvedIterations << " / " << straightIterations
+                                                         << " (" << curvedSteps << " curved steps)");
   CHECK(curvedSteps > 0);
   CHECK(curvedIterations < straightIterations);
 }
