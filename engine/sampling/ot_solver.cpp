@@ -130,7 +130,6 @@ class LevelSolver {
     pos_.resize(nv), gradHat_.resize(nv), gradPrev_.resize(nv), gradDir_.resize(nv);
     residual_.resize(mass_.size()), dirHat_.resize(mass_.size()), dirPrev_.resize(mass_.size());
     pad_.resize(std::size_t(n + 2) * (n + 2));
-    scratch_.resize(mass_.size());
   }
 
   struct Stats {
@@ -369,17 +368,10 @@ class LevelSolver {
         }
     });
     curveDir_.resize(residual_.size()), curveGrad_.resize(pos_.size());
-    if (luValid_) {
-      const int size = n * n;
-      luRhs_.resize(size);
-      for (int c = 0; c < size; ++c) luRhs_[c] = rhs_[std::size_t(c)];
-      luRhs_[0] = 0.0;  // row 0 of the factored matrix is psi_0 = 0
-      luSolution_ = lu_.solve(luRhs_);
-      for (int c = 0; c < size; ++c)
-        curveDir_[std::size_t(c)] = std::isfinite(luSolution_[c]) ? -luSolution_[c] : 0.0;
-    } else {
+    if (luValid_)
+      solveFrozenLu(rhs_, curveDir_, -1.0);
+    else
       solveLaplacian(rhs_, curveDir_);  // -L^-1 a, L the Jacobian at the identity
-    }
     gradient(curveDir_, curveGrad_);
     const bool relative = options_.relativeResidual;
     // Merit (as lineSearch) and the number of quads that would come too close to degenerate, at psi + t1 d +
@@ -493,12 +485,18 @@ class LevelSolver {
       for (double& x : z) x = -x;
       return;
     }
+    solveFrozenLu(unscaled_, z, 1.0);
+  }
+
+  // out = sign * J^-1 rhs with the current LU factors (non-finite entries of the solution become 0).
+  void solveFrozenLu(std::span<const double> rhs, std::vector<double>& out, double sign) {
     const int size = n_ * n_;
     luRhs_.resize(size);
-    for (int c = 0; c < size; ++c) luRhs_[c] = unscaled_[std::size_t(c)];
+    for (int c = 0; c < size; ++c) luRhs_[c] = rhs[std::size_t(c)];
     luRhs_[0] = 0.0;  // row 0 of the factored matrix is psi_0 = 0
     luSolution_ = lu_.solve(luRhs_);
-    for (int c = 0; c < size; ++c) z[std::size_t(c)] = std::isfinite(luSolution_[c]) ? luSolution_[c] : 0.0;
+    for (int c = 0; c < size; ++c)
+      out[std::size_t(c)] = std::isfinite(luSolution_[c]) ? sign * luSolution_[c] : 0.0;
   }
 
   // Newton direction: GMRES with the cheap Laplacian preconditioner while it reaches its tolerance; when it
@@ -884,7 +882,6 @@ class LevelSolver {
   bool luAnalysed_ = false, luValid_ = false, laplacianFailed_ = false;
   int factorisations_ = 0, krylovSteps_ = 0;
   Eigen::VectorXd luRhs_, luSolution_;
-  std::vector<double> scratch_;
 };
 
 // 2x2 box restriction: keeps the mean (and so the total mass) exactly.
