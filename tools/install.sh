@@ -8,8 +8,8 @@ packages=(build-essential cmake ninja-build pkg-config
           libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
           glslang-dev glslang-tools spirv-tools libglm-dev libopenexr-dev libstb-dev libtinyobjloader-dev
           doctest-dev
-          libeigen3-dev libsuitesparse-dev  # the OT solver's sparse LU (UMFPACK, AMD ordering)
-          libopenblas0-pthread  # UMFPACK's dense kernels; the OT solver figures in docs/ were measured with it
+          liblapack-dev libblas-dev  # the dense fronts of the OT solver's grid LU
+          libopenblas0-pthread  # their fast kernels; the OT solver figures in docs/ were measured with it
           libglfw3-dev libimgui-dev xvfb xauth  # the viewer, and its test under Xvfb
           blender-data)  # the CC0 HDRIs of tools/results.sh and the OT benchmarks (studiolights/world/*.exr)
 missing=()

@@ -3,20 +3,19 @@
 #include "engine/sampling/ot_solver.h"
 
 #include "engine/core/error.h"
+#include "engine/sampling/grid_lu.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/ot_dct.h"
 #include "engine/sampling/sphere_mapping.h"
 
 #include <algorithm>
 #include <array>
-#include <Eigen/SparseLU>
-#include <Eigen/UmfPackSupport>
-#include <Eigen/SparseCore>
 
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <cstdio>
 #include <cstdlib>
@@ -490,13 +489,11 @@ class LevelSolver {
 
   // out = sign * J^-1 rhs with the current LU factors (non-finite entries of the solution become 0).
   void solveFrozenLu(std::span<const double> rhs, std::vector<double>& out, double sign) {
-    const int size = n_ * n_;
-    luRhs_.resize(size);
-    for (int c = 0; c < size; ++c) luRhs_[c] = rhs[std::size_t(c)];
-    luRhs_[0] = 0.0;  // row 0 of the factored matrix is psi_0 = 0
-    luSolution_ = lu_.solve(luRhs_);
-    for (int c = 0; c < size; ++c)
-      out[std::size_t(c)] = std::isfinite(luSolution_[c]) ? sign * luSolution_[c] : 0.0;
+    const std::size_t size = std::size_t(n_) * n_;
+    luWork_.assign(rhs.begin(), rhs.begin() + std::ptrdiff_t(size));
+    luWork_[0] = 0.0;  // row 0 of the factored matrix is psi_0 = 0
+    lu_->solve(luWork_);
+    for (std::size_t c = 0; c < size; ++c) out[c] = std::isfinite(luWork_[c]) ? sign * luWork_[c] : 0.0;
   }
 
   // Newton direction: GMRES with the cheap Laplacian preconditioner while it reaches its tolerance; when it
@@ -611,52 +608,42 @@ class LevelSolver {
   // 0 and the mean removed afterwards. The pattern never changes, so its ordering is computed once per level.
   void factorJacobian() {
     const int n = n_;
-    triplets_.clear();
-    triplets_.reserve(std::size_t(n) * n * 16);
-    const double half = 0.5 * n;
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const int c = j * n + i;
-        if (c == 0) {
-          triplets_.emplace_back(0, 0, 1.0);
-          continue;
-        }
-        const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
-        const Vec2 d1 = pos_[p11] - pos_[p00], d2 = pos_[p01] - pos_[p10];
-        // b = ½ (d1 x e2 + e1 x d2), e1 = g11 - g00, e2 = g01 - g10.
-        const Vec2 de1 = 0.5 * Vec2(d2.y, -d2.x), de2 = 0.5 * Vec2(-d1.y, d1.x);
-        const std::array<std::pair<int, Vec2>, 4> corners{
-            std::pair{0, -de1}, std::pair{1, -de2}, std::pair{2, de1}, std::pair{3, de2}};  // 00, 10, 11, 01
-        for (const auto& [corner, w] : corners) {
-          const int vx = i + (corner == 1 || corner == 2 ? 1 : 0), vy = j + (corner >= 2 ? 1 : 0);
-          // g = half * ((b - a) + (d - c), (c - a) + (d - b)), cells a = (vx-1, vy-1), b = (vx, vy-1),
-          // c = (vx-1, vy), d = (vx, vy), clamped to the grid.
-          const int x0 = std::clamp(vx - 1, 0, n - 1), x1 = std::clamp(vx, 0, n - 1);
-          const int y0 = std::clamp(vy - 1, 0, n - 1), y1 = std::clamp(vy, 0, n - 1);
-          const std::array<std::pair<int, Vec2>, 4> cells{
-              std::pair{y0 * n + x0, Vec2(-half, -half)}, std::pair{y0 * n + x1, Vec2(half, -half)},
-              std::pair{y1 * n + x0, Vec2(-half, half)}, std::pair{y1 * n + x1, Vec2(half, half)}};
-          for (const auto& [cell, dg] : cells) triplets_.emplace_back(c, cell, w.x * dg.x + w.y * dg.y);
-        }
-      }
-    jacobian_.resize(n * n, n * n);
-    jacobian_.setFromTriplets(triplets_.begin(), triplets_.end());
-    jacobian_.makeCompressed();
-    if (!luAnalysed_) {
-      // The 3x3-stencil Jacobian is nearly symmetric in pattern and values: the symmetric strategy (measured
-      // 1.5x faster than the default unsymmetric one with COLAMD at n = 256), ordered by AMD on J + J^T. At n
-      // = 512 METIS nested dissection took 2.7 s to order against AMD's 0.3-0.5 s for the same fill (26.0
-      // vs 25.5 million nonzeros in L + U) and about as many flops (5.6 vs 6.1 GFlop) (measured). No
-      // iterative refinement in the solves: the factors only precondition GMRES, and each refinement step
-      // costs a residual and a further solve (it tripled the solve time at n = 512).
-      lu_.umfpackControl()(UMFPACK_STRATEGY) = UMFPACK_STRATEGY_SYMMETRIC;
-      lu_.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_AMD;
-      lu_.umfpackControl()(UMFPACK_IRSTEP) = 0;
-      lu_.analyzePattern(jacobian_);
-      luAnalysed_ = true;
+    if (!lu_) {
+      lu_.emplace(n, n);  // nested dissection of the grid: computed once per level
+      jacobian_ = StencilMatrix(n, n);
     }
-    lu_.factorize(jacobian_);
-    luValid_ = lu_.info() == Eigen::Success;
+    const double half = 0.5 * n;
+    parallelChunks(threads_, n, 8, [&](int lo, int hi) {
+      for (int j = lo; j < hi; ++j)
+        for (int i = 0; i < n; ++i) {
+          const int c = j * n + i;
+          std::fill_n(jacobian_.values.begin() + std::ptrdiff_t(c) * 9, 9, 0.0);
+          if (c == 0) {
+            jacobian_.at(0, 0, 0) = 1.0;
+            continue;
+          }
+          const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
+          const Vec2 d1 = pos_[p11] - pos_[p00], d2 = pos_[p01] - pos_[p10];
+          // b = ½ (d1 x e2 + e1 x d2), e1 = g11 - g00, e2 = g01 - g10.
+          const Vec2 de1 = 0.5 * Vec2(d2.y, -d2.x), de2 = 0.5 * Vec2(-d1.y, d1.x);
+          const std::array<std::pair<int, Vec2>, 4> corners{std::pair{0, -de1}, std::pair{1, -de2},
+                                                            std::pair{2, de1},
+                                                            std::pair{3, de2}};  // 00, 10, 11, 01
+          for (const auto& [corner, w] : corners) {
+            const int vx = i + (corner == 1 || corner == 2 ? 1 : 0), vy = j + (corner >= 2 ? 1 : 0);
+            // g = half * ((b - a) + (d - c), (c - a) + (d - b)), cells a = (vx-1, vy-1), b = (vx, vy-1),
+            // c = (vx-1, vy), d = (vx, vy), clamped to the grid.
+            const int x0 = std::clamp(vx - 1, 0, n - 1) - i, x1 = std::clamp(vx, 0, n - 1) - i;
+            const int y0 = std::clamp(vy - 1, 0, n - 1) - j, y1 = std::clamp(vy, 0, n - 1) - j;
+            jacobian_.at(c, x0, y0) += -half * (w.x + w.y), jacobian_.at(c, x1, y0) += half * (w.x - w.y);
+            jacobian_.at(c, x0, y1) += half * (w.y - w.x), jacobian_.at(c, x1, y1) += half * (w.x + w.y);
+          }
+        }
+    });
+    // Exact zero pivots are replaced (GridLu's static pivoting): the factors then precondition a nearby
+    // matrix, which GMRES's residual check still measures against the true one.
+    lu_->factor(jacobian_);
+    luValid_ = true;
     ++factorisations_;
   }
 
@@ -876,12 +863,11 @@ class LevelSolver {
   bool curvedSteps_ = false;   // curvedStep() is in use on this level
   int curvedStepsTaken_ = 0;
   std::vector<std::vector<double>> basis_, preconditioned_;
-  std::vector<Eigen::Triplet<double>> triplets_;
-  Eigen::SparseMatrix<double> jacobian_;
-  Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu_;
-  bool luAnalysed_ = false, luValid_ = false, laplacianFailed_ = false;
+  StencilMatrix jacobian_;
+  std::optional<GridLu> lu_;
+  bool luValid_ = false, laplacianFailed_ = false;
   int factorisations_ = 0, krylovSteps_ = 0;
-  Eigen::VectorXd luRhs_, luSolution_;
+  std::vector<double> luWork_;
 };
 
 // 2x2 box restriction: keeps the mean (and so the total mass) exactly.

@@ -1,0 +1,357 @@
+// The nested-dissection multifrontal LU of grid_lu.h.
+#include "engine/sampling/grid_lu.h"
+
+#include "engine/core/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <dlfcn.h>
+#include <mutex>
+#include <thread>
+
+// Reference BLAS / LAPACK (Fortran calling convention, hidden string lengths last); Debian links them to
+// OpenBLAS through the libblas.so.3 / liblapack.so.3 alternatives.
+extern "C" {
+void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
+void dlaswp_(const int* n, double* a, const int* lda, const int* k1, const int* k2, const int* ipiv,
+             const int* incx);
+void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m,
+            const int* n, const double* alpha, const double* a, const int* lda, double* b, const int* ldb,
+            std::size_t, std::size_t, std::size_t, std::size_t);
+void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
+            const double* alpha, const double* a, const int* lda, const double* b, const int* ldb,
+            const double* beta, double* c, const int* ldc, std::size_t, std::size_t);
+void dtrsv_(const char* uplo, const char* trans, const char* diag, const int* n, const double* a,
+            const int* lda, double* x, const int* incx, std::size_t, std::size_t, std::size_t);
+void dgemv_(const char* trans, const int* m, const int* n, const double* alpha, const double* a,
+            const int* lda, const double* x, const int* incx, const double* beta, double* y, const int* incy,
+            std::size_t);
+}
+
+namespace iblx {
+
+namespace {
+
+// OpenBLAS's worker threads spin-wait (sched_yield) between calls: with the OT solver's own threads running
+// beside them they took a third of all CPU samples at n = 512 (perf). The fronts are mostly small and the
+// subtrees already run on their own threads, so BLAS runs single-threaded (when the library is OpenBLAS).
+void useSingleThreadedBlas() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    using SetThreads = void (*)(int);
+    if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) set(1);
+  });
+}
+
+// Subdomains of at most this many cells are eliminated whole, as one dense front (their separators would
+// be fronts of a few variables each, where BLAS calls cost more than the arithmetic).
+constexpr int kLeafCells = 16;
+
+}  // namespace
+
+void StencilMatrix::multiply(std::span<const double> x, std::span<double> y) const {
+  for (int cy = 0; cy < height; ++cy)
+    for (int cx = 0; cx < width; ++cx) {
+      const int c = cy * width + cx;
+      double sum = 0.0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = cx + dx, ny = cy + dy;
+          if (nx >= 0 && nx < width && ny >= 0 && ny < height)
+            sum += at(c, dx, dy) * x[std::size_t(ny) * width + nx];
+        }
+      y[std::size_t(c)] = sum;
+    }
+}
+
+GridLu::GridLu(int width, int height, int threads) : width_(width), height_(height) {
+  IBLX_ASSERT(width > 0 && height > 0);
+  useSingleThreadedBlas();
+  const int workers = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  while ((1 << parallelDepth_) < workers) ++parallelDepth_;
+  std::vector<int> position(std::size_t(width) * height, -1);
+  root_ = build(0, width, 0, height, position);
+  // Postorder, the factor storage and the peak of the update stack (children's update matrices wait there
+  // until their parent assembles them).
+  std::size_t panel = 0, pivots = 0;
+  std::vector<int> postorder;
+  std::vector<std::pair<int, bool>> todo{{root_, false}};
+  while (!todo.empty()) {
+    auto [node, expanded] = todo.back();
+    todo.pop_back();
+    if (expanded) {
+      postorder.push_back(node);
+      continue;
+    }
+    todo.push_back({node, true});
+    for (int k = 1; k >= 0; --k)
+      if (nodes_[std::size_t(node)].children[std::size_t(k)] >= 0)
+        todo.push_back({nodes_[std::size_t(node)].children[std::size_t(k)], false});
+  }
+  for (int index : postorder) {
+    Node& node = nodes_[std::size_t(index)];
+    const std::size_t m = node.vars.size(), s = std::size_t(node.own), b = m - s;
+    node.panelOffset = panel, panel += m * s;
+    node.upperOffset = panel, panel += s * b;
+    node.pivotOffset = pivots, pivots += s;
+    node.maxFront = m;
+    for (int child : node.children)
+      if (child >= 0) node.maxFront = std::max(node.maxFront, nodes_[std::size_t(child)].maxFront);
+    flops_ += 2.0 / 3.0 * double(s) * s * s + 2.0 * double(s) * s * b + 2.0 * double(s) * b * b;
+  }
+  factorEntries_ = panel;
+  factors_.assign(panel, 0.0);
+  pivots_.assign(pivots, 0);
+}
+
+int GridLu::build(int x0, int x1, int y0, int y1, std::vector<int>& position) {
+  const int w = x1 - x0, h = y1 - y0;
+  Node node;
+  int sx0 = x0, sx1 = x1, sy0 = y0, sy1 = y1;  // the cells eliminated at this node
+  if (w * h > kLeafCells) {
+    // Separator: the middle line across the longer side; each half is a child.
+    if (w >= h) {
+      const int xs = x0 + w / 2;
+      node.children = {build(x0, xs, y0, y1, position), build(xs + 1, x1, y0, y1, position)};
+      sx0 = xs, sx1 = xs + 1;
+    } else {
+      const int ys = y0 + h / 2;
+      node.children = {build(x0, x1, y0, ys, position), build(x0, x1, ys + 1, y1, position)};
+      sy0 = ys, sy1 = ys + 1;
+    }
+  }
+  for (int y = sy0; y < sy1; ++y)
+    for (int x = sx0; x < sx1; ++x) node.vars.push_back(y * width_ + x);
+  node.own = int(node.vars.size());
+  // Boundary: the ring of cells around the domain, all on ancestors' separators (nested dissection).
+  for (int y = std::max(y0 - 1, 0); y <= std::min(y1, height_ - 1); ++y)
+    for (int x = std::max(x0 - 1, 0); x <= std::min(x1, width_ - 1); ++x)
+      if (x < x0 || x >= x1 || y < y0 || y >= y1) node.vars.push_back(y * width_ + x);
+  for (std::size_t k = 0; k < node.vars.size(); ++k) position[std::size_t(node.vars[k])] = int(k);
+  for (int k = 0; k < 2; ++k) {
+    if (node.children[std::size_t(k)] < 0) continue;
+    const Node& child = nodes_[std::size_t(node.children[std::size_t(k)])];
+    for (std::size_t q = std::size_t(child.own); q < child.vars.size(); ++q) {
+      const int at = position[std::size_t(child.vars[q])];
+      IBLX_ASSERT(at >= 0);
+      node.childMap[std::size_t(k)].push_back(at);
+    }
+  }
+  // Original entries: A(v, w) and A(w, v) for own v and every neighbour w not eliminated below this node.
+  for (int lv = 0; lv < node.own; ++lv) {
+    const int v = node.vars[std::size_t(lv)], vx = v % width_, vy = v / width_;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int nx = vx + dx, ny = vy + dy;
+        if (nx < 0 || nx >= width_ || ny < 0 || ny >= height_) continue;
+        const int wcell = ny * width_ + nx, lw = position[std::size_t(wcell)];
+        const bool inDomain = nx >= x0 && nx < x1 && ny >= y0 && ny < y1;
+        if (inDomain && (lw < 0 || lw >= node.own)) continue;  // eliminated in a child
+        node.entries.push_back({lv, lw, v * 9 + (dy + 1) * 3 + (dx + 1)});
+        if (!inDomain) node.entries.push_back({lw, lv, wcell * 9 + (1 - dy) * 3 + (1 - dx)});
+      }
+  }
+  for (int cell : node.vars) position[std::size_t(cell)] = -1;
+  nodes_.push_back(std::move(node));
+  return int(nodes_.size()) - 1;
+}
+
+int GridLu::factor(const StencilMatrix& a) {
+  IBLX_ASSERT(a.width == width_ && a.height == height_);
+  std::vector<double> stack;
+  int replaced = 0;
+  factorSubtree(root_, parallelDepth_, a, stack, replaced);
+  factored_ = true;
+  return replaced;
+}
+
+void GridLu::factorSubtree(int index, int depth, const StencilMatrix& a, std::vector<double>& stack,
+                           int& replaced) {
+  const Node& node = nodes_[std::size_t(index)];
+  if (depth > 0 && node.children[0] >= 0 && node.children[1] >= 0) {
+    // The two halves on two threads, each with its own stack; their updates then go on this one in order.
+    std::array<std::vector<double>, 2> stacks;
+    int replacedOther = 0;
+    {
+      std::jthread other([&] { factorSubtree(node.children[0], depth - 1, a, stacks[0], replacedOther); });
+      factorSubtree(node.children[1], depth - 1, a, stacks[1], replaced);
+    }
+    replaced += replacedOther;
+    for (const auto& part : stacks) stack.insert(stack.end(), part.begin(), part.end());
+    std::vector<double> front(node.vars.size() * node.vars.size());
+    factorNode(index, a, front, stack, replaced);
+    return;
+  }
+  // One thread for the whole subtree: one front buffer, one stack.
+  std::vector<double> front(node.maxFront * node.maxFront);
+  std::vector<std::pair<int, bool>> todo{{index, false}};
+  while (!todo.empty()) {
+    const auto [current, expanded] = todo.back();
+    todo.pop_back();
+    if (expanded) {
+      factorNode(current, a, front, stack, replaced);
+      continue;
+    }
+    todo.push_back({current, true});
+    for (int k = 1; k >= 0; --k)
+      if (nodes_[std::size_t(current)].children[std::size_t(k)] >= 0)
+        todo.push_back({nodes_[std::size_t(current)].children[std::size_t(k)], false});
+  }
+}
+
+void GridLu::factorNode(int index, const StencilMatrix& a, std::vector<double>& front,
+                        std::vector<double>& stack, int& replaced) {
+  const Node& node = nodes_[std::size_t(index)];
+  const int m = int(node.vars.size()), s = node.own, b = m - s;
+  const std::size_t mm = std::size_t(m);
+  std::fill_n(front.begin(), mm * mm, 0.0);
+  for (const auto& [row, col, value] : node.entries)
+    front[std::size_t(col) * mm + std::size_t(row)] += a.values[std::size_t(value)];
+  // Extend-add the children's update matrices, the second child's on top of the stack.
+  for (int k = 1; k >= 0; --k) {
+    if (node.children[std::size_t(k)] < 0) continue;
+    const std::vector<int>& map = node.childMap[std::size_t(k)];
+    const std::size_t bc = map.size(), base = stack.size() - bc * bc;
+    for (std::size_t q = 0; q < bc; ++q) {
+      double* column = front.data() + std::size_t(map[q]) * mm;
+      const double* update = stack.data() + base + q * bc;
+      for (std::size_t p = 0; p < bc; ++p) column[map[p]] += update[p];
+    }
+    stack.resize(base);
+  }
+  int* ipiv = pivots_.data() + node.pivotOffset;
+  int info = 0;
+  dgetrf_(&s, &s, front.data(), &m, ipiv, &info);
+  if (info != 0) {
+    // Exact zero pivots (LAPACK left their columns unscaled, i.e. zero below the diagonal).
+    double scale = 0.0;
+    for (int j = 0; j < s; ++j)
+      for (int i = 0; i < s; ++i)
+        scale = std::max(scale, std::abs(front[std::size_t(j) * mm + std::size_t(i)]));
+    const double tiny = scale > 0.0 && std::isfinite(scale) ? 1e-12 * scale : 1.0;
+    for (int i = 0; i < s; ++i) {
+      double& pivot = front[std::size_t(i) * mm + std::size_t(i)];
+      if (pivot == 0.0 || !std::isfinite(pivot)) pivot = tiny, ++replaced;
+    }
+  }
+  double* factors = factors_.data();
+  if (b > 0) {
+    const double one = 1.0, minusOne = -1.0;
+    const int first = 1, inc = 1;
+    double* f12 = front.data() + std::size_t(s) * mm;
+    double* f21 = front.data() + s;
+    dlaswp_(&b, f12, &m, &first, &s, ipiv, &inc);
+    dtrsm_("L", "L", "N", "U", &s, &b, &one, front.data(), &m, f12, &m, 1, 1, 1, 1);  // U12 = L11^-1 P F12
+    dtrsm_("R", "U", "N", "N", &b, &s, &one, front.data(), &m, f21, &m, 1, 1, 1, 1);  // L21 = F21 U11^-1
+    const std::size_t base = stack.size();
+    stack.resize(base + std::size_t(b) * b);
+    double* update = stack.data() + base;
+    for (int q = 0; q < b; ++q) std::copy_n(f12 + std::size_t(q) * mm + s, b, update + std::size_t(q) * b);
+    dgemm_("N", "N", &b, &b, &s, &minusOne, f21, &m, f12, &m, &one, update, &b, 1, 1);  // F22 - L21 U12
+    for (int q = 0; q < b; ++q)
+      std::copy_n(f12 + std::size_t(q) * mm, s, factors + node.upperOffset + std::size_t(q) * s);
+  }
+  std::copy_n(front.data(), mm * std::size_t(s), factors + node.panelOffset);
+}
+
+void GridLu::solve(std::span<double> bx) const {
+  IBLX_ASSERT(factored_ && bx.size() == std::size_t(width_) * height_);
+  std::vector<double> stack;
+  forwardSubtree(root_, parallelDepth_, bx, stack);
+  std::vector<double> scratch(nodes_[std::size_t(root_)].maxFront);
+  backwardSubtree(root_, parallelDepth_, bx, scratch);
+}
+
+// L y = P b, multifrontal: each front gathers its own entries of b plus its children's update vectors and
+// passes -L21 y up, so that subtrees never write to shared entries.
+void GridLu::forwardSubtree(int index, int depth, std::span<double> bx, std::vector<double>& stack) const {
+  const Node& node = nodes_[std::size_t(index)];
+  if (depth > 0 && node.children[0] >= 0 && node.children[1] >= 0) {
+    std::array<std::vector<double>, 2> stacks;
+    {
+      std::jthread other([&] { forwardSubtree(node.children[0], depth - 1, bx, stacks[0]); });
+      forwardSubtree(node.children[1], depth - 1, bx, stacks[1]);
+    }
+    for (const auto& part : stacks) stack.insert(stack.end(), part.begin(), part.end());
+    forwardNode(index, bx, stack);
+    return;
+  }
+  std::vector<std::pair<int, bool>> todo{{index, false}};
+  while (!todo.empty()) {
+    const auto [current, expanded] = todo.back();
+    todo.pop_back();
+    if (expanded) {
+      forwardNode(current, bx, stack);
+      continue;
+    }
+    todo.push_back({current, true});
+    for (int k = 1; k >= 0; --k)
+      if (nodes_[std::size_t(current)].children[std::size_t(k)] >= 0)
+        todo.push_back({nodes_[std::size_t(current)].children[std::size_t(k)], false});
+  }
+}
+
+void GridLu::forwardNode(int index, std::span<double> bx, std::vector<double>& stack) const {
+  const Node& node = nodes_[std::size_t(index)];
+  const std::size_t m = node.vars.size(), s = std::size_t(node.own), b = m - s;
+  // The front's vector: own entries first, then the boundary's accumulated updates (appended to the stack
+  // so that the children's updates below it stay valid until they are added).
+  const std::size_t base = stack.size();
+  stack.resize(base + m, 0.0);
+  double* t = stack.data() + base;
+  for (std::size_t k = 0; k < s; ++k) t[k] = bx[std::size_t(node.vars[k])];
+  std::size_t below = base;
+  for (int k = 1; k >= 0; --k) {
+    if (node.children[std::size_t(k)] < 0) continue;
+    const std::vector<int>& map = node.childMap[std::size_t(k)];
+    below -= map.size();
+    for (std::size_t p = 0; p < map.size(); ++p) t[map[p]] += stack[below + p];
+  }
+  const int* ipiv = pivots_.data() + node.pivotOffset;
+  for (std::size_t i = 0; i < s; ++i) std::swap(t[i], t[std::size_t(ipiv[i] - 1)]);
+  // One pass over the panel [L11; L21], column by column (contiguous).
+  const double* panel = factors_.data() + node.panelOffset;
+  for (std::size_t j = 0; j < s; ++j) {
+    const double y = t[j];
+    const double* column = panel + j * m;
+    for (std::size_t i = j + 1; i < m; ++i) t[i] -= column[i] * y;
+  }
+  for (std::size_t k = 0; k < s; ++k) bx[std::size_t(node.vars[k])] = t[k];
+  // Pop the children's updates and the front vector; push this node's update (its boundary part).
+  std::copy_n(t + s, b, stack.data() + below);
+  stack.resize(below + b);
+}
+
+void GridLu::backwardSubtree(int index, int depth, std::span<double> bx, std::vector<double>& scratch) const {
+  // U x = y, parents before children; the boundary's x is final when a node is reached.
+  const Node& node = nodes_[std::size_t(index)];
+  const std::size_t m = node.vars.size(), s = std::size_t(node.own), b = m - s;
+  double* t = scratch.data();
+  for (std::size_t k = 0; k < m; ++k) t[k] = bx[std::size_t(node.vars[k])];
+  const double* upper = factors_.data() + node.upperOffset;
+  for (std::size_t q = 0; q < b; ++q) {
+    const double x = t[s + q];
+    const double* column = upper + q * s;
+    for (std::size_t i = 0; i < s; ++i) t[i] -= column[i] * x;
+  }
+  const double* panel = factors_.data() + node.panelOffset;
+  for (std::size_t j = s; j-- > 0;) {
+    const double* column = panel + j * m;
+    const double x = t[j] /= column[j];
+    for (std::size_t i = 0; i < j; ++i) t[i] -= column[i] * x;
+  }
+  for (std::size_t k = 0; k < s; ++k) bx[std::size_t(node.vars[k])] = t[k];
+  const auto children = node.children;
+  if (depth > 0 && children[0] >= 0 && children[1] >= 0) {
+    std::jthread other([&] {
+      std::vector<double> own(nodes_[std::size_t(children[0])].maxFront);
+      backwardSubtree(children[0], depth - 1, bx, own);
+    });
+    backwardSubtree(children[1], depth - 1, bx, scratch);
+    return;
+  }
+  for (int child : children)
+    if (child >= 0) backwardSubtree(child, 0, bx, scratch);
+}
+
+}  // namespace iblx
