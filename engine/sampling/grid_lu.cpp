@@ -99,8 +99,21 @@ GridLu::GridLu(int width, int height, int threads) : width_(width), height_(heig
       if (child >= 0) node.maxFront = std::max(node.maxFront, nodes_[std::size_t(child)].maxFront);
     flops_ += 2.0 / 3.0 * double(s) * s * s + 2.0 * double(s) * s * b + 2.0 * double(s) * b * b;
   }
+  // Elimination order: the fronts' own variables in postorder.
+  std::vector<int> positionOf(std::size_t(width) * height);
+  for (int index : postorder) {
+    Node& node = nodes_[std::size_t(index)];
+    node.ownStart = order_.size();
+    for (int k = 0; k < node.own; ++k) {
+      positionOf[std::size_t(node.vars[std::size_t(k)])] = int(order_.size());
+      order_.push_back(node.vars[std::size_t(k)]);
+    }
+  }
+  for (Node& node : nodes_)
+    for (std::size_t q = std::size_t(node.own); q < node.vars.size(); ++q)
+      node.boundaryPositions.push_back(positionOf[std::size_t(node.vars[q])]);
   factorEntries_ = panel;
-  factors_.assign(panel, 0.0);
+  factors_ = std::make_unique_for_overwrite<float[]>(panel);  // every entry is written by factor()
   pivots_.assign(pivots, 0);
 }
 
@@ -234,7 +247,7 @@ void GridLu::factorNode(int index, const StencilMatrix& a, std::vector<double>& 
       if (pivot == 0.0 || !std::isfinite(pivot)) pivot = tiny, ++replaced;
     }
   }
-  double* factors = factors_.data();
+  float* factors = factors_.get();
   if (b > 0) {
     const double one = 1.0, minusOne = -1.0;
     const int first = 1, inc = 1;
@@ -251,29 +264,37 @@ void GridLu::factorNode(int index, const StencilMatrix& a, std::vector<double>& 
     for (int q = 0; q < b; ++q)
       std::copy_n(f12 + std::size_t(q) * mm, s, factors + node.upperOffset + std::size_t(q) * s);
   }
-  std::copy_n(front.data(), mm * std::size_t(s), factors + node.panelOffset);
+  // Single precision is enough for a preconditioner and makes the (memory-bound) solves faster; the
+  // diagonal is kept inverted, so that the backward solve multiplies instead of dividing.
+  float* panel = factors + node.panelOffset;
+  std::copy_n(front.data(), mm * std::size_t(s), panel);
+  for (std::size_t j = 0; j < std::size_t(s); ++j) panel[j * mm + j] = float(1.0 / front[j * mm + j]);
 }
 
 void GridLu::solve(std::span<double> bx) const {
   IBLX_ASSERT(factored_ && bx.size() == std::size_t(width_) * height_);
+  // In elimination order every front's own entries are contiguous (a separator column of cells would
+  // otherwise cost a cache line per entry).
+  std::vector<double> w(bx.size());
+  for (std::size_t p = 0; p < w.size(); ++p) w[p] = bx[std::size_t(order_[p])];
   std::vector<double> stack;
-  forwardSubtree(root_, parallelDepth_, bx, stack);
-  std::vector<double> scratch(nodes_[std::size_t(root_)].maxFront);
-  backwardSubtree(root_, parallelDepth_, bx, scratch);
+  forwardSubtree(root_, parallelDepth_, w, stack);
+  backwardSubtree(root_, parallelDepth_, w);
+  for (std::size_t p = 0; p < w.size(); ++p) bx[std::size_t(order_[p])] = w[p];
 }
 
-// L y = P b, multifrontal: each front gathers its own entries of b plus its children's update vectors and
-// passes -L21 y up, so that subtrees never write to shared entries.
-void GridLu::forwardSubtree(int index, int depth, std::span<double> bx, std::vector<double>& stack) const {
+// L y = P b, multifrontal: each front takes its children's update vectors and passes -L21 y up, so that
+// subtrees never write to shared entries.
+void GridLu::forwardSubtree(int index, int depth, std::span<double> w, std::vector<double>& stack) const {
   const Node& node = nodes_[std::size_t(index)];
   if (depth > 0 && node.children[0] >= 0 && node.children[1] >= 0) {
     std::array<std::vector<double>, 2> stacks;
     {
-      std::jthread other([&] { forwardSubtree(node.children[0], depth - 1, bx, stacks[0]); });
-      forwardSubtree(node.children[1], depth - 1, bx, stacks[1]);
+      std::jthread other([&] { forwardSubtree(node.children[0], depth - 1, w, stacks[0]); });
+      forwardSubtree(node.children[1], depth - 1, w, stacks[1]);
     }
     for (const auto& part : stacks) stack.insert(stack.end(), part.begin(), part.end());
-    forwardNode(index, bx, stack);
+    forwardNode(index, w, stack);
     return;
   }
   std::vector<std::pair<int, bool>> todo{{index, false}};
@@ -281,7 +302,7 @@ void GridLu::forwardSubtree(int index, int depth, std::span<double> bx, std::vec
     const auto [current, expanded] = todo.back();
     todo.pop_back();
     if (expanded) {
-      forwardNode(current, bx, stack);
+      forwardNode(current, w, stack);
       continue;
     }
     todo.push_back({current, true});
@@ -291,67 +312,64 @@ void GridLu::forwardSubtree(int index, int depth, std::span<double> bx, std::vec
   }
 }
 
-void GridLu::forwardNode(int index, std::span<double> bx, std::vector<double>& stack) const {
+void GridLu::forwardNode(int index, std::span<double> w, std::vector<double>& stack) const {
   const Node& node = nodes_[std::size_t(index)];
   const std::size_t m = node.vars.size(), s = std::size_t(node.own), b = m - s;
-  // The front's vector: own entries first, then the boundary's accumulated updates (appended to the stack
-  // so that the children's updates below it stay valid until they are added).
+  double* own = w.data() + node.ownStart;
+  // The boundary's accumulated updates go above the children's on the stack, which stay valid until added.
   const std::size_t base = stack.size();
-  stack.resize(base + m, 0.0);
-  double* t = stack.data() + base;
-  for (std::size_t k = 0; k < s; ++k) t[k] = bx[std::size_t(node.vars[k])];
+  stack.resize(base + b, 0.0);
+  double* boundary = stack.data() + base;
   std::size_t below = base;
   for (int k = 1; k >= 0; --k) {
     if (node.children[std::size_t(k)] < 0) continue;
     const std::vector<int>& map = node.childMap[std::size_t(k)];
     below -= map.size();
-    for (std::size_t p = 0; p < map.size(); ++p) t[map[p]] += stack[below + p];
+    for (std::size_t p = 0; p < map.size(); ++p) {
+      const std::size_t at = std::size_t(map[p]);
+      (at < s ? own[at] : boundary[at - s]) += stack[below + p];
+    }
   }
   const int* ipiv = pivots_.data() + node.pivotOffset;
-  for (std::size_t i = 0; i < s; ++i) std::swap(t[i], t[std::size_t(ipiv[i] - 1)]);
+  for (std::size_t i = 0; i < s; ++i) std::swap(own[i], own[std::size_t(ipiv[i] - 1)]);
   // One pass over the panel [L11; L21], column by column (contiguous).
-  const double* panel = factors_.data() + node.panelOffset;
+  const float* panel = factors_.get() + node.panelOffset;
   for (std::size_t j = 0; j < s; ++j) {
-    const double y = t[j];
-    const double* column = panel + j * m;
-    for (std::size_t i = j + 1; i < m; ++i) t[i] -= column[i] * y;
+    const double y = own[j];
+    const float* column = panel + j * m;
+    for (std::size_t i = j + 1; i < s; ++i) own[i] -= column[i] * y;
+    for (std::size_t i = 0; i < b; ++i) boundary[i] -= column[s + i] * y;
   }
-  for (std::size_t k = 0; k < s; ++k) bx[std::size_t(node.vars[k])] = t[k];
-  // Pop the children's updates and the front vector; push this node's update (its boundary part).
-  std::copy_n(t + s, b, stack.data() + below);
+  // Pop the children's updates; this node's update takes their place.
+  std::copy_n(boundary, b, stack.data() + below);
   stack.resize(below + b);
 }
 
-void GridLu::backwardSubtree(int index, int depth, std::span<double> bx, std::vector<double>& scratch) const {
+void GridLu::backwardSubtree(int index, int depth, std::span<double> w) const {
   // U x = y, parents before children; the boundary's x is final when a node is reached.
   const Node& node = nodes_[std::size_t(index)];
   const std::size_t m = node.vars.size(), s = std::size_t(node.own), b = m - s;
-  double* t = scratch.data();
-  for (std::size_t k = 0; k < m; ++k) t[k] = bx[std::size_t(node.vars[k])];
-  const double* upper = factors_.data() + node.upperOffset;
+  double* own = w.data() + node.ownStart;
+  const float* upper = factors_.get() + node.upperOffset;
   for (std::size_t q = 0; q < b; ++q) {
-    const double x = t[s + q];
-    const double* column = upper + q * s;
-    for (std::size_t i = 0; i < s; ++i) t[i] -= column[i] * x;
+    const double x = w[std::size_t(node.boundaryPositions[q])];
+    const float* column = upper + q * s;
+    for (std::size_t i = 0; i < s; ++i) own[i] -= column[i] * x;
   }
-  const double* panel = factors_.data() + node.panelOffset;
+  const float* panel = factors_.get() + node.panelOffset;
   for (std::size_t j = s; j-- > 0;) {
-    const double* column = panel + j * m;
-    const double x = t[j] /= column[j];
-    for (std::size_t i = 0; i < j; ++i) t[i] -= column[i] * x;
+    const float* column = panel + j * m;
+    const double x = own[j] *= column[j];  // the inverted diagonal
+    for (std::size_t i = 0; i < j; ++i) own[i] -= column[i] * x;
   }
-  for (std::size_t k = 0; k < s; ++k) bx[std::size_t(node.vars[k])] = t[k];
   const auto children = node.children;
   if (depth > 0 && children[0] >= 0 && children[1] >= 0) {
-    std::jthread other([&] {
-      std::vector<double> own(nodes_[std::size_t(children[0])].maxFront);
-      backwardSubtree(children[0], depth - 1, bx, own);
-    });
-    backwardSubtree(children[1], depth - 1, bx, scratch);
+    std::jthread other([&] { backwardSubtree(children[0], depth - 1, w); });
+    backwardSubtree(children[1], depth - 1, w);
     return;
   }
   for (int child : children)
-    if (child >= 0) backwardSubtree(child, 0, bx, scratch);
+    if (child >= 0) backwardSubtree(child, 0, w);
 }
 
 }  // namespace iblx

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -56,10 +57,12 @@ class GridLu {
     std::array<std::vector<int>, 2> childMap;
     // Original entries assembled here: (front row, front column, index into StencilMatrix::values).
     std::vector<std::array<int, 3>> entries;
-    std::size_t panelOffset = 0;  // front size x own block [L11\U11; L21], column-major
-    std::size_t upperOffset = 0;  // own x boundary block U12, column-major (leading dimension own)
-    std::size_t pivotOffset = 0;  // own row interchanges (LAPACK ipiv, 1-based)
-    std::size_t maxFront = 0;     // the largest front size in this subtree
+    std::size_t panelOffset = 0;         // front size x own block [L11\U11; L21], column-major
+    std::size_t upperOffset = 0;         // own x boundary block U12, column-major (leading dimension own)
+    std::size_t pivotOffset = 0;         // own row interchanges (LAPACK ipiv, 1-based)
+    std::size_t maxFront = 0;            // the largest front size in this subtree
+    std::size_t ownStart = 0;            // where the own variables start in the elimination order
+    std::vector<int> boundaryPositions;  // the boundary variables' places in the elimination order
   };
 
   int build(int x0, int x1, int y0, int y1, std::vector<int>& position);
@@ -67,14 +70,16 @@ class GridLu {
   void factorSubtree(int node, int depth, const StencilMatrix& a, std::vector<double>& stack, int& replaced);
   void factorNode(int node, const StencilMatrix& a, std::vector<double>& front, std::vector<double>& stack,
                   int& replaced);
-  void forwardSubtree(int node, int depth, std::span<double> bx, std::vector<double>& stack) const;
-  void forwardNode(int node, std::span<double> bx, std::vector<double>& stack) const;
-  void backwardSubtree(int node, int depth, std::span<double> bx, std::vector<double>& scratch) const;
+  // The solve works on w, the right-hand side in elimination order.
+  void forwardSubtree(int node, int depth, std::span<double> w, std::vector<double>& stack) const;
+  void forwardNode(int node, std::span<double> w, std::vector<double>& stack) const;
+  void backwardSubtree(int node, int depth, std::span<double> w) const;
 
   int width_, height_, parallelDepth_ = 0;
   std::vector<Node> nodes_;
+  std::vector<int> order_;  // elimination position -> cell
   int root_ = -1;
-  std::vector<double> factors_;
+  std::unique_ptr<float[]> factors_;
   std::vector<int> pivots_;
   std::size_t factorEntries_ = 0;
   double flops_ = 0.0;
