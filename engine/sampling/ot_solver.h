@@ -100,7 +100,7 @@ struct OtSolverOptions {
 };
 
 // Bumped whenever the solver's algorithm changes its results, so that cached maps (ot_cache.h) are re-solved.
-inline constexpr int kOtSolverVersion = 6;
+inline constexpr int kOtSolverVersion = 7;
 
 // What one grid level of the coarse-to-fine solve did (coarsest first in OtMap::levels).
 struct OtLevelStats {
