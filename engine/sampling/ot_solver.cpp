@@ -515,14 +515,17 @@ class LevelSolver {
   // Newton direction: GMRES with the cheap Laplacian preconditioner while it reaches its tolerance; when it
   // does not (a strongly distorted map), GMRES preconditioned by the LU factors of the exact Jacobian,
   // refactored at the current map when the lagged factors no longer reach the tolerance either. A
-  // factorisation costs about 15 solves at n = 512 (0.7 s against 0.047 s), so lagged factors are kept as
-  // long as GMRES fixes their mismatch in at most 4 steps (8 gave sunrise at n = 512 526 solves and 31 s,
-  // against 314 and 21 s; city, forest and sun1e5 moved within the noise, measured). They are asked for a
-  // tighter tolerance than fresh ones, which meet krylovTolerance in one or two steps and so give nearly
-  // exact directions: lagged factors at krylovTolerance gave inexact directions that cost more Newton
-  // iterations than the factorisations saved (measured). A short step is no sign of poor factors (the guard
-  // cuts the first step of most continuation stages): renewing them after every short step made sunrise
-  // at n = 512 factorise 118 times without finishing in 240 s.
+  // factorisation costs about 9 solves at n = 512 (0.16 s against 0.018 s with grid_lu.h; it was 0.7 s
+  // against 0.047 s with UMFPACK), so lagged factors are kept as long as GMRES fixes their mismatch in at
+  // most 4 steps (8 gave sunrise at n = 512 526 solves and 31 s, against 314 and 21 s, with UMFPACK; city,
+  // forest and sun1e5 moved within the noise, measured). Renewing them whenever one lagged step missed the
+  // tolerance (grid LU, n = 512) made city and sunrise 1.5-2x faster but studio, sunset, forest and
+  // sun1e5 1.3-1.8x slower, and night and interior no faster. They are asked for a tighter tolerance than
+  // fresh ones, which meet krylovTolerance in one or two steps and so give nearly exact directions: lagged
+  // factors at krylovTolerance gave inexact directions that cost more Newton iterations than the
+  // factorisations saved (measured). A short step is no sign of poor factors (the guard cuts the first step
+  // of most continuation stages): renewing them after every short step made sunrise at n = 512 factorise 118
+  // times without finishing in 240 s.
   void newtonDirection(std::vector<double>& d) {
     if (!laplacianFailed_ || !options_.directNewton) {
       const double rel = gmres(d, Preconditioner::Laplacian);
@@ -540,7 +543,7 @@ class LevelSolver {
   // GMRES(m) on J x = rhs, right-preconditioned, x0 = 0 (Saad & Schultz 1986); d = -x. Returns the reached
   // relative residual of the row-scaled system. The preconditioned basis vectors z_k = M^-1 v_k are kept, so
   // x = sum y_k z_k costs no further preconditioner solve (as flexible GMRES stores them, Saad 1993): at
-  // n = 512 that spares one LU solve (47 ms) of the four or so behind each Newton direction.
+  // n = 512 that spares one LU solve (18 ms) of the four or so behind each Newton direction.
   double gmres(std::vector<double>& d, Preconditioner which, int maxSteps = 0, double tolerance = 0.0) {
     const int m = maxSteps > 0 ? std::min(maxSteps, options_.krylovSteps) : options_.krylovSteps;
     if (tolerance <= 0.0) tolerance = options_.krylovTolerance;

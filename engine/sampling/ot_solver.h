@@ -6,16 +6,17 @@
 // Differences from that paper's released solver (written from the notes, not its code):
 // - Newton directions on the relative residual (A - m) / m: GMRES preconditioned by the fixed
 //   pseudo-Laplacian L (the exact area Jacobian at the identity, diagonal in the DCT-II basis, O(n^2 log n)
-//   per solve) while that reaches its tolerance, else by UMFPACK LU factors (AMD ordering, no iterative
-//   refinement) of the exact Jacobian at an earlier map, renewed at the current map only when GMRES with
-//   them needs more than a few steps. otmap's chord directions and conjugate-Jacobian update remain as
-//   options (experiments);
+//   per solve) while that reaches its tolerance, else by LU factors of the exact Jacobian at an earlier map
+//   (grid_lu.h: nested dissection, multifrontal, single-precision factors), renewed at the current map only
+//   when GMRES with them needs more than a few steps. otmap's chord directions and conjugate-Jacobian update
+//   remain as options (experiments);
 // - a line search that keeps every quad's signed area positive (OtFoldGuard::Area), going at most
 //   boundaryFraction of the way to the first degenerate quad;
 // - continuation: the target is approached in stages m_s = A0^(1-s) m^s (renormalised) from the start map's
 //   own areas A0; each stage starts from a secant predictor (cut back to keep every quad's area positive); a
-//   stage whose Newton step falls below stageMinStep is undone and retried with a smaller step in s, sized
-//   from how far its first Newton step got (see LevelSolver::run). Easy densities take the single stage
+//   stage whose Newton step falls below stageMinStep is undone (or, before any stage is solved, kept as the
+//   new start when it got closer to its target) and retried with a smaller step in s, sized from how far its
+//   first Newton step got (see LevelSolver::run). Easy densities take the single stage
 //   s = 1;
 // - on a level that had to undo a stage, steps cut short by the fold guard follow a second-order correction
 //   (a curve on which the quadratic area term is cancelled; LevelSolver::curvedStep);
