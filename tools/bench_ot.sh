@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Issue 4's benchmarks, figures in docs/BENCHMARKS.md ("Optimal-transport sampling"):
-#   solver:   the OT solver's time and accuracy (iblx_ot_bench) on the synthetic cases and on the CC0 HDRIs of
-#             Debian's blender-data, at the grid sizes given (default 128,256);
+#   solver:   the grid LU alone (iblx_ot_bench --lu), then the OT solver's time and accuracy (iblx_ot_bench) on
+#             the synthetic cases and on the CC0 HDRIs of Debian's blender-data, at the grid sizes given
+#             (default 128,256);
 #   converge: iblx converge of env-cdf, env-hier, env-ot-inv and env-ot-fwd, each with random and sobol, on a
 #             Lambert and a GGX a = 0.1 sphere under forest.exr (no sun) and sunrise.exr (a strong sun), equal
 #             wall-time budgets; writes docs/ot/<env>-<material>/ (summary.md, converge.csv, two plots).
@@ -17,6 +18,7 @@ world=/usr/share/blender/datafiles/studiolights/world
 [ -f "$world/forest.exr" ] || { echo "bench_ot.sh: $world/forest.exr missing: install blender-data (tools/install.sh)" >&2; exit 1; }
 
 if [ "$what" = solver ] || [ "$what" = all ]; then
+  "$root/build/iblx_ot_bench" --lu --sizes "$sizes"
   "$root/build/iblx_ot_bench" --sizes "$sizes" "$world"/*.exr 2> /dev/null
 fi
 
