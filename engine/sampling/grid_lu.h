@@ -57,11 +57,12 @@ class GridLu {
     std::array<std::vector<int>, 2> childMap;
     // Original entries assembled here: (front row, front column, index into StencilMatrix::values).
     std::vector<std::array<int, 3>> entries;
-    std::size_t panelOffset = 0;         // front size x own block [L11\U11; L21], column-major
-    std::size_t upperOffset = 0;         // own x boundary block U12, column-major (leading dimension own)
-    std::size_t pivotOffset = 0;         // own row interchanges (LAPACK ipiv, 1-based)
-    std::size_t maxFront = 0;            // the largest front size in this subtree
-    std::size_t ownStart = 0;            // where the own variables start in the elimination order
+    std::size_t panelOffset = 0;  // front size x own block [L11\U11; L21], column-major
+    std::size_t upperOffset = 0;  // own x boundary block U12, column-major (leading dimension own)
+    std::size_t pivotOffset = 0;  // own row interchanges (LAPACK ipiv, 1-based)
+    std::size_t maxFront = 0;     // the largest front size in this subtree
+    int subtreeFirst = 0;         // the subtree is nodes_[subtreeFirst .. this node] (nodes_ is in postorder)
+    std::size_t ownStart = 0;     // where the own variables start in the elimination order
     std::vector<int> boundaryPositions;  // the boundary variables' places in the elimination order
   };
 
@@ -74,6 +75,7 @@ class GridLu {
   void forwardSubtree(int node, int depth, std::span<double> w, std::vector<double>& stack) const;
   void forwardNode(int node, std::span<double> w, std::vector<double>& stack) const;
   void backwardSubtree(int node, int depth, std::span<double> w) const;
+  void backwardNode(int node, std::span<double> w) const;
 
   int width_, height_, parallelDepth_ = 0;
   std::vector<Node> nodes_;
