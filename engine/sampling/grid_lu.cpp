@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <dlfcn.h>
+#include <limits>
 #include <mutex>
 #include <thread>
 
@@ -21,11 +22,6 @@ void dtrsm_(const char* side, const char* uplo, const char* transa, const char* 
 void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
             const double* alpha, const double* a, const int* lda, const double* b, const int* ldb,
             const double* beta, double* c, const int* ldc, std::size_t, std::size_t);
-void dtrsv_(const char* uplo, const char* trans, const char* diag, const int* n, const double* a,
-            const int* lda, double* x, const int* incx, std::size_t, std::size_t, std::size_t);
-void dgemv_(const char* trans, const int* m, const int* n, const double* alpha, const double* a,
-            const int* lda, const double* x, const int* incx, const double* beta, double* y, const int* incy,
-            std::size_t);
 }
 
 namespace iblx {
@@ -57,6 +53,13 @@ inline void subtractColumn(double* __restrict y, std::size_t count, const float*
   for (std::size_t i = 0; i < count; ++i) y[i] -= c[i] * x;
 }
 
+// A factor entry in single precision, clamped to its range: a near-zero pivot that LAPACK kept (only exact
+// zeros are replaced) must not turn into an infinity.
+float toFactor(double value) {
+  constexpr double kMax = std::numeric_limits<float>::max();
+  return float(std::clamp(value, -kMax, kMax));
+}
+
 // Subdomains of at most this many cells are eliminated whole, as one dense front (their separators would
 // be fronts of a few variables each, where BLAS calls cost more than the arithmetic).
 constexpr int kLeafCells = 16;
@@ -82,15 +85,13 @@ GridLu::GridLu(int width, int height, int threads) : width_(width), height_(heig
   IBLX_ASSERT(width > 0 && height > 0);
   useSingleThreadedBlas();
   const int workers = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
-  while ((1 << parallelDepth_) < workers) ++parallelDepth_;
+  while ((1 << parallelDepth_) < std::min(workers, 16)) ++parallelDepth_;  // at most 16 subtrees
   std::vector<int> position(std::size_t(width) * height, -1);
   root_ = build(0, width, 0, height, position);
   // build() appends a node after its subtree, so nodes_ is in postorder and a subtree is the index range
   // [subtreeFirst, node]. The factor storage follows the same order.
   std::size_t panel = 0, pivots = 0;
-  std::vector<int> postorder(nodes_.size());
-  for (std::size_t k = 0; k < nodes_.size(); ++k) postorder[k] = int(k);
-  for (int index : postorder) {
+  for (std::size_t index = 0; index < nodes_.size(); ++index) {
     Node& node = nodes_[std::size_t(index)];
     const std::size_t m = node.vars.size(), s = std::size_t(node.own), b = m - s;
     node.panelOffset = panel, panel += m * s;
@@ -103,8 +104,7 @@ GridLu::GridLu(int width, int height, int threads) : width_(width), height_(heig
   }
   // Elimination order: the fronts' own variables in postorder.
   std::vector<int> positionOf(std::size_t(width) * height);
-  for (int index : postorder) {
-    Node& node = nodes_[std::size_t(index)];
+  for (Node& node : nodes_) {
     node.ownStart = order_.size();
     for (int k = 0; k < node.own; ++k) {
       positionOf[std::size_t(node.vars[std::size_t(k)])] = int(order_.size());
@@ -252,14 +252,16 @@ void GridLu::factorNode(int index, const StencilMatrix& a, std::vector<double>& 
     double* update = stack.data() + base;
     for (int q = 0; q < b; ++q) std::copy_n(f12 + std::size_t(q) * mm + s, b, update + std::size_t(q) * b);
     dgemm_("N", "N", &b, &b, &s, &minusOne, f21, &m, f12, &m, &one, update, &b, 1, 1);  // F22 - L21 U12
-    for (int q = 0; q < b; ++q)
-      std::copy_n(f12 + std::size_t(q) * mm, s, factors + node.upperOffset + std::size_t(q) * s);
+    for (int q = 0; q < b; ++q) {
+      const double* column = f12 + std::size_t(q) * mm;
+      std::transform(column, column + s, factors + node.upperOffset + std::size_t(q) * s, toFactor);
+    }
   }
   // Single precision is enough for a preconditioner and makes the (memory-bound) solves faster; the
   // diagonal is kept inverted, so that the backward solve multiplies instead of dividing.
   float* panel = factors + node.panelOffset;
-  std::copy_n(front.data(), mm * std::size_t(s), panel);
-  for (std::size_t j = 0; j < std::size_t(s); ++j) panel[j * mm + j] = float(1.0 / front[j * mm + j]);
+  std::transform(front.data(), front.data() + mm * std::size_t(s), panel, toFactor);
+  for (std::size_t j = 0; j < std::size_t(s); ++j) panel[j * mm + j] = toFactor(1.0 / front[j * mm + j]);
 }
 
 void GridLu::solve(std::span<double> bx) const {

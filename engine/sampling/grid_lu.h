@@ -4,6 +4,9 @@
 // symbolic phase is a recursion over rectangles, and every front is a dense block factored by LAPACK/BLAS.
 // Pivoting is partial within each front's fully summed block; a zero pivot there is replaced by a tiny one
 // (static pivoting, Li & Demmel, ACM TOMS 29(2), 2003), which the OT solver's GMRES corrects.
+// The factors are kept in single precision (they precondition GMRES, which works in double). Constructing a
+// GridLu sets OpenBLAS, when that is the BLAS, to one thread for the whole process: the subtrees already run
+// on their own threads, and OpenBLAS's idle workers spin.
 #pragma once
 
 #include <array>
@@ -45,7 +48,7 @@ class GridLu {
   void solve(std::span<double> bx) const;
 
   bool factored() const { return factored_; }
-  std::size_t factorEntries() const { return factorEntries_; }  // doubles held by the factors
+  std::size_t factorEntries() const { return factorEntries_; }  // single-precision entries of the factors
   double factorFlops() const { return flops_; }                 // of one factorisation
 
  private:
@@ -68,14 +71,14 @@ class GridLu {
 
   int build(int x0, int x1, int y0, int y1, std::vector<int>& position);
   // Each leaves the node's update (matrix or vector, over its boundary) on top of `stack`.
-  void factorSubtree(int node, int depth, const StencilMatrix& a, std::vector<double>& stack, int& replaced);
-  void factorNode(int node, const StencilMatrix& a, std::vector<double>& front, std::vector<double>& stack,
+  void factorSubtree(int index, int depth, const StencilMatrix& a, std::vector<double>& stack, int& replaced);
+  void factorNode(int index, const StencilMatrix& a, std::vector<double>& front, std::vector<double>& stack,
                   int& replaced);
   // The solve works on w, the right-hand side in elimination order.
-  void forwardSubtree(int node, int depth, std::span<double> w, std::vector<double>& stack) const;
-  void forwardNode(int node, std::span<double> w, std::vector<double>& stack) const;
-  void backwardSubtree(int node, int depth, std::span<double> w) const;
-  void backwardNode(int node, std::span<double> w) const;
+  void forwardSubtree(int index, int depth, std::span<double> w, std::vector<double>& stack) const;
+  void forwardNode(int index, std::span<double> w, std::vector<double>& stack) const;
+  void backwardSubtree(int index, int depth, std::span<double> w) const;
+  void backwardNode(int index, std::span<double> w) const;
 
   int width_, height_, parallelDepth_ = 0;
   std::vector<Node> nodes_;

@@ -213,8 +213,6 @@ class LevelSolver {
       // unconditionally.
       const bool strict = step > options_.minStageStep;
       const int before = s.iterations;
-      evaluateResidual(s);
-      const double startL2 = s.l2;  // against this stage's target
       ++s.stages;
       double firstStep = 1.0;
       const bool ok = iterate(psi, s, last ? targetL2 : -1.0, budget,
@@ -229,7 +227,7 @@ class LevelSolver {
         continue;
       }
       if (step <= options_.minStageStep) break;  // keep the best map reached
-      if (reached == 0.0 && s.iterations > before && s.l2 < startL2) {
+      if (reached == 0.0 && s.iterations > before && s.l2 < stageStartL2_) {
         // No stage solved yet, and this one got closer to its target before it crawled: the continuation
         // starts again from the map reached (undoing it threw away up to 6 Newton iterations of unfolding on
         // sunrise and city).
@@ -237,7 +235,6 @@ class LevelSolver {
           const double area = residual_[c] + mass_[c];
           logStart[c] = area > 0.0 ? std::log(area) : logTarget[c];
         }
-        reached = 0.0, previous = -1.0;
       } else {
         psi = savedPsi, pos_ = savedPos;  // undo the stage and take a smaller one
       }
@@ -301,6 +298,7 @@ class LevelSolver {
     constexpr double kCurveBelow = 0.9;  // curvedStep() for guarded steps shorter than this
     const int n = n_;
     evaluateResidual(s);
+    stageStartL2_ = s.l2;
     bool havePrev = false;
     for (int k = 0;; ++k) {
       if (targetL2 < 0.0 ? s.maxLogError <= options_.stageLogError
@@ -369,8 +367,8 @@ class LevelSolver {
   // solve with the current LU factors (or the Laplacian's, before any): it need not be exact. Returns the
   // longest tau in {1, 0.8, 0.64, ...} above t at which every quad keeps an area above 1e-3 of its target
   // (those with a positive area now) and the merit is below the straight step's, or 0 when there is none.
-  // Measured on sunrise (no suns split off): 66 Newton iterations became 24 at n = 512 (9.6 s against 15.5 s),
-  // 148 became 30 at n = 1024 (93 s against 164 s); interior at 512: 73 became 25 (12 s against 23 s).
+  // Measured on sunrise (no suns split off): 66 Newton iterations became 24 at n = 512 (9.6 s against 15.5
+  // s), 148 became 30 at n = 1024 (93 s against 164 s); interior at 512: 73 became 25 (12 s against 23 s).
   double curvedStep(double t) {
     const int n = n_;
     rhs_.resize(residual_.size());
@@ -628,7 +626,7 @@ class LevelSolver {
   void factorJacobian() {
     const int n = n_;
     if (!lu_) {
-      lu_.emplace(n, n);  // nested dissection of the grid: computed once per level
+      lu_.emplace(n, n, threads_);  // nested dissection of the grid: computed once per level
       jacobian_ = StencilMatrix(n, n);
     }
     const double half = 0.5 * n;
@@ -880,6 +878,7 @@ class LevelSolver {
   std::vector<double> curveDir_;
   bool guardLimited_ = false;  // the last lineSearch() stopped at the fold guard's bound
   bool curvedSteps_ = false;   // curvedStep() is in use on this level
+  double stageStartL2_ = 0.0;  // E when the last iterate() started, against that stage's target
   int curvedStepsTaken_ = 0;
   std::vector<std::vector<double>> basis_, preconditioned_;
   StencilMatrix jacobian_;

@@ -106,14 +106,14 @@ inline constexpr int kOtSolverVersion = 7;
 // What one grid level of the coarse-to-fine solve did (coarsest first in OtMap::levels).
 struct OtLevelStats {
   int n = 0;
-  int iterations = 0;         // Newton iterations (line searches that moved)
-  int stages = 0;             // continuation stages attempted (1 for an easy density)
-  int undoneStages = 0;       // stages undone and retried with a smaller step in s
-  int factorisations = 0;     // sparse LU factorisations of the exact Jacobian
-  int krylovSteps = 0;        // GMRES steps, each one preconditioner solve and one Jacobian product
-  int curvedSteps = 0;  // steps along a second-order correction (OtSolverOptions::secondOrderCorrection)
-  bool foldedStart = false;   // the prolonged coarse map had folded quads here
-  bool restarted = false;     // ... which did not unfold, so the level started again
+  int iterations = 0;        // Newton iterations (line searches that moved)
+  int stages = 0;            // continuation stages attempted (1 for an easy density)
+  int undoneStages = 0;      // stages undone (or, before any was solved, re-anchored) and retried smaller
+  int factorisations = 0;    // sparse LU factorisations of the exact Jacobian
+  int krylovSteps = 0;       // GMRES steps, each one preconditioner solve and one Jacobian product
+  int curvedSteps = 0;       // steps along a second-order correction (OtSolverOptions::secondOrderCorrection)
+  bool foldedStart = false;  // the prolonged coarse map had folded quads here
+  bool restarted = false;    // ... which did not unfold, so the level started again
   double restartScale = 0.0;  // from this fraction of the way to the prolonged map (all unfolded)
   double seconds = 0.0;       // wall time of the level
   double l2 = 0.0;            // E reached at this level
@@ -125,15 +125,15 @@ struct OtMap {
   // uniform square. Cell c's quad (vertices (i,j), (i+1,j), (i+1,j+1), (i,j+1)) has area h^2 rho_c at
   // convergence, with rho the floored, mean-1 density (`density`).
   std::vector<glm::dvec2> vertices;
-  std::vector<double> density;  // the floored, mean-1 target the map was solved for (n^2)
-  std::vector<double> psi;      // the potential, one value per cell (n^2), mean 0
-  int iterations = 0;           // at the finest level
-  int coarseIterations = 0;     // summed over the coarse levels
+  std::vector<double> density;       // the floored, mean-1 target the map was solved for (n^2)
+  std::vector<double> psi;           // the potential, one value per cell (n^2), mean 0
+  int iterations = 0;                // at the finest level
+  int coarseIterations = 0;          // summed over the coarse levels
   std::vector<OtLevelStats> levels;  // coarsest first, the finest (n) last; empty when read from the cache
-  double seconds = 0.0;         // wall time of the whole solve, coarse levels included
-  double l2 = 0.0;              // E = sum_c h^2 (A_c/h^2 - rho_c)^2
-  double l1 = 0.0;              // sum_c |A_c - h^2 rho_c|
-  double linf = 0.0;            // max_c |A_c - h^2 rho_c| / h^2
+  double seconds = 0.0;              // wall time of the whole solve, coarse levels included
+  double l2 = 0.0;                   // E = sum_c h^2 (A_c/h^2 - rho_c)^2
+  double l1 = 0.0;                   // sum_c |A_c - h^2 rho_c|
+  double linf = 0.0;                 // max_c |A_c - h^2 rho_c| / h^2
   // Quads whose bilinear map does not have a strictly positive Jacobian everywhere: the Jacobian determinant
   // of a bilinear patch is affine in each parameter, so this is "some corner cross product (P_next - P) x
   // (P_prev - P), taken counter-clockwise, is <= 0". Negative areas and self-intersecting or non-convex quads

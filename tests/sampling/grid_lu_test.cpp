@@ -5,6 +5,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -92,9 +93,11 @@ std::vector<double> luSolve(const GridLu& lu, const StencilMatrix& a, const std:
 }  // namespace
 
 TEST_CASE("Grid LU: solutions match dense elimination on grids of every shape") {
-  // 1x1 and 4x4 are single leaves; 5x4 and 17x3 split once; 13x11 and 31x29 nest several separators, with
-  // fronts whose boundary rings touch the grid's edges and corners.
-  const int shapes[][2] = {{1, 1}, {4, 4}, {5, 4}, {17, 3}, {3, 17}, {13, 11}, {31, 29}};
+  // 1x1 and 4x4 are single leaves; 5x4 splits once; 17x3, 3x17 and the strips 64x1, 1x64 and 2x40 split
+  // along their long side only; 13x11 and 31x29 nest several separators, with fronts whose boundary rings
+  // touch the grid's edges and corners.
+  const int shapes[][2] = {{1, 1},  {4, 4},  {5, 4},  {17, 3},  {3, 17},
+                           {64, 1}, {1, 64}, {2, 40}, {13, 11}, {31, 29}};
   unsigned seed = 1;
   for (const auto& shape : shapes) {
     const int w = shape[0], h = shape[1];
@@ -157,23 +160,61 @@ TEST_CASE("Grid LU: the OT Jacobian's pinned row, and a refactorisation with new
   }
 }
 
-TEST_CASE("Grid LU: threads give bit-identical factors and solutions") {
-  const StencilMatrix a = randomStencil(40, 37, 21, 3.0);
-  const std::vector<double> b = randomVector(40 * 37, 22);
-  std::vector<double> x1 = b, x4 = b;
-  GridLu one(40, 37, 1), four(40, 37, 4);
-  one.factor(a), four.factor(a);
-  one.solve(x1), four.solve(x4);
-  CHECK(maxDifference(x1, x4) == 0.0);
-  CHECK(one.factorEntries() == four.factorEntries());
+TEST_CASE("Grid LU: threads give bit-identical solutions") {
+  // Without diagonal dominance, so that fronts on every thread pivot; 3 and 16 threads split unevenly or
+  // more often than the tree allows on the small grid.
+  const StencilMatrix a = randomStencil(40, 37, 21, 0.0), small = randomStencil(5, 4, 23, 0.0);
+  const std::vector<double> b = randomVector(40 * 37, 22), bSmall = randomVector(5 * 4, 24);
+  GridLu one(40, 37, 1);
+  one.factor(a);
+  std::vector<double> x1 = b;
+  one.solve(x1);
+  CHECK(relativeDifference(luSolve(one, a, b, 3), denseSolve(a, b)) < 1e-10);
+  for (int threads : {2, 3, 4}) {
+    CAPTURE(threads);
+    GridLu many(40, 37, threads);
+    many.factor(a);
+    std::vector<double> x = b;
+    many.solve(x);
+    CHECK(maxDifference(x1, x) == 0.0);
+  }
+  GridLu smallOne(5, 4, 1), smallMany(5, 4, 16);
+  smallOne.factor(small), smallMany.factor(small);
+  std::vector<double> s1 = bSmall, s16 = bSmall;
+  smallOne.solve(s1), smallMany.solve(s16);
+  CHECK(maxDifference(s1, s16) == 0.0);
 }
 
 TEST_CASE("Grid LU: a singular matrix has its zero pivots replaced, and the solve stays finite") {
-  StencilMatrix a(6, 5);  // all zero but a few diagonal entries
-  for (int c = 0; c < 30; c += 3) a.at(c, 0, 0) = 2.0;
-  GridLu lu(6, 5, 1);
-  CHECK(lu.factor(a) == 20);
-  std::vector<double> x = randomVector(30, 3);
-  lu.solve(x);
-  for (double value : x) CHECK(std::isfinite(value));
+  SUBCASE("diagonal with zeros: the nonzero rows are still solved exactly") {
+    StencilMatrix a(6, 5);
+    for (int c = 0; c < 30; c += 3) a.at(c, 0, 0) = 2.0;
+    GridLu lu(6, 5, 1);
+    CHECK(lu.factor(a) == 20);
+    const std::vector<double> b = randomVector(30, 3);
+    std::vector<double> x = b;
+    lu.solve(x);
+    for (int c = 0; c < 30; ++c) {
+      CHECK(std::isfinite(x[std::size_t(c)]));
+      if (c % 3 == 0) CHECK(x[std::size_t(c)] == doctest::Approx(b[std::size_t(c)] / 2.0).epsilon(1e-6));
+    }
+  }
+  SUBCASE("zero pivot columns: in a leaf with entries below it, and on a separator") {
+    // 9x3: the separator is column x = 4 (cells 4, 13, 22), the right leaf is x = 5..8. Column 5 (the leaf's
+    // first pivot) is zeroed in the leaf's own rows only, so the separator rows below keep entries there
+    // (L21 = F21 / tiny pivot); column 13 (on the separator) is zeroed everywhere.
+    StencilMatrix a = randomStencil(9, 3, 31, 4.0);
+    for (int zero : {5, 13})
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int x = zero % 9 - dx, y = zero / 9 - dy;  // the row whose (dx, dy) entry is column `zero`
+          const bool keep = zero == 5 && x == 4;
+          if (x >= 0 && x < 9 && y >= 0 && y < 3 && !keep) a.at(y * 9 + x, dx, dy) = 0.0;
+        }
+    GridLu lu(9, 3, 2);
+    CHECK(lu.factor(a) >= 2);
+    std::vector<double> x = randomVector(27, 32);
+    lu.solve(x);
+    for (double value : x) CHECK(std::isfinite(value));
+  }
 }
