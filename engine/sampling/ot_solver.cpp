@@ -381,7 +381,7 @@ class LevelSolver {
         }
     });
     curveDir_.resize(residual_.size()), curveGrad_.resize(pos_.size());
-    if (luValid_)
+    if (lu_)
       solveFrozenLu(rhs_, curveDir_, -1.0);
     else
       solveLaplacian(rhs_, curveDir_);  // -L^-1 a, L the Jacobian at the identity
@@ -532,8 +532,7 @@ class LevelSolver {
     }
     constexpr int kLaggedSteps = 4;
     constexpr double kLaggedTolerance = 0.01;
-    if (luValid_ && gmres(d, Preconditioner::FrozenLu, kLaggedSteps, kLaggedTolerance) <= kLaggedTolerance)
-      return;
+    if (lu_ && gmres(d, Preconditioner::FrozenLu, kLaggedSteps, kLaggedTolerance) <= kLaggedTolerance) return;
     factorJacobian();
     gmres(d, Preconditioner::FrozenLu);
   }
@@ -626,7 +625,8 @@ class LevelSolver {
   void factorJacobian() {
     const int n = n_;
     if (!lu_) {
-      lu_.emplace(n, n, threads_);  // nested dissection of the grid: computed once per level
+      // Nested dissection of the grid, computed once per level; from here on lu_ always holds factors.
+      lu_.emplace(n, n, threads_);
       jacobian_ = StencilMatrix(n, n);
     }
     const double half = 0.5 * n;
@@ -660,7 +660,6 @@ class LevelSolver {
     // Exact zero pivots are replaced (GridLu's static pivoting): the factors then precondition a nearby
     // matrix, which GMRES's residual check still measures against the true one.
     lu_->factor(jacobian_);
-    luValid_ = true;
     ++factorisations_;
   }
 
@@ -883,7 +882,7 @@ class LevelSolver {
   std::vector<std::vector<double>> basis_, preconditioned_;
   StencilMatrix jacobian_;
   std::optional<GridLu> lu_;
-  bool luValid_ = false, laplacianFailed_ = false;
+  bool laplacianFailed_ = false;
   int factorisations_ = 0, krylovSteps_ = 0;
   std::vector<double> luWork_;
 };
