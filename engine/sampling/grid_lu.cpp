@@ -95,10 +95,11 @@ GridLu::GridLu(int width, int height, int threads) : width_(width), height_(heig
   std::vector<int> position(std::size_t(width) * height, -1);
   root_ = build(0, width, 0, height, position);
   // build() appends a node after its subtree, so nodes_ is in postorder and a subtree is the index range
-  // [subtreeFirst, node]. The factor storage follows the same order.
+  // [subtreeFirst, node]. The factor storage and the elimination order (the fronts' own variables) follow
+  // the same order.
   std::size_t panel = 0, pivots = 0;
-  for (std::size_t index = 0; index < nodes_.size(); ++index) {
-    Node& node = nodes_[std::size_t(index)];
+  std::vector<int> positionOf(std::size_t(width) * height);
+  for (Node& node : nodes_) {
     const std::size_t m = node.vars.size(), s = std::size_t(node.own), b = m - s;
     node.panelOffset = panel, panel += m * s;
     node.upperOffset = panel, panel += s * b;
@@ -107,10 +108,6 @@ GridLu::GridLu(int width, int height, int threads) : width_(width), height_(heig
     for (int child : node.children)
       if (child >= 0) node.maxFront = std::max(node.maxFront, nodes_[std::size_t(child)].maxFront);
     flops_ += 2.0 / 3.0 * double(s) * s * s + 2.0 * double(s) * s * b + 2.0 * double(s) * b * b;
-  }
-  // Elimination order: the fronts' own variables in postorder.
-  std::vector<int> positionOf(std::size_t(width) * height);
-  for (Node& node : nodes_) {
     node.ownStart = order_.size();
     for (int k = 0; k < node.own; ++k) {
       positionOf[std::size_t(node.vars[std::size_t(k)])] = int(order_.size());
@@ -168,7 +165,7 @@ int GridLu::build(int x0, int x1, int y0, int y1, std::vector<int>& position) {
         if (nx < 0 || nx >= width_ || ny < 0 || ny >= height_) continue;
         const int wcell = ny * width_ + nx, lw = position[std::size_t(wcell)];
         const bool inDomain = nx >= x0 && nx < x1 && ny >= y0 && ny < y1;
-        if (inDomain && (lw < 0 || lw >= node.own)) continue;  // eliminated in a child
+        if (inDomain && lw < 0) continue;  // eliminated in a child (the domain's other cells are own)
         node.entries.push_back({lv, lw, v * 9 + (dy + 1) * 3 + (dx + 1)});
         if (!inDomain) node.entries.push_back({lw, lv, wcell * 9 + (1 - dy) * 3 + (1 - dx)});
       }
