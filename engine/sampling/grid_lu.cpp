@@ -93,12 +93,12 @@ GridLu::GridLu(int width, int height, int threads) : width_(width), height_(heig
   const int workers = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
   while ((1 << parallelDepth_) < std::min(workers, 16)) ++parallelDepth_;  // at most 16 subtrees
   std::vector<int> position(std::size_t(width) * height, -1);
-  root_ = build(0, width, 0, height, position);
+  std::vector<std::vector<int>> maps;  // per node and child (2 node + k), flattened into childMaps_ below
+  root_ = build(0, width, 0, height, position, maps);
   // build() appends a node after its subtree, so nodes_ is in postorder and a subtree is the index range
   // [subtreeFirst, node]. The factor storage and the elimination order (the fronts' own variables) follow
   // the same order.
   std::size_t panel = 0, pivots = 0;
-  std::vector<int> positionOf(std::size_t(width) * height);
   for (Node& node : nodes_) {
     const std::size_t m = node.vars.size(), s = std::size_t(node.own), b = m - s;
     node.panelOffset = panel, panel += m * s;
@@ -109,20 +109,22 @@ GridLu::GridLu(int width, int height, int threads) : width_(width), height_(heig
       if (child >= 0) node.maxFront = std::max(node.maxFront, nodes_[std::size_t(child)].maxFront);
     flops_ += 2.0 / 3.0 * double(s) * s * s + 2.0 * double(s) * s * b + 2.0 * double(s) * b * b;
     node.ownStart = order_.size();
-    for (int k = 0; k < node.own; ++k) {
-      positionOf[std::size_t(node.vars[std::size_t(k)])] = int(order_.size());
-      order_.push_back(node.vars[std::size_t(k)]);
+    order_.insert(order_.end(), node.vars.begin(), node.vars.begin() + node.own);
+    const std::size_t index = std::size_t(&node - nodes_.data());
+    for (std::size_t k = 0; k < 2; ++k) {
+      const std::vector<int>& map = maps[2 * index + k];
+      node.childMapOffset[k] = childMaps_.size(), node.childMapSize[k] = map.size();
+      childMaps_.insert(childMaps_.end(), map.begin(), map.end());
     }
   }
-  for (Node& node : nodes_)
-    for (std::size_t q = std::size_t(node.own); q < node.vars.size(); ++q)
-      node.boundaryPositions.push_back(positionOf[std::size_t(node.vars[q])]);
+  workspaces_.resize((std::size_t(2) << parallelDepth_) - 1);
   factorEntries_ = panel;
   factors_ = std::make_unique_for_overwrite<float[]>(panel);  // every entry is written by factor()
   pivots_.assign(pivots, 0);
 }
 
-int GridLu::build(int x0, int x1, int y0, int y1, std::vector<int>& position) {
+int GridLu::build(int x0, int x1, int y0, int y1, std::vector<int>& position,
+                  std::vector<std::vector<int>>& maps) {
   const int w = x1 - x0, h = y1 - y0;
   Node node;
   node.subtreeFirst = int(nodes_.size());
@@ -131,11 +133,11 @@ int GridLu::build(int x0, int x1, int y0, int y1, std::vector<int>& position) {
     // Separator: the middle line across the longer side; each half is a child.
     if (w >= h) {
       const int xs = x0 + w / 2;
-      node.children = {build(x0, xs, y0, y1, position), build(xs + 1, x1, y0, y1, position)};
+      node.children = {build(x0, xs, y0, y1, position, maps), build(xs + 1, x1, y0, y1, position, maps)};
       sx0 = xs, sx1 = xs + 1;
     } else {
       const int ys = y0 + h / 2;
-      node.children = {build(x0, x1, y0, ys, position), build(x0, x1, ys + 1, y1, position)};
+      node.children = {build(x0, x1, y0, ys, position, maps), build(x0, x1, ys + 1, y1, position, maps)};
       sy0 = ys, sy1 = ys + 1;
     }
   }
@@ -147,13 +149,14 @@ int GridLu::build(int x0, int x1, int y0, int y1, std::vector<int>& position) {
     for (int x = std::max(x0 - 1, 0); x <= std::min(x1, width_ - 1); ++x)
       if (x < x0 || x >= x1 || y < y0 || y >= y1) node.vars.push_back(y * width_ + x);
   for (std::size_t k = 0; k < node.vars.size(); ++k) position[std::size_t(node.vars[k])] = int(k);
+  std::array<std::vector<int>, 2> childMaps;
   for (int k = 0; k < 2; ++k) {
     if (node.children[std::size_t(k)] < 0) continue;
     const Node& child = nodes_[std::size_t(node.children[std::size_t(k)])];
     for (std::size_t q = std::size_t(child.own); q < child.vars.size(); ++q) {
       const int at = position[std::size_t(child.vars[q])];
       IBLX_ASSERT(at >= 0);
-      node.childMap[std::size_t(k)].push_back(at);
+      childMaps[std::size_t(k)].push_back(at);
     }
   }
   // Original entries: A(v, w) and A(w, v) for own v and every neighbour w not eliminated below this node.
@@ -172,53 +175,59 @@ int GridLu::build(int x0, int x1, int y0, int y1, std::vector<int>& position) {
   }
   for (int cell : node.vars) position[std::size_t(cell)] = -1;
   nodes_.push_back(std::move(node));
+  maps.push_back(std::move(childMaps[0])), maps.push_back(std::move(childMaps[1]));
   return int(nodes_.size()) - 1;
 }
 
 int GridLu::factor(const StencilMatrix& a) {
   IBLX_ASSERT(a.width == width_ && a.height == height_);
-  std::vector<double> stack;
   int replaced = 0;
-  factorSubtree(root_, parallelDepth_, a, stack, replaced);
+  for (Workspace& work : workspaces_) work.stack.clear();
+  factorSubtree(root_, parallelDepth_, 0, a, replaced);
+  workspace(0).stack.clear();  // the root has no boundary, so no update
   factored_ = true;
   return replaced;
 }
 
-void GridLu::factorSubtree(int index, int depth, const StencilMatrix& a, std::vector<double>& stack,
-                           int& replaced) {
+void GridLu::factorSubtree(int index, int depth, std::size_t slot, const StencilMatrix& a, int& replaced) {
   const Node& node = nodes_[std::size_t(index)];
+  Workspace& work = workspace(slot);
   if (depth > 0 && node.children[0] >= 0 && node.children[1] >= 0) {
-    // The two halves on two threads, each with its own stack; their updates then go on this one in order.
-    std::array<std::vector<double>, 2> stacks;
+    // The two halves on two threads, each with its own workspace; their updates then go on this stack in
+    // order.
     int replacedOther = 0;
     {
-      std::jthread other([&] { factorSubtree(node.children[0], depth - 1, a, stacks[0], replacedOther); });
-      factorSubtree(node.children[1], depth - 1, a, stacks[1], replaced);
+      std::jthread other([&] { factorSubtree(node.children[0], depth - 1, 2 * slot + 1, a, replacedOther); });
+      factorSubtree(node.children[1], depth - 1, 2 * slot + 2, a, replaced);
     }
     replaced += replacedOther;
-    for (const auto& part : stacks) stack.insert(stack.end(), part.begin(), part.end());
-    std::vector<double> front(node.vars.size() * node.vars.size());
-    factorNode(index, a, front, stack, replaced);
+    for (std::size_t child : {2 * slot + 1, 2 * slot + 2}) {
+      std::vector<double>& part = workspace(child).stack;
+      work.stack.insert(work.stack.end(), part.begin(), part.end());
+      part.clear();
+    }
+    factorNode(index, a, work, replaced);
     return;
   }
-  // One thread for the whole subtree, in postorder: one front buffer, one stack.
-  std::vector<double> front(node.maxFront * node.maxFront);
-  for (int k = node.subtreeFirst; k <= index; ++k) factorNode(k, a, front, stack, replaced);
+  // One thread for the whole subtree, in postorder.
+  for (int k = node.subtreeFirst; k <= index; ++k) factorNode(k, a, work, replaced);
 }
 
-void GridLu::factorNode(int index, const StencilMatrix& a, std::vector<double>& front,
-                        std::vector<double>& stack, int& replaced) {
+void GridLu::factorNode(int index, const StencilMatrix& a, Workspace& work, int& replaced) {
   const Node& node = nodes_[std::size_t(index)];
   const int m = int(node.vars.size()), s = node.own, b = m - s;
   const std::size_t mm = std::size_t(m);
+  std::vector<double>& front = work.front;
+  std::vector<double>& stack = work.stack;
+  if (front.size() < mm * mm) front.resize(mm * mm);
   std::fill_n(front.begin(), mm * mm, 0.0);
   for (const auto& [row, col, value] : node.entries)
     front[std::size_t(col) * mm + std::size_t(row)] += a.values[std::size_t(value)];
   // Extend-add the children's update matrices, the second child's on top of the stack.
   for (int k = 1; k >= 0; --k) {
     if (node.children[std::size_t(k)] < 0) continue;
-    const std::vector<int>& map = node.childMap[std::size_t(k)];
-    const std::size_t bc = map.size(), base = stack.size() - bc * bc;
+    const int* map = childMap(node, k);
+    const std::size_t bc = node.childMapSize[std::size_t(k)], base = stack.size() - bc * bc;
     for (std::size_t q = 0; q < bc; ++q) {
       double* column = front.data() + std::size_t(map[q]) * mm;
       const double* update = stack.data() + base + q * bc;
@@ -267,29 +276,35 @@ void GridLu::factorNode(int index, const StencilMatrix& a, std::vector<double>& 
   for (std::size_t j = 0; j < std::size_t(s); ++j) panel[j * mm + j] = toFactor(1.0 / front[j * mm + j]);
 }
 
-void GridLu::solve(std::span<double> bx) const {
+void GridLu::solve(std::span<double> bx) {
   IBLX_ASSERT(factored_ && bx.size() == std::size_t(width_) * height_);
   // In elimination order every front's own entries are contiguous (a separator column of cells would
   // otherwise cost a cache line per entry).
-  std::vector<double> w(bx.size());
+  std::vector<double>& w = solveOrder_;
+  w.resize(bx.size());
   for (std::size_t p = 0; p < w.size(); ++p) w[p] = bx[std::size_t(order_[p])];
-  std::vector<double> stack;
-  forwardSubtree(root_, parallelDepth_, w, stack);
-  backwardSubtree(root_, parallelDepth_, w);
+  for (Workspace& work : workspaces_) work.stack.clear();
+  forwardSubtree(root_, parallelDepth_, 0, w);
+  workspace(0).stack.clear();  // the root's (empty) update; its boundary is empty too
+  backwardSubtree(root_, parallelDepth_, 0, w);
   for (std::size_t p = 0; p < w.size(); ++p) bx[std::size_t(order_[p])] = w[p];
 }
 
 // L y = P b, multifrontal: each front takes its children's update vectors and passes -L21 y up, so that
 // subtrees never write to shared entries.
-void GridLu::forwardSubtree(int index, int depth, std::span<double> w, std::vector<double>& stack) const {
+void GridLu::forwardSubtree(int index, int depth, std::size_t slot, std::span<double> w) {
   const Node& node = nodes_[std::size_t(index)];
+  std::vector<double>& stack = workspace(slot).stack;
   if (depth > 0 && node.children[0] >= 0 && node.children[1] >= 0) {
-    std::array<std::vector<double>, 2> stacks;
     {
-      std::jthread other([&] { forwardSubtree(node.children[0], depth - 1, w, stacks[0]); });
-      forwardSubtree(node.children[1], depth - 1, w, stacks[1]);
+      std::jthread other([&] { forwardSubtree(node.children[0], depth - 1, 2 * slot + 1, w); });
+      forwardSubtree(node.children[1], depth - 1, 2 * slot + 2, w);
     }
-    for (const auto& part : stacks) stack.insert(stack.end(), part.begin(), part.end());
+    for (std::size_t child : {2 * slot + 1, 2 * slot + 2}) {
+      std::vector<double>& part = workspace(child).stack;
+      stack.insert(stack.end(), part.begin(), part.end());
+      part.clear();
+    }
     forwardNode(index, w, stack);
     return;
   }
@@ -307,9 +322,10 @@ void GridLu::forwardNode(int index, std::span<double> w, std::vector<double>& st
   std::size_t below = base;
   for (int k = 1; k >= 0; --k) {
     if (node.children[std::size_t(k)] < 0) continue;
-    const std::vector<int>& map = node.childMap[std::size_t(k)];
-    below -= map.size();
-    for (std::size_t p = 0; p < map.size(); ++p) {
+    const int* map = childMap(node, k);
+    const std::size_t size = node.childMapSize[std::size_t(k)];
+    below -= size;
+    for (std::size_t p = 0; p < size; ++p) {
       const std::size_t at = std::size_t(map[p]);
       (at < s ? own[at] : boundary[at - s]) += stack[below + p];
     }
@@ -340,24 +356,34 @@ void GridLu::forwardNode(int index, std::span<double> w, std::vector<double>& st
   stack.resize(below + b);
 }
 
-// U x = y, parents before children (reverse postorder); the boundary's x is final when a node is reached.
-void GridLu::backwardSubtree(int index, int depth, std::span<double> w) const {
+// U x = y, parents before children (reverse postorder). A node finds its boundary's x on top of the stack,
+// solves for its own and pushes each child's boundary x, the second child's last (it is solved first).
+void GridLu::backwardSubtree(int index, int depth, std::size_t slot, std::span<double> w) {
   const Node& node = nodes_[std::size_t(index)];
-  backwardNode(index, w);
+  std::vector<double>& stack = workspace(slot).stack;
   if (depth > 0 && node.children[0] >= 0 && node.children[1] >= 0) {
-    std::jthread other([&] { backwardSubtree(node.children[0], depth - 1, w); });
-    backwardSubtree(node.children[1], depth - 1, w);
+    backwardNode(index, w, stack);
+    // The children's boundary x, pushed in order, move to their own workspaces.
+    const std::size_t second = node.childMapSize[1], first = node.childMapSize[0];
+    std::vector<double>& stack1 = workspace(2 * slot + 2).stack;
+    std::vector<double>& stack0 = workspace(2 * slot + 1).stack;
+    stack1.assign(stack.end() - std::ptrdiff_t(second), stack.end());
+    stack0.assign(stack.end() - std::ptrdiff_t(second + first), stack.end() - std::ptrdiff_t(second));
+    stack.resize(stack.size() - first - second);
+    std::jthread other([&] { backwardSubtree(node.children[0], depth - 1, 2 * slot + 1, w); });
+    backwardSubtree(node.children[1], depth - 1, 2 * slot + 2, w);
     return;
   }
-  for (int k = index - 1; k >= node.subtreeFirst; --k) backwardNode(k, w);
+  for (int k = index; k >= node.subtreeFirst; --k) backwardNode(k, w, stack);
 }
 
-void GridLu::backwardNode(int index, std::span<double> w) const {
+void GridLu::backwardNode(int index, std::span<double> w, std::vector<double>& stack) const {
   const Node& node = nodes_[std::size_t(index)];
   const std::size_t m = node.vars.size(), s = std::size_t(node.own), b = m - s;
   double* own = w.data() + node.ownStart;
   const float* upper = factors_.get() + node.upperOffset;
-  const auto boundaryX = [&](std::size_t q) { return w[std::size_t(node.boundaryPositions[q])]; };
+  const std::size_t base = stack.size() - b;  // this node's boundary x, pushed by its parent
+  const auto boundaryX = [&](std::size_t q) { return stack[base + q]; };
   std::size_t q = 0;
   for (; q + 4 <= b; q += 4) {
     const float* c0 = upper + q * s;
@@ -383,6 +409,21 @@ void GridLu::backwardNode(int index, std::span<double> w) const {
     const double x = own[j] *= column[j];  // the inverted diagonal
     subtractColumn(own, j, column, x);
   }
+  // Pop this node's boundary and push the children's, the second child's on top: the front's x is own
+  // (in w) then boundary (on the stack), and a child's map indexes it.
+  const std::size_t sizes[2] = {node.childMapSize[0], node.childMapSize[1]};
+  const std::size_t top = base + b;
+  stack.resize(top + sizes[0] + sizes[1]);
+  double* out = stack.data() + top;
+  for (int k = 0; k < 2; ++k) {
+    const int* map = childMap(node, k);
+    for (std::size_t p = 0; p < sizes[k]; ++p) {
+      const std::size_t at = std::size_t(map[p]);
+      *out++ = at < s ? own[at] : stack[base + at - s];
+    }
+  }
+  std::copy(stack.begin() + std::ptrdiff_t(top), stack.end(), stack.begin() + std::ptrdiff_t(base));
+  stack.resize(base + sizes[0] + sizes[1]);
 }
 
 }  // namespace iblx

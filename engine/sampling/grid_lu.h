@@ -44,8 +44,9 @@ class GridLu {
   // Numeric factorisation of a; the pattern is the grid's. Returns the number of pivots that were replaced
   // (0 for a matrix that is not numerically singular within a front).
   int factor(const StencilMatrix& a);
-  // x = A^-1 b, in place (b in, x out), with the last factors.
-  void solve(std::span<double> bx) const;
+  // x = A^-1 b, in place (b in, x out), with the last factors. Not const: it works in buffers kept from
+  // call to call (one GridLu serves one solve at a time).
+  void solve(std::span<double> bx);
 
   bool factored() const { return factored_; }
   std::size_t factorEntries() const { return factorEntries_; }  // single-precision entries of the factors
@@ -56,33 +57,48 @@ class GridLu {
     std::array<int, 2> children{-1, -1};
     std::vector<int> vars;  // global cells: the first `own` are eliminated here, the rest are its boundary
     int own = 0;
-    // For each child: positions in `vars` of the child's boundary variables, in the child's order.
-    std::array<std::vector<int>, 2> childMap;
     // Original entries assembled here: (front row, front column, index into StencilMatrix::values).
     std::vector<std::array<int, 3>> entries;
+    // For child k: childMaps_[childMapOffset[k] ..] holds the positions in `vars` of that child's boundary
+    // variables, in the child's order (one flat array in postorder, so the solves stream through it).
+    std::array<std::size_t, 2> childMapOffset{0, 0};
+    std::array<std::size_t, 2> childMapSize{0, 0};
     std::size_t panelOffset = 0;  // front size x own block [L11\U11; L21], column-major
     std::size_t upperOffset = 0;  // own x boundary block U12, column-major (leading dimension own)
     std::size_t pivotOffset = 0;  // own row interchanges (LAPACK ipiv, 1-based)
     std::size_t maxFront = 0;     // the largest front size in this subtree
     int subtreeFirst = 0;         // the subtree is nodes_[subtreeFirst .. this node] (nodes_ is in postorder)
     std::size_t ownStart = 0;     // where the own variables start in the elimination order
-    std::vector<int> boundaryPositions;  // the boundary variables' places in the elimination order
   };
 
-  int build(int x0, int x1, int y0, int y1, std::vector<int>& position);
-  // Each leaves the node's update (matrix or vector, over its boundary) on top of `stack`.
-  void factorSubtree(int index, int depth, const StencilMatrix& a, std::vector<double>& stack, int& replaced);
-  void factorNode(int index, const StencilMatrix& a, std::vector<double>& front, std::vector<double>& stack,
-                  int& replaced);
-  // The solve works on w, the right-hand side in elimination order.
-  void forwardSubtree(int index, int depth, std::span<double> w, std::vector<double>& stack) const;
+  // Buffers of one subtree thread, kept between calls (allocating them anew made the kernel clear pages for
+  // every factorisation).
+  struct Workspace {
+    std::vector<double> front;  // the frontal matrix
+    std::vector<double> stack;  // update matrices (factor) or vectors (solves) waiting for their parent
+  };
+
+  int build(int x0, int x1, int y0, int y1, std::vector<int>& position, std::vector<std::vector<int>>& maps);
+  const int* childMap(const Node& node, int k) const { return childMaps_.data() + node.childMapOffset[k]; }
+  // Workspaces are numbered as a heap: slot 0 is the caller's, a split at slot i runs its children on
+  // 2i + 1 and 2i + 2.
+  Workspace& workspace(std::size_t slot) { return workspaces_[slot]; }
+  // Each leaves the node's update (matrix or vector, over its boundary) on top of its workspace's stack.
+  void factorSubtree(int index, int depth, std::size_t slot, const StencilMatrix& a, int& replaced);
+  void factorNode(int index, const StencilMatrix& a, Workspace& work, int& replaced);
+  // The solves work on w, the right-hand side in elimination order. The backward pass hands every child its
+  // boundary's solution on the stack (a copy from the parent's front) instead of gathering it from w.
+  void forwardSubtree(int index, int depth, std::size_t slot, std::span<double> w);
   void forwardNode(int index, std::span<double> w, std::vector<double>& stack) const;
-  void backwardSubtree(int index, int depth, std::span<double> w) const;
-  void backwardNode(int index, std::span<double> w) const;
+  void backwardSubtree(int index, int depth, std::size_t slot, std::span<double> w);
+  void backwardNode(int index, std::span<double> w, std::vector<double>& stack) const;
 
   int width_, height_, parallelDepth_ = 0;
   std::vector<Node> nodes_;
-  std::vector<int> order_;  // elimination position -> cell
+  std::vector<int> childMaps_;
+  std::vector<Workspace> workspaces_;
+  std::vector<double> solveOrder_;  // the right-hand side in elimination order
+  std::vector<int> order_;          // elimination position -> cell
   int root_ = -1;
   std::unique_ptr<float[]> factors_;
   std::vector<int> pivots_;

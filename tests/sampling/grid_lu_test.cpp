@@ -77,7 +77,7 @@ double relativeDifference(const std::vector<double>& a, const std::vector<double
 
 // A^-1 b by the factors, then `refinements` steps of iterative refinement: the factors are kept in single
 // precision, and each step gains about as many digits again.
-std::vector<double> luSolve(const GridLu& lu, const StencilMatrix& a, const std::vector<double>& b,
+std::vector<double> luSolve(GridLu& lu, const StencilMatrix& a, const std::vector<double>& b,
                             int refinements) {
   std::vector<double> x = b, r(b.size());
   lu.solve(x);

@@ -206,6 +206,10 @@ int main(int argc, char** argv) {
         options.floorFraction = std::stod(value());
       } else if (arg == "--cj") {
         options.conjugateJacobian = true;
+      } else if (arg == "--stage-log-error") {
+        options.stageLogError = std::stod(value());
+      } else if (arg == "--stage-min-step") {
+        options.stageMinStep = std::stod(value());
       } else if (arg == "--max-iter") {
         options.maxIterations = std::stoi(value());
       } else if (arg == "--help") {
