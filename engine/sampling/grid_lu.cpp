@@ -11,17 +11,17 @@
 #include <thread>
 
 // Reference BLAS / LAPACK (Fortran calling convention, hidden string lengths last); Debian links them to
-// OpenBLAS through the libblas.so.3 / liblapack.so.3 alternatives.
+// OpenBLAS through the libblas.so.3 / liblapack.so.3 alternatives. Single precision: see factorNode.
 extern "C" {
-void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
-void dlaswp_(const int* n, double* a, const int* lda, const int* k1, const int* k2, const int* ipiv,
+void sgetrf_(const int* m, const int* n, float* a, const int* lda, int* ipiv, int* info);
+void slaswp_(const int* n, float* a, const int* lda, const int* k1, const int* k2, const int* ipiv,
              const int* incx);
-void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m,
-            const int* n, const double* alpha, const double* a, const int* lda, double* b, const int* ldb,
+void strsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m,
+            const int* n, const float* alpha, const float* a, const int* lda, float* b, const int* ldb,
             std::size_t, std::size_t, std::size_t, std::size_t);
-void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
-            const double* alpha, const double* a, const int* lda, const double* b, const int* ldb,
-            const double* beta, double* c, const int* ldc, std::size_t, std::size_t);
+void sgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
+            const float* alpha, const float* a, const int* lda, const float* b, const int* ldb,
+            const float* beta, float* c, const int* ldc, std::size_t, std::size_t);
 }
 
 namespace iblx {
@@ -53,17 +53,11 @@ inline void subtractColumn(double* __restrict y, std::size_t count, const float*
   for (std::size_t i = 0; i < count; ++i) y[i] -= c[i] * x;
 }
 
-// A factor entry in single precision, clamped to its range: a near-zero pivot that LAPACK kept (only exact
-// zeros are replaced) must not turn into an infinity.
+// A matrix entry or inverted pivot in single precision, clamped to its range (an entry beyond it, or the
+// inverse of a near-zero pivot that LAPACK kept, must not become an infinity).
 float toFactor(double value) {
   constexpr double kMax = std::numeric_limits<float>::max();
   return float(std::min(std::max(value, -kMax), kMax));
-}
-
-// to[i] = toFactor(from[i]), as a loop the compiler vectorises (std::clamp through std::transform did not:
-// it made a factorisation at n = 512 15 % slower).
-void toFactors(const double* from, std::size_t count, float* to) {
-  for (std::size_t i = 0; i < count; ++i) to[i] = toFactor(from[i]);
 }
 
 // Subdomains of at most this many cells are eliminated whole, as one dense front (their separators would
@@ -182,9 +176,9 @@ int GridLu::build(int x0, int x1, int y0, int y1, std::vector<int>& position,
 int GridLu::factor(const StencilMatrix& a) {
   IBLX_ASSERT(a.width == width_ && a.height == height_);
   int replaced = 0;
-  for (Workspace& work : workspaces_) work.stack.clear();
+  for (Workspace& work : workspaces_) work.updates.clear();
   factorSubtree(root_, parallelDepth_, 0, a, replaced);
-  workspace(0).stack.clear();  // the root has no boundary, so no update
+  workspace(0).updates.clear();  // the root has no boundary, so no update
   factored_ = true;
   return replaced;
 }
@@ -202,8 +196,8 @@ void GridLu::factorSubtree(int index, int depth, std::size_t slot, const Stencil
     }
     replaced += replacedOther;
     for (std::size_t child : {2 * slot + 1, 2 * slot + 2}) {
-      std::vector<double>& part = workspace(child).stack;
-      work.stack.insert(work.stack.end(), part.begin(), part.end());
+      std::vector<float>& part = workspace(child).updates;
+      work.updates.insert(work.updates.end(), part.begin(), part.end());
       part.clear();
     }
     factorNode(index, a, work, replaced);
@@ -213,67 +207,70 @@ void GridLu::factorSubtree(int index, int depth, std::size_t slot, const Stencil
   for (int k = node.subtreeFirst; k <= index; ++k) factorNode(k, a, work, replaced);
 }
 
+// One front in single precision (sgetrf, strsm, sgemm), the matrix's double entries rounded on assembly. The
+// factors were stored in single precision already; computing them so, rather than in double, halves the
+// memory the update matrices move and doubles the BLAS's vector width: a factorisation at n = 1024 went from
+// 1.0 s to 0.6 s and at 512 from 0.16 to 0.11 s, while a solve's residual on the random test matrix went from
+// 3e-4 to 6e-4 (512) and 6e-4 to 1.2e-3 (1024). The OT solver took the same Newton iterations on every
+// benchmark map at n = 512 and was 10-20 % faster (iblx_ot_bench, docs/BENCHMARKS.md).
 void GridLu::factorNode(int index, const StencilMatrix& a, Workspace& work, int& replaced) {
   const Node& node = nodes_[std::size_t(index)];
   const int m = int(node.vars.size()), s = node.own, b = m - s;
   const std::size_t mm = std::size_t(m);
-  std::vector<double>& front = work.front;
-  std::vector<double>& stack = work.stack;
+  std::vector<float>& front = work.front;
+  std::vector<float>& stack = work.updates;
   if (front.size() < mm * mm) front.resize(mm * mm);
-  std::fill_n(front.begin(), mm * mm, 0.0);
+  std::fill_n(front.begin(), mm * mm, 0.0f);
   for (const auto& [row, col, value] : node.entries)
-    front[std::size_t(col) * mm + std::size_t(row)] += a.values[std::size_t(value)];
+    front[std::size_t(col) * mm + std::size_t(row)] += toFactor(a.values[std::size_t(value)]);
   // Extend-add the children's update matrices, the second child's on top of the stack.
   for (int k = 1; k >= 0; --k) {
     if (node.children[std::size_t(k)] < 0) continue;
     const int* map = childMap(node, k);
     const std::size_t bc = node.childMapSize[std::size_t(k)], base = stack.size() - bc * bc;
     for (std::size_t q = 0; q < bc; ++q) {
-      double* column = front.data() + std::size_t(map[q]) * mm;
-      const double* update = stack.data() + base + q * bc;
+      float* column = front.data() + std::size_t(map[q]) * mm;
+      const float* update = stack.data() + base + q * bc;
       for (std::size_t p = 0; p < bc; ++p) column[map[p]] += update[p];
     }
     stack.resize(base);
   }
   int* ipiv = pivots_.data() + node.pivotOffset;
   int info = 0;
-  dgetrf_(&s, &s, front.data(), &m, ipiv, &info);
+  sgetrf_(&s, &s, front.data(), &m, ipiv, &info);
   if (info != 0) {
     // Exact zero pivots (LAPACK left their columns unscaled, i.e. zero below the diagonal).
-    double scale = 0.0;
+    float scale = 0.0f;
     for (int j = 0; j < s; ++j)
       for (int i = 0; i < s; ++i)
         scale = std::max(scale, std::abs(front[std::size_t(j) * mm + std::size_t(i)]));
-    const double tiny = scale > 0.0 && std::isfinite(scale) ? 1e-12 * scale : 1.0;
+    const float tiny = scale > 0.0f && std::isfinite(scale) ? std::max(1e-12f * scale, 1e-30f) : 1.0f;
     for (int i = 0; i < s; ++i) {
-      double& pivot = front[std::size_t(i) * mm + std::size_t(i)];
-      if (pivot == 0.0 || !std::isfinite(pivot)) pivot = tiny, ++replaced;
+      float& pivot = front[std::size_t(i) * mm + std::size_t(i)];
+      if (pivot == 0.0f || !std::isfinite(pivot)) pivot = tiny, ++replaced;
     }
   }
   float* factors = factors_.get();
   if (b > 0) {
-    const double one = 1.0, minusOne = -1.0;
+    const float one = 1.0f, minusOne = -1.0f;
     const int first = 1, inc = 1;
-    double* f12 = front.data() + std::size_t(s) * mm;
-    double* f21 = front.data() + s;
-    dlaswp_(&b, f12, &m, &first, &s, ipiv, &inc);
-    dtrsm_("L", "L", "N", "U", &s, &b, &one, front.data(), &m, f12, &m, 1, 1, 1, 1);  // U12 = L11^-1 P F12
-    dtrsm_("R", "U", "N", "N", &b, &s, &one, front.data(), &m, f21, &m, 1, 1, 1, 1);  // L21 = F21 U11^-1
+    float* f12 = front.data() + std::size_t(s) * mm;
+    float* f21 = front.data() + s;
+    slaswp_(&b, f12, &m, &first, &s, ipiv, &inc);
+    strsm_("L", "L", "N", "U", &s, &b, &one, front.data(), &m, f12, &m, 1, 1, 1, 1);  // U12 = L11^-1 P F12
+    strsm_("R", "U", "N", "N", &b, &s, &one, front.data(), &m, f21, &m, 1, 1, 1, 1);  // L21 = F21 U11^-1
     const std::size_t base = stack.size();
     stack.resize(base + std::size_t(b) * b);
-    double* update = stack.data() + base;
+    float* update = stack.data() + base;
     for (int q = 0; q < b; ++q) std::copy_n(f12 + std::size_t(q) * mm + s, b, update + std::size_t(q) * b);
-    dgemm_("N", "N", &b, &b, &s, &minusOne, f21, &m, f12, &m, &one, update, &b, 1, 1);  // F22 - L21 U12
-    for (int q = 0; q < b; ++q) {
-      const double* column = f12 + std::size_t(q) * mm;
-      toFactors(column, std::size_t(s), factors + node.upperOffset + std::size_t(q) * s);
-    }
+    sgemm_("N", "N", &b, &b, &s, &minusOne, f21, &m, f12, &m, &one, update, &b, 1, 1);  // F22 - L21 U12
+    for (int q = 0; q < b; ++q)
+      std::copy_n(f12 + std::size_t(q) * mm, std::size_t(s), factors + node.upperOffset + std::size_t(q) * s);
   }
-  // Single precision is enough for a preconditioner and makes the (memory-bound) solves faster; the
-  // diagonal is kept inverted, so that the backward solve multiplies instead of dividing.
   float* panel = factors + node.panelOffset;
-  toFactors(front.data(), mm * std::size_t(s), panel);
-  for (std::size_t j = 0; j < std::size_t(s); ++j) panel[j * mm + j] = toFactor(1.0 / front[j * mm + j]);
+  for (std::size_t q = 0; q < std::size_t(s); ++q) std::copy_n(front.data() + q * mm, mm, panel + q * mm);
+  for (std::size_t j = 0; j < std::size_t(s); ++j)
+    panel[j * mm + j] = toFactor(1.0 / double(front[j * mm + j]));
 }
 
 void GridLu::solve(std::span<double> bx) {

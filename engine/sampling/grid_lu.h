@@ -4,7 +4,8 @@
 // symbolic phase is a recursion over rectangles, and every front is a dense block factored by LAPACK/BLAS.
 // Pivoting is partial within each front's fully summed block; a zero pivot there is replaced by a tiny one
 // (static pivoting, Li & Demmel, ACM TOMS 29(2), 2003), which the OT solver's GMRES corrects.
-// The factors are kept in single precision (they precondition GMRES, which works in double). Constructing a
+// The factorisation runs in single precision and so are its factors (they precondition GMRES, which works in
+// double; the right-hand sides and solutions stay double). Constructing a
 // GridLu sets OpenBLAS, when that is the BLAS, to one thread for the whole process: the subtrees already run
 // on their own threads, and OpenBLAS's idle workers spin.
 #pragma once
@@ -74,8 +75,9 @@ class GridLu {
   // Buffers of one subtree thread, kept between calls (allocating them anew made the kernel clear pages for
   // every factorisation).
   struct Workspace {
-    std::vector<double> front;  // the frontal matrix
-    std::vector<double> stack;  // update matrices (factor) or vectors (solves) waiting for their parent
+    std::vector<float> front;    // the frontal matrix (factor)
+    std::vector<float> updates;  // update matrices waiting for their parent (factor)
+    std::vector<double> stack;   // update vectors (forward solve) or boundary solutions (backward solve)
   };
 
   int build(int x0, int x1, int y0, int y1, std::vector<int>& position, std::vector<std::vector<int>>& maps);
@@ -83,7 +85,8 @@ class GridLu {
   // Workspaces are numbered as a heap: slot 0 is the caller's, a split at slot i runs its children on
   // 2i + 1 and 2i + 2.
   Workspace& workspace(std::size_t slot) { return workspaces_[slot]; }
-  // Each leaves the node's update (matrix or vector, over its boundary) on top of its workspace's stack.
+  // Each leaves the node's update over its boundary on top of its workspace's `updates` (factor) or `stack`
+  // (solves).
   void factorSubtree(int index, int depth, std::size_t slot, const StencilMatrix& a, int& replaced);
   void factorNode(int index, const StencilMatrix& a, Workspace& work, int& replaced);
   // The solves work on w, the right-hand side in elimination order. The backward pass hands every child its
