@@ -117,7 +117,7 @@ GridLu::GridLu(int width, int height, int threads) : width_(width), height_(heig
   }
   workspaces_.resize((std::size_t(2) << parallelDepth_) - 1);
   factorEntries_ = panel;
-  factors_ = std::make_unique_for_overwrite<float[]>(panel);  // every entry is written by factor()
+  factors_.resize(panel);  // every entry is written by factor()
   pivots_.assign(pivots, 0);
 }
 
@@ -200,7 +200,7 @@ void GridLu::factorSubtree(int index, int depth, std::size_t slot, const Stencil
     }
     replaced += replacedOther;
     for (std::size_t child : {2 * slot + 1, 2 * slot + 2}) {
-      std::vector<float>& part = workspace(child).updates;
+      BigBuffer<float>& part = workspace(child).updates;
       work.updates.insert(work.updates.end(), part.begin(), part.end());
       part.clear();
     }
@@ -221,8 +221,8 @@ void GridLu::factorNode(int index, const StencilMatrix& a, Workspace& work, int&
   const Node& node = nodes_[std::size_t(index)];
   const int m = int(node.vars.size()), s = node.own, b = m - s;
   const std::size_t mm = std::size_t(m);
-  std::vector<float>& front = work.front;
-  std::vector<float>& stack = work.updates;
+  BigBuffer<float>& front = work.front;
+  BigBuffer<float>& stack = work.updates;
   if (front.size() < mm * mm) front.resize(mm * mm);
   std::fill_n(front.begin(), mm * mm, 0.0f);
   for (const auto& [row, col, value] : node.entries)
@@ -254,7 +254,7 @@ void GridLu::factorNode(int index, const StencilMatrix& a, Workspace& work, int&
       if (pivot == 0.0f || !std::isfinite(pivot)) pivot = tiny, ++replaced;
     }
   }
-  float* factors = factors_.get();
+  float* factors = factors_.data();
   if (b > 0) {
     const float one = 1.0f, minusOne = -1.0f;
     const int first = 1, inc = 1;
@@ -335,7 +335,7 @@ void GridLu::forwardNode(int index, std::span<double> w, std::vector<double>& st
   for (std::size_t i = 0; i < s; ++i) std::swap(own[i], own[std::size_t(ipiv[i] - 1)]);
   // One pass over the panel [L11; L21], four columns at a time: their 4 x 4 unit-lower triangle first, then
   // the rows below it.
-  const float* panel = factors_.get() + node.panelOffset;
+  const float* panel = factors_.data() + node.panelOffset;
   std::size_t j = 0;
   for (; j + 4 <= s; j += 4) {
     const float *c0 = panel + j * m, *c1 = c0 + m, *c2 = c1 + m, *c3 = c2 + m;
@@ -382,7 +382,7 @@ void GridLu::backwardNode(int index, std::span<double> w, std::vector<double>& s
   const Node& node = nodes_[std::size_t(index)];
   const std::size_t m = node.vars.size(), s = std::size_t(node.own), b = m - s;
   double* own = w.data() + node.ownStart;
-  const float* upper = factors_.get() + node.upperOffset;
+  const float* upper = factors_.data() + node.upperOffset;
   const std::size_t base = stack.size() - b;  // this node's boundary x, pushed by its parent
   const auto boundaryX = [&](std::size_t q) { return stack[base + q]; };
   std::size_t q = 0;
@@ -394,7 +394,7 @@ void GridLu::backwardNode(int index, std::span<double> w, std::vector<double>& s
   for (; q < b; ++q) subtractColumn(own, s, upper + q * s, boundaryX(q));
   // U11, four columns at a time from the last: their 4 x 4 upper triangle (inverted diagonal), then the rows
   // above it.
-  const float* panel = factors_.get() + node.panelOffset;
+  const float* panel = factors_.data() + node.panelOffset;
   std::size_t j = s;
   for (; j >= 4; j -= 4) {
     const std::size_t top = j - 4;

@@ -10,6 +10,8 @@
 // on their own threads, and OpenBLAS's idle workers spin.
 #pragma once
 
+#include "engine/core/big_buffer.h"
+
 #include <array>
 #include <cstddef>
 #include <memory>
@@ -75,9 +77,9 @@ class GridLu {
   // Buffers of one subtree thread, kept between calls (allocating them anew made the kernel clear pages for
   // every factorisation).
   struct Workspace {
-    std::vector<float> front;    // the frontal matrix (factor)
-    std::vector<float> updates;  // update matrices waiting for their parent (factor)
-    std::vector<double> stack;   // update vectors (forward solve) or boundary solutions (backward solve)
+    BigBuffer<float> front;     // the frontal matrix (factor)
+    BigBuffer<float> updates;   // update matrices waiting for their parent (factor)
+    std::vector<double> stack;  // update vectors (forward solve) or boundary solutions (backward solve)
   };
 
   int build(int x0, int x1, int y0, int y1, std::vector<int>& position, std::vector<std::vector<int>>& maps);
@@ -103,7 +105,7 @@ class GridLu {
   std::vector<double> solveOrder_;  // the right-hand side in elimination order
   std::vector<int> order_;          // elimination position -> cell
   int root_ = -1;
-  std::unique_ptr<float[]> factors_;
+  BigBuffer<float> factors_;
   std::vector<int> pivots_;
   std::size_t factorEntries_ = 0;
   double flops_ = 0.0;
