@@ -215,9 +215,12 @@ int main(int argc, char** argv) {
       } else if (arg == "--help") {
         std::printf(
             "usage: iblx_ot_bench [--sizes 128,256,...] [--cases smooth,sun1e3,sun1e5,halfzero,skyzero]\n"
-            "                     [--threads T] [--no-coarse] [--no-curved] [--coarse-target L2] [--levels]\n"
-            "                     [--max-iter N] [FILE.exr|FILE.hdr ...]\n"
-            "       iblx_ot_bench --lu [--sizes 256,512,1024] [--threads T]   (the grid LU alone)\n");
+            "                     [--threads T] [--levels] [--max-iter N] [FILE.exr|FILE.hdr ...]\n"
+            "       iblx_ot_bench --lu [--sizes 256,512,1024] [--threads T]   (the grid LU alone)\n"
+            "solver options (OtSolverOptions, for experiments; defaults as the samplers use them):\n"
+            "  --floor EPS  --coarse-target L2  --no-coarse  --no-curved  --boundary-fraction F\n"
+            "  --stage-log-error E  --stage-min-step S  --krylov M  --krylov-tol T  --gmres (no direct LU)\n"
+            "  --guard none|area|convex  --merit l2|barrier  --absolute  --log-newton  --cj\n");
         return 0;
       } else if (!arg.empty() && arg[0] == '-') {
         throw Error(arg + ": unknown flag (see --help)");
