@@ -7,7 +7,7 @@
 // - Newton directions on the relative residual (A - m) / m: GMRES preconditioned by the fixed
 //   pseudo-Laplacian L (the exact area Jacobian at the identity, diagonal in the DCT-II basis, O(n^2 log n)
 //   per solve) while that reaches its tolerance, else by LU factors of the exact Jacobian at an earlier map
-//   (grid_lu.h: nested dissection, multifrontal, single-precision factors), renewed at the current map only
+//   (grid_lu.h: nested dissection, multifrontal, factored in single precision), renewed at the current map only
 //   when GMRES with them needs more than a few steps. otmap's chord directions and conjugate-Jacobian update
 //   remain as options (experiments);
 // - a line search that keeps every quad's signed area positive (OtFoldGuard::Area), going at most
@@ -101,7 +101,7 @@ struct OtSolverOptions {
 };
 
 // Bumped whenever the solver's algorithm changes its results, so that cached maps (ot_cache.h) are re-solved.
-inline constexpr int kOtSolverVersion = 7;
+inline constexpr int kOtSolverVersion = 8;
 
 // What one grid level of the coarse-to-fine solve did (coarsest first in OtMap::levels).
 struct OtLevelStats {
