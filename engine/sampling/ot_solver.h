@@ -7,9 +7,9 @@
 // - Newton directions on the relative residual (A - m) / m: GMRES preconditioned by the fixed
 //   pseudo-Laplacian L (the exact area Jacobian at the identity, diagonal in the DCT-II basis, O(n^2 log n)
 //   per solve) while that reaches its tolerance, else by LU factors of the exact Jacobian at an earlier map
-//   (grid_lu.h: nested dissection, multifrontal, factored in single precision), renewed at the current map only
-//   when GMRES with them needs more than a few steps. otmap's chord directions and conjugate-Jacobian update
-//   remain as options (experiments);
+//   (grid_lu.h: nested dissection, multifrontal, factored in single precision), renewed at the current map
+//   only when GMRES with them needs more than a few steps. otmap's chord directions and conjugate-Jacobian
+//   update remain as options (experiments);
 // - a line search that keeps every quad's signed area positive (OtFoldGuard::Area), going at most
 //   boundaryFraction of the way to the first degenerate quad;
 // - continuation: the target is approached in stages m_s = A0^(1-s) m^s (renormalised) from the start map's
