@@ -207,7 +207,8 @@ void GridLu::factorSubtree(int index, int depth, std::size_t slot, const Stencil
     factorNode(index, a, work, replaced);
     return;
   }
-  // One thread for the whole subtree, in postorder.
+  // One thread for the whole subtree, in postorder, in a front buffer sized once for its largest front.
+  if (work.front.size() < node.maxFront * node.maxFront) work.front.resize(node.maxFront * node.maxFront);
   for (int k = node.subtreeFirst; k <= index; ++k) factorNode(k, a, work, replaced);
 }
 
@@ -271,8 +272,10 @@ void GridLu::factorNode(int index, const StencilMatrix& a, Workspace& work, int&
     for (int q = 0; q < b; ++q)
       std::copy_n(f12 + std::size_t(q) * mm, std::size_t(s), factors + node.upperOffset + std::size_t(q) * s);
   }
+  // [L11\U11; L21] as factored, but with U11's diagonal inverted: the backward solve multiplies instead of
+  // dividing.
   float* panel = factors + node.panelOffset;
-  for (std::size_t q = 0; q < std::size_t(s); ++q) std::copy_n(front.data() + q * mm, mm, panel + q * mm);
+  std::copy_n(front.data(), mm * std::size_t(s), panel);
   for (std::size_t j = 0; j < std::size_t(s); ++j)
     panel[j * mm + j] = toFactor(1.0 / double(front[j * mm + j]));
 }
