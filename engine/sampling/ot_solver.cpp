@@ -165,10 +165,10 @@ class LevelSolver {
   // it reached (its s = 0). Re-anchoring after later stages too made sunrise at 512 take 47 stages (the
   // secant predictor and the step size start over each time).
   //
-  // A start with folded quads (a prolonged coarse map can fold a few quads next to a sun) is allowed: those
-  // quads start their continuation at their final target, are no constraint of the guarded line search
-  // until they unfold, and the run gives up (returning with negativeAreas > 0) when they have not unfolded
-  // after kUnfoldStages stages. Measured at n = 512 on the eight blender-data maps and the synthetic suns
+  // A start with folded quads (a prolonged coarse map can fold quads in strongly compressed regions) is
+  // allowed: those quads start their continuation at their final target, are no constraint of the guarded
+  // line search until they unfold, and the run gives up (returning with negativeAreas > 0) when they have not
+  // unfolded after kUnfoldStages stages. Measured at n = 512 on the eight blender-data maps and the synthetic suns
   // (levels 32-512): of 20 folded starts still folded after the first stage, 18 unfolded in the second and 2
   // never (night at 512, 2 078 folded quads: 4 stages cost it 7 factorisations, about 5 s, before the
   // restart); the tests' textured sky at n = 128 needs the third.

@@ -21,9 +21,10 @@
 // - on a level that had to undo a stage, steps cut short by the fold guard follow a second-order correction
 //   (a curve on which the quadratic area term is cancelled; LevelSolver::curvedStep);
 // - coarse-to-fine: the density is box-restricted to n/2, n/4, ..., solved there and psi is prolonged
-//   (averaged at the coarse vertices, then bilinear); a prolonged start may fold a few quads next to a sun,
-//   which the level's continuation unfolds, or else the level restarts part of the way from the identity
-//   towards it; a level whose coarser one needed LU-preconditioned directions starts with them;
+//   (averaged at the coarse vertices, then bilinear); a prolonged start may fold quads (next to a synthetic
+//   sun; on real maps mostly in dim, strongly compressed regions), which the level's continuation unfolds, or
+//   else the level restarts part of the way from the identity towards it; a level whose coarser one needed
+//   LU-preconditioned directions starts with them;
 // - a density floor: rho' = max(rho, floorFraction * mean(rho)), renormalised to mean 1. Zero regions then
 //   collapse to thin quads instead of folding. The samplers' pdfs stay exact because they come from the map.
 //   The default eps = 1e-2 costs a sampler at most a factor 1 + eps in the second moment of f / p (the
