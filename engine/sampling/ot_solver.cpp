@@ -168,9 +168,9 @@ class LevelSolver {
   // A start with folded quads (a prolonged coarse map can fold quads in strongly compressed regions) is
   // allowed: those quads start their continuation at their final target, are no constraint of the guarded
   // line search until they unfold, and the run gives up (returning with negativeAreas > 0) when they have not
-  // unfolded after kUnfoldStages stages. Measured at n = 512 on the eight blender-data maps and the synthetic suns
-  // (levels 32-512): of 20 folded starts still folded after the first stage, 18 unfolded in the second and 2
-  // never (night at 512, 2 078 folded quads: 4 stages cost it 7 factorisations, about 5 s, before the
+  // unfolded after kUnfoldStages stages. Measured at n = 512 on the eight blender-data maps and the synthetic
+  // suns (levels 32-512): of 20 folded starts still folded after the first stage, 18 unfolded in the second
+  // and 2 never (night at 512, 2 078 folded quads: 4 stages cost it 7 factorisations, about 5 s, before the
   // restart); the tests' textured sky at n = 128 needs the third.
   Stats run(std::vector<double>& psi, double targetL2, int maxIterations,
             const std::function<void(int, double)>& progress) {
