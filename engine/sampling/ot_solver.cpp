@@ -501,13 +501,14 @@ class LevelSolver {
     solveFrozenLu(unscaled_, z, 1.0);
   }
 
-  // out = sign * J^-1 rhs with the current LU factors (non-finite entries of the solution become 0).
+  // out = sign * J^-1 rhs with the current LU factors (non-finite entries of the solution become 0), solved
+  // in place in out (which must not alias rhs).
   void solveFrozenLu(std::span<const double> rhs, std::vector<double>& out, double sign) {
     const std::size_t size = std::size_t(n_) * n_;
-    luWork_.assign(rhs.begin(), rhs.begin() + std::ptrdiff_t(size));
-    luWork_[0] = 0.0;  // row 0 of the factored matrix is psi_0 = 0
-    lu_->solve(luWork_);
-    for (std::size_t c = 0; c < size; ++c) out[c] = std::isfinite(luWork_[c]) ? sign * luWork_[c] : 0.0;
+    out.assign(rhs.begin(), rhs.begin() + std::ptrdiff_t(size));
+    out[0] = 0.0;  // row 0 of the factored matrix is psi_0 = 0
+    lu_->solve(out);
+    for (double& x : out) x = std::isfinite(x) ? sign * x : 0.0;
   }
 
   // Newton direction: GMRES with the cheap Laplacian preconditioner while it reaches its tolerance; when it
@@ -886,7 +887,6 @@ class LevelSolver {
   std::optional<GridLu> lu_;
   bool laplacianFailed_ = false;
   int factorisations_ = 0, krylovSteps_ = 0;
-  std::vector<double> luWork_;
 };
 
 // 2x2 box restriction: keeps the mean (and so the total mass) exactly.
