@@ -12,11 +12,11 @@
 //   update remain as options (experiments);
 // - a line search that keeps every quad's signed area positive (OtFoldGuard::Area), going at most
 //   boundaryFraction of the way to the first degenerate quad;
-// - continuation: the target is approached in stages m_s = A0^(1-s) m^s (renormalised) from the start map's
-//   own areas A0; each stage starts from a secant predictor (cut back to keep every quad's area positive); a
-//   stage whose Newton step falls below stageMinStep is undone (or, before any stage is solved, kept as the
-//   new start when it got closer to its target) and retried with a smaller step in s, sized from how far its
-//   first Newton step got (see LevelSolver::run). Easy densities take the single stage
+// - continuation: the target is approached in stages m_s = ((1-s) A0^(1/2) + s m^(1/2))^2 (renormalised) from
+//   the start map's own areas A0; each stage starts from a secant predictor (cut back to keep every quad's
+//   area positive); a stage whose Newton step falls below stageMinStep is undone (or, before any stage is
+//   solved, kept as the new start when it got closer to its target) and retried with a smaller step in s,
+//   sized from how far its first Newton step got (see LevelSolver::run). Easy densities take the single stage
 //   s = 1;
 // - on a level that had to undo a stage, steps cut short by the fold guard follow a second-order correction
 //   (a curve on which the quadratic area term is cancelled; LevelSolver::curvedStep);
@@ -82,6 +82,9 @@ struct OtSolverOptions {
   double stageLogError = 0.05;   // continuation: an intermediate stage is solved to max |log(A / m)| <= this
   double minStageStep = 1e-3;    // continuation: give up below this step in s
   double stageMinStep = 0.25;    // continuation: a Newton step shorter than this abandons the stage
+  // continuation: the stage targets are the power mean m_s = ((1 - s) A0^p + s m^p)^(1/p) of the start's
+  // areas and the target (renormalised); p = 0 is the geometric mean A0^(1 - s) m^s. See LevelSolver::run.
+  double homotopyPower = 0.5;
   // Once a level has had to undo a continuation stage, a step that the fold guard cuts short follows the
   // curve psi + t d + t^2 d2 with J d2 = -(the quadratic area term along d) (LevelSolver::curvedStep). Only
   // then: on maps that need no such retreat, the longer steps made the lagged LU factors go stale sooner, for
@@ -102,7 +105,7 @@ struct OtSolverOptions {
 };
 
 // Bumped whenever the solver's algorithm changes its results, so that cached maps (ot_cache.h) are re-solved.
-inline constexpr int kOtSolverVersion = 8;
+inline constexpr int kOtSolverVersion = 9;
 
 // What one grid level of the coarse-to-fine solve did (coarsest first in OtMap::levels).
 struct OtLevelStats {

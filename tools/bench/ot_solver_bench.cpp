@@ -210,6 +210,8 @@ int main(int argc, char** argv) {
         options.stageLogError = std::stod(value());
       } else if (arg == "--stage-min-step") {
         options.stageMinStep = std::stod(value());
+      } else if (arg == "--homotopy-power") {
+        options.homotopyPower = std::stod(value());
       } else if (arg == "--max-iter") {
         options.maxIterations = std::stoi(value());
       } else if (arg == "--help") {
@@ -219,7 +221,8 @@ int main(int argc, char** argv) {
             "       iblx_ot_bench --lu [--sizes 256,512,1024] [--threads T]   (the grid LU alone)\n"
             "solver options (OtSolverOptions, for experiments; defaults as the samplers use them):\n"
             "  --floor EPS  --coarse-target L2  --no-coarse  --no-curved  --boundary-fraction F\n"
-            "  --stage-log-error E  --stage-min-step S  --krylov M  --krylov-tol T  --gmres (no direct LU)\n"
+            "  --stage-log-error E  --stage-min-step S  --homotopy-power P  --krylov M  --krylov-tol T\n"
+            "  --gmres (no direct LU)\n"
             "  --guard none|area|convex  --merit l2|barrier  --absolute  --log-newton  --cj\n");
         return 0;
       } else if (!arg.empty() && arg[0] == '-') {
