@@ -26,6 +26,7 @@ namespace {
 
 using Vec2 = glm::dvec2;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kFirstStepGoal = 0.5;  // the first Newton step's length a continuation stage is sized for
 
 double cross(Vec2 a, Vec2 b) {
   return a.x * b.y - a.y * b.x;
@@ -181,7 +182,6 @@ class LevelSolver {
   Stats run(std::vector<double>& psi, double targetL2, int maxIterations,
             const std::function<void(int, double)>& progress) {
     constexpr int kUnfoldStages = 3;
-    constexpr double kFirstStepGoal = 0.5;  // the first Newton step's length a stage is sized for
     const int n = n_;
     gradient(psi, pos_);
     for (int j = 0; j < v_; ++j)
@@ -249,9 +249,8 @@ class LevelSolver {
       } else {
         psi = savedPsi, pos_ = savedPos;  // undo the stage and take a smaller one
       }
-      const bool shortFirst = s.iterations == before && firstStep < options_.stageMinStep;
-      step = std::max(options_.minStageStep,
-                      step * (shortFirst ? std::clamp(firstStep / kFirstStepGoal, 1.0 / 16.0, 0.5) : 0.5));
+      step = otRetriedStageStep(reached, next, firstStep,
+                                s.iterations == before && firstStep < options_.stageMinStep, options_);
       ++s.undoneStages;
       curvedSteps_ = options_.secondOrderCorrection;
       if (s.negativeAreas > 0) evaluateResidual(s);  // the fold count of the restored map
@@ -1009,6 +1008,16 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
 }
 
 }  // namespace
+
+double otRetriedStageStep(double reached, double next, double firstStep, bool abandonedAtFirstStep,
+                          const OtSolverOptions& options) {
+  // Scaled from the step actually attempted, not the nominal one: a stage clipped at s = 1 (reached + step >
+  // 1) and retried with half the nominal step could land on s = 1 again and repeat the failed stage exactly
+  // (seen on interior at n = 1024).
+  const double attempted = next - reached;
+  const double factor = abandonedAtFirstStep ? std::clamp(firstStep / kFirstStepGoal, 1.0 / 16.0, 0.5) : 0.5;
+  return std::max(options.minStageStep, attempted * factor);
+}
 
 std::vector<double> otQuadAreas(std::span<const glm::dvec2> vertices, int n) {
   IBLX_ASSERT(vertices.size() == std::size_t(n + 1) * (n + 1));

@@ -104,8 +104,14 @@ struct OtSolverOptions {
   std::function<void(int, double)> progress;  // (iteration at the finest level, E) after every iteration
 };
 
+// The continuation's next step in s after the stage from `reached` to `next` failed (LevelSolver::run): the
+// step attempted, next - reached, times firstStep / 0.5 within [1/16, 1/2] when the stage was abandoned at
+// its first Newton step (shorter than stageMinStep), else times 1/2; at least minStageStep.
+double otRetriedStageStep(double reached, double next, double firstStep, bool abandonedAtFirstStep,
+                          const OtSolverOptions& options);
+
 // Bumped whenever the solver's algorithm changes its results, so that cached maps (ot_cache.h) are re-solved.
-inline constexpr int kOtSolverVersion = 9;
+inline constexpr int kOtSolverVersion = 10;
 
 // What one grid level of the coarse-to-fine solve did (coarsest first in OtMap::levels).
 struct OtLevelStats {

@@ -184,6 +184,22 @@ TEST_CASE("OT solver: every level starts from the prolonged coarse map (textured
   CHECK(map.levels.back().n == n);
 }
 
+// Regression: a stage clipped at s = 1 that failed was retried with half its nominal step, which from reached
+// = 0.8125 with step 0.5 is again s = 1: the same stage from the same map, repeated exactly.
+TEST_CASE("OT solver: a failed continuation stage is retried with a smaller step than the one it attempted") {
+  const OtSolverOptions options;
+  const double reached = 0.8125, next = std::min(1.0, reached + 0.5);
+  const double halved = otRetriedStageStep(reached, next, 0.6, false, options);
+  CHECK(halved == doctest::Approx(0.5 * (next - reached)));
+  CHECK(reached + halved < 1.0);
+  // Abandoned at a short first Newton step: scaled by firstStep / 0.5, within [1/16, 1/2].
+  CHECK(otRetriedStageStep(0.0, 0.5, 0.1, true, options) == doctest::Approx(0.5 * 0.2));
+  CHECK(otRetriedStageStep(0.0, 0.5, 0.001, true, options) == doctest::Approx(0.5 / 16.0));
+  CHECK(otRetriedStageStep(0.0, 0.5, 0.24, true, options) == doctest::Approx(0.5 * 0.48));
+  // Never below minStageStep.
+  CHECK(otRetriedStageStep(0.5, 0.5 + 1e-4, 0.6, false, options) == options.minStageStep);
+}
+
 // The continuation's stage targets are a power mean of the start's areas and the target: the geometric (0),
 // the default (1/2) and the arithmetic (1) path must all reach the target on a hard density, with no fold.
 TEST_CASE("OT solver: every continuation path (homotopyPower 0, 1/2, 1) converges on a textured 10^5 sun") {
