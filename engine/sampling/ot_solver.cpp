@@ -1054,6 +1054,9 @@ OtMap solveOtMap(std::span<const double> density, int n, const OtSolverOptions& 
   if (n < 1 || density.size() != std::size_t(n) * n)
     throw Error("OT solver: the density has " + std::to_string(density.size()) +
                 " values, expected n^2 = " + std::to_string(std::max(n, 0)) + "^2");
+  // Between the geometric (0) and the arithmetic (1) mean; beyond 1, m^p of the smallest cells underflows.
+  if (!(options.homotopyPower >= 0.0 && options.homotopyPower <= 1.0))
+    throw Error("OT solver: homotopyPower must be in [0, 1], got " + std::to_string(options.homotopyPower));
   double sum = 0.0;
   for (double v : density) {
     if (!std::isfinite(v) || v < 0.0)

@@ -83,7 +83,8 @@ struct OtSolverOptions {
   double minStageStep = 1e-3;    // continuation: give up below this step in s
   double stageMinStep = 0.25;    // continuation: a Newton step shorter than this abandons the stage
   // continuation: the stage targets are the power mean m_s = ((1 - s) A0^p + s m^p)^(1/p) of the start's
-  // areas and the target (renormalised); p = 0 is the geometric mean A0^(1 - s) m^s. See LevelSolver::run.
+  // areas and the target (renormalised), p in [0, 1]; p = 0 is the geometric mean A0^(1 - s) m^s. See
+  // LevelSolver::run.
   double homotopyPower = 0.5;
   // Once a level has had to undo a continuation stage, a step that the fold guard cuts short follows the
   // curve psi + t d + t^2 d2 with J d2 = -(the quadratic area term along d) (LevelSolver::curvedStep). Only

@@ -213,6 +213,9 @@ TEST_CASE("OT solver: every continuation path (homotopyPower 0, 1/2, 1) converge
     CHECK(map.negativeAreaQuads == 0);
     CHECK(map.l2 <= options.targetL2);
   }
+  OtSolverOptions outside;
+  outside.homotopyPower = 1.5;
+  CHECK_THROWS_AS(solveOtMap(textured(sunDensity(n, 1e5), 3.0, 4), n, outside), Error);
 }
 
 // The other branch: a 10^5 sun on a sky textured by e^+-3 per cell, at n = 128, leaves folded quads on a
