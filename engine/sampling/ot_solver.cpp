@@ -178,7 +178,9 @@ class LevelSolver {
   // unfolded after kUnfoldStages stages. Measured at n = 512 on the eight blender-data maps and the synthetic
   // suns (levels 32-512): of 20 folded starts still folded after the first stage, 18 unfolded in the second
   // and 2 never (night at 512, 2 078 folded quads: 4 stages cost it 7 factorisations, about 5 s, before the
-  // restart); the tests' textured sky at n = 128 needs the third.
+  // restart); the tests' textured sky at n = 128 needs the third. (Those counts are from the geometric path,
+  // homotopyPower 0; on the default path that sky unfolds without a restart, and on every level of the ten
+  // benchmark maps at 512 and 1024 a start still folded after its second stage was folded after its third.)
   Stats run(std::vector<double>& psi, double targetL2, int maxIterations,
             const std::function<void(int, double)>& progress) {
     constexpr int kUnfoldStages = 3;
