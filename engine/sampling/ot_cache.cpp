@@ -43,7 +43,7 @@ constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 4 + 4 + 8 * 4 + 4 + 4 + 4;
 #if defined(__x86_64__) && defined(__GLIBCXX__)
 // A new OtSolverOptions field usually changes this size (not always: padding may absorb a bool): add it to
 // otMapCacheKey (or say why it does not change the result) and update the number.
-static_assert(sizeof(OtSolverOptions) == 176, "OtSolverOptions changed: review otMapCacheKey");
+static_assert(sizeof(OtSolverOptions) == 184, "OtSolverOptions changed: review otMapCacheKey");
 // Likewise a new OtMap field must be stored (readEntry, writeEntry) and kFormatVersion bumped. (`levels`, the
 // per-level diagnostics, is not stored: a cached map reports none.)
 static_assert(sizeof(OtMap) == 160, "OtMap changed: review the file layout");
@@ -247,6 +247,7 @@ std::uint64_t otMapCacheKey(std::span<const double> density, int n, const OtSolv
   hashField(hash, "minStageStep", o.minStageStep);
   hashField(hash, "stageMinStep", o.stageMinStep);
   hashField(hash, "homotopyPower", o.homotopyPower);
+  hashField(hash, "maxSmoothingPasses", o.maxSmoothingPasses);
   hashField(hash, "foldGuard", o.foldGuard);
   hashField(hash, "merit", o.merit);
   hashField(hash, "logNewton", o.logNewton);

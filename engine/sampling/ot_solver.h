@@ -21,10 +21,10 @@
 // - on a level that had to undo a stage, steps cut short by the fold guard follow a second-order correction
 //   (a curve on which the quadratic area term is cancelled; LevelSolver::curvedStep);
 // - coarse-to-fine: the density is box-restricted to n/2, n/4, ..., solved there and psi is prolonged
-//   (averaged at the coarse vertices, then bilinear); a prolonged start may fold quads (next to a synthetic
-//   sun; on real maps mostly in dim, strongly compressed regions), which the level's continuation unfolds, or
-//   else the level restarts part of the way from the identity towards it; a level whose coarser one needed
-//   LU-preconditioned directions starts with them;
+//   (averaged at the coarse vertices, then bilinear); where a prolonged start folds quads (next to suns and
+//   lamps, in strongly compressed regions), psi is smoothed by binomial passes until it does not (at most
+//   maxSmoothingPasses, else the level starts part of the way from the identity towards it); a level whose
+//   coarser one needed LU-preconditioned directions starts with them;
 // - a density floor: rho' = max(rho, floorFraction * mean(rho)), renormalised to mean 1. Zero regions then
 //   collapse to thin quads instead of folding. The samplers' pdfs stay exact because they come from the map.
 //   The default eps = 1e-2 costs a sampler at most a factor 1 + eps in the second moment of f / p (the
@@ -41,6 +41,7 @@
 
 #include <functional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace iblx {
@@ -86,6 +87,10 @@ struct OtSolverOptions {
   // areas and the target (renormalised), p in [0, 1]; p = 0 is the geometric mean A0^(1 - s) m^s. See
   // LevelSolver::run.
   double homotopyPower = 0.5;
+  // coarse-to-fine: a prolonged potential that folds quads is smoothed by 1, 2, 4, ... binomial passes until
+  // none is folded (solveLevels in ot_solver.cpp); past this many passes the level starts instead as far from
+  // the identity towards the smoothed potential as every quad stays unfolded. 0: always the latter.
+  int maxSmoothingPasses = 1024;
   // Once a level has had to undo a continuation stage, a step that the fold guard cuts short follows the
   // curve psi + t d + t^2 d2 with J d2 = -(the quadratic area term along d) (LevelSolver::curvedStep). Only
   // then: on maps that need no such retreat, the longer steps made the lagged LU factors go stale sooner, for
@@ -112,7 +117,7 @@ double otRetriedStageStep(double reached, double next, double firstStep, bool ab
                           const OtSolverOptions& options);
 
 // Bumped whenever the solver's algorithm changes its results, so that cached maps (ot_cache.h) are re-solved.
-inline constexpr int kOtSolverVersion = 10;
+inline constexpr int kOtSolverVersion = 11;
 
 // What one grid level of the coarse-to-fine solve did (coarsest first in OtMap::levels).
 struct OtLevelStats {
@@ -123,12 +128,18 @@ struct OtLevelStats {
   int factorisations = 0;    // sparse LU factorisations of the exact Jacobian
   int krylovSteps = 0;       // GMRES steps, each one preconditioner solve and one Jacobian product
   int curvedSteps = 0;       // steps along a second-order correction (OtSolverOptions::secondOrderCorrection)
-  bool foldedStart = false;  // the prolonged coarse map had folded quads here
-  bool restarted = false;    // ... which did not unfold, so the level started again
-  double restartScale = 0.0;  // from this fraction of the way to the prolonged map (all unfolded)
+  bool foldedStart = false;  // the prolonged coarse map had folded quads here:
+  int foldedQuads = 0;       // this many (area <= 0; not strictly convex under OtFoldGuard::Convex),
+  int smoothingPasses = 0;   // ... so psi was smoothed by this many binomial passes
+  double restartScale = 0.0;  // > 0: that did not unfold it, and the level started this fraction of the way
+                              // from the identity towards the smoothed potential
   double seconds = 0.0;       // wall time of the level
   double l2 = 0.0;            // E reached at this level
 };
+
+// How a level started, for reports: "" from an unfolded prolonged map, else "folded start (N quads), P
+// smoothing passes" or "folded start (N quads), restarted at TAU" (OtLevelStats::restartScale).
+std::string otLevelStartNote(const OtLevelStats& level);
 
 struct OtMap {
   int n = 0;

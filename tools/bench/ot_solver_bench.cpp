@@ -212,6 +212,8 @@ int main(int argc, char** argv) {
         options.stageMinStep = std::stod(value());
       } else if (arg == "--homotopy-power") {
         options.homotopyPower = std::stod(value());
+      } else if (arg == "--smoothing-passes") {
+        options.maxSmoothingPasses = std::stoi(value());
       } else if (arg == "--max-iter") {
         options.maxIterations = std::stoi(value());
       } else if (arg == "--help") {
@@ -222,6 +224,7 @@ int main(int argc, char** argv) {
             "solver options (OtSolverOptions, for experiments; defaults as the samplers use them):\n"
             "  --floor EPS  --coarse-target L2  --no-coarse  --no-curved  --boundary-fraction F\n"
             "  --stage-log-error E  --stage-min-step S  --homotopy-power P  --krylov M  --krylov-tol T\n"
+            "  --smoothing-passes N (most binomial passes on a folded prolonged start)\n"
             "  --gmres (no direct LU)\n"
             "  --guard none|area|convex  --merit l2|barrier  --absolute  --log-newton  --cj\n");
         return 0;
@@ -258,12 +261,9 @@ int main(int argc, char** argv) {
           for (const OtLevelStats& l : map.levels)
             std::printf(
                 "    level %4d: %4d iters %3d stages (%d undone) %3d LU %5d krylov %3d curved %8.3f s  L2 "
-                "%.2e%s\n",
+                "%.2e  %s\n",
                 l.n, l.iterations, l.stages, l.undoneStages, l.factorisations, l.krylovSteps, l.curvedSteps,
-                l.seconds, l.l2,
-                l.restarted     ? ("  folded start, restarted at " + std::to_string(l.restartScale)).c_str()
-                : l.foldedStart ? "  folded start"
-                                : "");
+                l.seconds, l.l2, otLevelStartNote(l).c_str());
         std::fflush(stdout);
       }
     return 0;

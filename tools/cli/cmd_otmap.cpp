@@ -222,10 +222,11 @@ int cmdOtMap(const Args& args) {
           entry, sizeof entry,
           "%s{\"grid\": %d, \"newton_iterations\": %d, \"stages\": %d, \"undone_stages\": %d, "
           "\"lu_factorisations\": %d, \"krylov_steps\": %d, \"curved_steps\": %d, \"level_seconds\": %.6f, "
-          "\"level_l2\": %.9g, \"folded_start\": %s, \"restart_scale\": %.6g}",
+          "\"level_l2\": %.9g, \"folded_start\": %s, \"folded_quads\": %d, \"smoothing_passes\": %d, "
+          "\"restart_scale\": %.6g}",
           levels.empty() ? "" : ", ", l.n, l.iterations, l.stages, l.undoneStages, l.factorisations,
-          l.krylovSteps, l.curvedSteps, l.seconds, l.l2, l.foldedStart ? "true" : "false",
-          l.restarted ? l.restartScale : 0.0);
+          l.krylovSteps, l.curvedSteps, l.seconds, l.l2, l.foldedStart ? "true" : "false", l.foldedQuads,
+          l.smoothingPasses, l.restartScale);
       levels += entry;
     }
     std::printf(
@@ -260,10 +261,7 @@ int cmdOtMap(const Args& args) {
           "  level %4d: %3d Newton iterations (%d curved), %2d stages (%d undone), %2d LU "
           "factorisations, %4d Krylov steps, %.3f s, L2 %.3g%s\n",
           l.n, l.iterations, l.curvedSteps, l.stages, l.undoneStages, l.factorisations, l.krylovSteps,
-          l.seconds, l.l2,
-          l.restarted     ? ", folded start, restarted part of the way"
-          : l.foldedStart ? ", folded start"
-                          : "");
+          l.seconds, l.l2, otLevelStartNote(l).empty() ? "" : (", " + otLevelStartNote(l)).c_str());
     std::printf("mass error: L2 %.3g, L1 %.3g, Linf %.3g\n", map.l2, map.l1, map.linf);
     std::printf("quads: %d folded (area <= 0), %d not strictly convex, %d without a valid piece\n",
                 map.negativeAreaQuads, map.foldedQuads, forward.invalidPieces());
