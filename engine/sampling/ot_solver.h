@@ -117,7 +117,7 @@ double otRetriedStageStep(double reached, double next, double firstStep, bool ab
                           const OtSolverOptions& options);
 
 // Bumped whenever the solver's algorithm changes its results, so that cached maps (ot_cache.h) are re-solved.
-inline constexpr int kOtSolverVersion = 11;
+inline constexpr int kOtSolverVersion = 12;
 
 // What one grid level of the coarse-to-fine solve did (coarsest first in OtMap::levels).
 struct OtLevelStats {
