@@ -1009,8 +1009,8 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
   // slower on night and interior at n = 512 (3.8-3.9 s against 2.2-2.5 s) and 1.3-1.8x at 1024 (17-19 s
   // against 11-13 s), 2x on sun1e5 at 1024; studio at 512 lost 15 % (8 passes on its 4 639 folded quads).
   // Smoothing only near the folded quads folded new ones at the edge of the smoothed region.
-  level.foldedQuads = solver.foldedAt(result.psi);
-  level.foldedStart = level.foldedQuads > 0;
+  level.startFoldedQuads = solver.foldedAt(result.psi);
+  level.foldedStart = level.startFoldedQuads > 0;
   if (level.foldedStart) {
     level.smoothingPasses = smoothUntilUnfolded(solver, result.psi, n, options.maxSmoothingPasses);
     if (solver.foldedAt(result.psi) > 0) {
@@ -1044,7 +1044,7 @@ double otRetriedStageStep(double reached, double next, double firstStep, bool ab
 
 std::string otLevelStartNote(const OtLevelStats& level) {
   if (!level.foldedStart) return "";
-  const std::string folded = "folded start (" + std::to_string(level.foldedQuads) + " quads), ";
+  const std::string folded = "folded start (" + std::to_string(level.startFoldedQuads) + " quads), ";
   if (level.restartScale > 0.0) return folded + "restarted at " + std::to_string(level.restartScale);
   return folded + std::to_string(level.smoothingPasses) +
          (level.smoothingPasses == 1 ? " smoothing pass" : " smoothing passes");

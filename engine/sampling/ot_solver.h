@@ -89,7 +89,7 @@ struct OtSolverOptions {
   double homotopyPower = 0.5;
   // coarse-to-fine: a prolonged potential that folds quads is smoothed by 1, 2, 4, ... binomial passes until
   // none is folded (solveLevels in ot_solver.cpp); past this many passes the level starts instead as far from
-  // the identity towards the smoothed potential as every quad stays unfolded. 0: always the latter.
+  // the identity towards the smoothed potential as every quad stays unfolded. 0 (or less): always the latter.
   int maxSmoothingPasses = 1024;
   // Once a level has had to undo a continuation stage, a step that the fold guard cuts short follows the
   // curve psi + t d + t^2 d2 with J d2 = -(the quadratic area term along d) (LevelSolver::curvedStep). Only
@@ -129,7 +129,7 @@ struct OtLevelStats {
   int krylovSteps = 0;       // GMRES steps, each one preconditioner solve and one Jacobian product
   int curvedSteps = 0;       // steps along a second-order correction (OtSolverOptions::secondOrderCorrection)
   bool foldedStart = false;  // the prolonged coarse map had folded quads here:
-  int foldedQuads = 0;       // this many (area <= 0; not strictly convex under OtFoldGuard::Convex),
+  int startFoldedQuads = 0;  // this many (area <= 0; not strictly convex under OtFoldGuard::Convex),
   int smoothingPasses = 0;   // ... so psi was smoothed by this many binomial passes
   double restartScale = 0.0;  // > 0: that did not unfold it, and the level started this fraction of the way
                               // from the identity towards the smoothed potential

@@ -222,10 +222,10 @@ int cmdOtMap(const Args& args) {
           entry, sizeof entry,
           "%s{\"grid\": %d, \"newton_iterations\": %d, \"stages\": %d, \"undone_stages\": %d, "
           "\"lu_factorisations\": %d, \"krylov_steps\": %d, \"curved_steps\": %d, \"level_seconds\": %.6f, "
-          "\"level_l2\": %.9g, \"folded_start\": %s, \"folded_quads\": %d, \"smoothing_passes\": %d, "
+          "\"level_l2\": %.9g, \"folded_start\": %s, \"start_folded_quads\": %d, \"smoothing_passes\": %d, "
           "\"restart_scale\": %.6g}",
           levels.empty() ? "" : ", ", l.n, l.iterations, l.stages, l.undoneStages, l.factorisations,
-          l.krylovSteps, l.curvedSteps, l.seconds, l.l2, l.foldedStart ? "true" : "false", l.foldedQuads,
+          l.krylovSteps, l.curvedSteps, l.seconds, l.l2, l.foldedStart ? "true" : "false", l.startFoldedQuads,
           l.smoothingPasses, l.restartScale);
       levels += entry;
     }
