@@ -1004,11 +1004,11 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
   // 30 % of the quads of night at n = 512), and the prolonged potential folds fine quads there. A binomial
   // pass damps a wavelength of k cells by cos^2(pi / k) per axis: the two-cell twist goes, the transport at
   // the scale of the coarse grid stays. Measured (iblx_ot_bench): 1-8 passes unfolded every folded start of
-  // the ten benchmark maps at n = 64-1024. The start this replaced (continue from the folded map, and after
-  // three stages restart 14-50 % of the way from the identity) was, alternating in one session, 1.5-1.7x
-  // slower on night and interior at n = 512 (3.8-3.9 s against 2.2-2.5 s) and 1.3-1.8x at 1024 (17-19 s
-  // against 11-13 s), 2x on sun1e5 at 1024; studio at 512 lost 15 % (8 passes on its 4 639 folded quads).
-  // Smoothing only near the folded quads folded new ones at the edge of the smoothed region.
+  // the 13 benchmark densities at n = 16-1024. The start this replaced (continue from the folded map, and
+  // after three stages restart 14-50 % of the way from the identity) was, alternating in one
+  // session, 1.5-1.7x slower on night and interior at n = 512 (3.8-3.9 s against 2.2-2.5 s) and 1.3-1.8x at
+  // 1024 (17-19 s against 11-13 s), 2x on sun1e5 at 1024; studio at 512 lost 15 % (8 passes on its 4 639
+  // folded quads). Smoothing only near the folded quads folded new ones at the edge of the smoothed region.
   level.startFoldedQuads = solver.foldedAt(result.psi);
   level.foldedStart = level.startFoldedQuads > 0;
   if (level.foldedStart) {
