@@ -182,11 +182,16 @@ class LevelSolver {
     const std::vector<double> target = mass_;
     Stats s;
     evaluateResidual(s);
-    std::vector<double> logStart(target.size()), logTarget(target.size());
+    // The power mean's end points, A0^p and m^p (log A0 and log m for p = 0), computed once per path: they
+    // change only when the continuation re-anchors.
+    const double p = options_.homotopyPower;
+    const auto endPoint = [p](double area) {
+      return p == 0.0 ? std::log(area) : std::exp(p * std::log(area));
+    };
+    std::vector<double> startEnd(target.size()), targetEnd(target.size());
     for (std::size_t c = 0; c < target.size(); ++c) {
-      const double area = residual_[c] + target[c];
-      logStart[c] = std::log(area);
-      logTarget[c] = std::log(target[c]);
+      startEnd[c] = endPoint(residual_[c] + target[c]);
+      targetEnd[c] = endPoint(target[c]);
     }
     double reached = 0.0, step = 1.0, previous = -1.0;  // previous: the stage solved before `reached`
     std::vector<double> savedPsi, previousPsi;
@@ -196,14 +201,11 @@ class LevelSolver {
       if (next == 1.0) {
         mass_ = target;
       } else {
-        const double p = options_.homotopyPower;
         double total = 0.0;
-        for (std::size_t c = 0; c < target.size(); ++c)
-          total += mass_[c] =
-              p == 0.0
-                  ? std::exp((1.0 - next) * logStart[c] + next * logTarget[c])
-                  : std::pow((1.0 - next) * std::exp(p * logStart[c]) + next * std::exp(p * logTarget[c]),
-                             1.0 / p);
+        for (std::size_t c = 0; c < target.size(); ++c) {
+          const double mean = (1.0 - next) * startEnd[c] + next * targetEnd[c];
+          total += mass_[c] = p == 0.0 ? std::exp(mean) : std::pow(mean, 1.0 / p);
+        }
         for (double& m : mass_) m /= total;
       }
       savedPsi = psi, savedPos = pos_;
@@ -234,10 +236,7 @@ class LevelSolver {
         // No stage solved yet, and this one got closer to its target before it crawled: the continuation
         // starts again from the map reached (undoing it threw away up to 6 Newton iterations of unfolding on
         // sunrise and city).
-        for (std::size_t c = 0; c < target.size(); ++c) {
-          const double area = residual_[c] + mass_[c];
-          logStart[c] = std::log(area);
-        }
+        for (std::size_t c = 0; c < target.size(); ++c) startEnd[c] = endPoint(residual_[c] + mass_[c]);
       } else {
         psi = savedPsi, pos_ = savedPos;  // undo the stage and take a smaller one
       }
@@ -961,15 +960,17 @@ void smoothPotential(std::vector<double>& psi, int n, int passes) {
 }
 
 // Smooths a folded psi by 1, 1, 2, 4, ... more passes (1, 2, 4, 8, ... in all) until the solver accepts it as
-// a start or the next batch would pass maxPasses. Returns the passes made.
-int smoothUntilUnfolded(LevelSolver& solver, std::vector<double>& psi, int n, int maxPasses) {
-  int passes = 0;
-  for (int batch = 1; passes + batch <= maxPasses; batch = passes) {
+// a start or the next batch would pass maxPasses. Sets `passes` to the passes made; returns the quads still
+// folded (0 once accepted; at least one when no pass was allowed).
+int smoothUntilUnfolded(LevelSolver& solver, std::vector<double>& psi, int n, int maxPasses, int& passes) {
+  passes = 0;
+  int folded = 1;  // psi comes in folded
+  for (int batch = 1; folded > 0 && passes + batch <= maxPasses; batch = passes) {
     smoothPotential(psi, n, batch);
     passes += batch;
-    if (solver.foldedAt(psi) == 0) break;
+    folded = solver.foldedAt(psi);
   }
-  return passes;
+  return folded;
 }
 
 struct LevelResult {
@@ -1010,10 +1011,8 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
   // 1024 (17-19 s against 11-13 s), 2x on sun1e5 at 1024; studio at 512 lost 15 % (8 passes on its 4 639
   // folded quads). Smoothing only near the folded quads folded new ones at the edge of the smoothed region.
   level.startFoldedQuads = solver.foldedAt(result.psi);
-  level.foldedStart = level.startFoldedQuads > 0;
-  if (level.foldedStart) {
-    level.smoothingPasses = smoothUntilUnfolded(solver, result.psi, n, options.maxSmoothingPasses);
-    if (solver.foldedAt(result.psi) > 0) {
+  if (level.foldedStart()) {
+    if (smoothUntilUnfolded(solver, result.psi, n, options.maxSmoothingPasses, level.smoothingPasses) > 0) {
       const std::vector<double> smoothed = result.psi;
       level.restartScale = solver.startToward(smoothed, result.psi);
     }
@@ -1043,7 +1042,7 @@ double otRetriedStageStep(double reached, double next, double firstStep, bool ab
 }
 
 std::string otLevelStartNote(const OtLevelStats& level) {
-  if (!level.foldedStart) return "";
+  if (!level.foldedStart()) return "";
   const std::string folded = "folded start (" + std::to_string(level.startFoldedQuads) + " quads), ";
   if (level.restartScale > 0.0) return folded + "restarted at " + std::to_string(level.restartScale);
   return folded + std::to_string(level.smoothingPasses) +

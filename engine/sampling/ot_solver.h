@@ -122,19 +122,22 @@ inline constexpr int kOtSolverVersion = 12;
 // What one grid level of the coarse-to-fine solve did (coarsest first in OtMap::levels).
 struct OtLevelStats {
   int n = 0;
-  int iterations = 0;        // Newton iterations (line searches that moved)
-  int stages = 0;            // continuation stages attempted (1 for an easy density)
-  int undoneStages = 0;      // stages undone (or, before any was solved, re-anchored) and retried smaller
-  int factorisations = 0;    // sparse LU factorisations of the exact Jacobian
-  int krylovSteps = 0;       // GMRES steps, each one preconditioner solve and one Jacobian product
-  int curvedSteps = 0;       // steps along a second-order correction (OtSolverOptions::secondOrderCorrection)
-  bool foldedStart = false;  // the prolonged coarse map had folded quads here:
-  int startFoldedQuads = 0;  // this many (area <= 0; not strictly convex under OtFoldGuard::Convex),
-  int smoothingPasses = 0;   // ... so psi was smoothed by this many binomial passes
+  int iterations = 0;      // Newton iterations (line searches that moved)
+  int stages = 0;          // continuation stages attempted (1 for an easy density)
+  int undoneStages = 0;    // stages undone (or, before any was solved, re-anchored) and retried smaller
+  int factorisations = 0;  // sparse LU factorisations of the exact Jacobian
+  int krylovSteps = 0;     // GMRES steps, each one preconditioner solve and one Jacobian product
+  int curvedSteps = 0;     // steps along a second-order correction (OtSolverOptions::secondOrderCorrection)
+  // Quads that the prolonged coarse map folded here (area <= 0; not strictly convex under
+  // OtFoldGuard::Convex), 0 for an unfolded start ...
+  int startFoldedQuads = 0;
+  int smoothingPasses = 0;    // ... which psi was then smoothed by this many binomial passes to unfold
   double restartScale = 0.0;  // > 0: that did not unfold it, and the level started this fraction of the way
                               // from the identity towards the smoothed potential
   double seconds = 0.0;       // wall time of the level
   double l2 = 0.0;            // E reached at this level
+
+  bool foldedStart() const { return startFoldedQuads > 0; }
 };
 
 // How a level started, for reports: "" from an unfolded prolonged map, else "folded start (N quads), P

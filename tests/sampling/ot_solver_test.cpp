@@ -238,7 +238,7 @@ TEST_CASE(
     int folded = 0;
     for (const OtLevelStats& level : map.levels) {
       CAPTURE(level.n);
-      if (!level.foldedStart) continue;
+      if (!level.foldedStart()) continue;
       ++folded;
       if (maxPasses > 0) {
         CHECK(level.smoothingPasses >= 1);

@@ -225,8 +225,8 @@ int cmdOtMap(const Args& args) {
           "\"level_l2\": %.9g, \"folded_start\": %s, \"start_folded_quads\": %d, \"smoothing_passes\": %d, "
           "\"restart_scale\": %.6g}",
           levels.empty() ? "" : ", ", l.n, l.iterations, l.stages, l.undoneStages, l.factorisations,
-          l.krylovSteps, l.curvedSteps, l.seconds, l.l2, l.foldedStart ? "true" : "false", l.startFoldedQuads,
-          l.smoothingPasses, l.restartScale);
+          l.krylovSteps, l.curvedSteps, l.seconds, l.l2, l.foldedStart() ? "true" : "false",
+          l.startFoldedQuads, l.smoothingPasses, l.restartScale);
       levels += entry;
     }
     std::printf(
@@ -256,12 +256,14 @@ int cmdOtMap(const Args& args) {
           sunClip, 100.0 * kOtSunMinShare);
     std::printf("iterations: %d (+%d on coarser grids), solved in %.3f s%s\n", map.iterations,
                 map.coarseIterations, map.seconds, fromCache ? " (when it was stored in the cache)" : "");
-    for (const OtLevelStats& l : map.levels)
+    for (const OtLevelStats& l : map.levels) {
+      const std::string startNote = otLevelStartNote(l);
       std::printf(
           "  level %4d: %3d Newton iterations (%d curved), %2d stages (%d undone), %2d LU "
           "factorisations, %4d Krylov steps, %.3f s, L2 %.3g%s\n",
           l.n, l.iterations, l.curvedSteps, l.stages, l.undoneStages, l.factorisations, l.krylovSteps,
-          l.seconds, l.l2, otLevelStartNote(l).empty() ? "" : (", " + otLevelStartNote(l)).c_str());
+          l.seconds, l.l2, startNote.empty() ? "" : (", " + startNote).c_str());
+    }
     std::printf("mass error: L2 %.3g, L1 %.3g, Linf %.3g\n", map.l2, map.l1, map.linf);
     std::printf("quads: %d folded (area <= 0), %d not strictly convex, %d without a valid piece\n",
                 map.negativeAreaQuads, map.foldedQuads, forward.invalidPieces());
