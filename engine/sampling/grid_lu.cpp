@@ -64,6 +64,34 @@ inline void subtractColumn(double* __restrict y, std::size_t count, const float*
   for (std::size_t i = 0; i < count; ++i) y[i] -= c[i] * x;
 }
 
+// The solves' layout of a front's factors (s own variables, m = s + b front variables, blocks of four columns
+// as the solves take them). Each solve reads its array once, from start to end: at n = 1024 most of a solve's
+// time went to the 129 000 fronts of at most 16 own variables, which read the column-major panel [L11\U11;
+// L21] in short strided pieces, forward for one solve and backward (by columns, in reverse) for the other,
+// and so waited on memory (perf: cache misses on the first factor load of each piece).
+//
+// lower (forward solve), for each block j = 0, 4, ... (j + 4 <= s): L11's six entries below the diagonal in
+// the block's 4 x 4 triangle, in the order (1,0) (2,0) (2,1) (3,0) (3,1) (3,2), then the four columns' rows
+// j + 4 .. m - 1 one column after the other; then for each remaining column j its rows j + 1 .. m - 1.
+std::size_t lowerSize(std::size_t m, std::size_t s) {
+  std::size_t size = 0, j = 0;
+  for (; j + 4 <= s; j += 4) size += 6 + 4 * (m - j - 4);
+  for (; j < s; ++j) size += m - j - 1;
+  return size;
+}
+
+// upper (backward solve): U12 (s x b, column-major), then for each block from the last (columns top ..
+// top + 3, top = s - 4, s - 8, ... >= 0): the ten entries of its 4 x 4 upper triangle in the order (3,3)
+// (2,3) (2,2) (1,3) (1,2) (1,1) (0,3) (0,2) (0,1) (0,0), diagonal entries inverted (the solve multiplies),
+// then the four columns' rows 0 .. top - 1 one column after the other; then for each remaining column j
+// (s mod 4 of them, from the last) its inverted diagonal and its rows 0 .. j - 1.
+std::size_t upperSize(std::size_t m, std::size_t s) {
+  std::size_t size = s * (m - s), j = s;
+  for (; j >= 4; j -= 4) size += 10 + 4 * (j - 4);
+  while (j-- > 0) size += 1 + j;
+  return size;
+}
+
 // Subdomains of at most this many cells are eliminated whole, as one dense front (their separators would
 // be fronts of a few variables each, where BLAS calls cost more than the arithmetic).
 constexpr int kLeafCells = 16;
@@ -96,11 +124,12 @@ GridLu::GridLu(int width, int height, int threads) : width_(width), height_(heig
   // build() appends a node after its subtree, so nodes_ is in postorder and a subtree is the index range
   // [subtreeFirst, node]. The factor storage and the elimination order (the fronts' own variables) follow
   // the same order.
-  std::size_t panel = 0, pivots = 0;
+  std::size_t lower = 0, upper = 0, pivots = 0;
   for (Node& node : nodes_) {
     const std::size_t m = node.vars.size(), s = std::size_t(node.own), b = m - s;
-    node.panelOffset = panel, panel += m * s;
-    node.upperOffset = panel, panel += s * b;
+    node.lowerOffset = lower, lower += lowerSize(m, s);
+    upper += upperSize(m, s);
+    node.upperOffset = upper;  // for now the end of the node's block; reversed below
     node.pivotOffset = pivots, pivots += s;
     node.maxFront = m;
     for (int child : node.children)
@@ -115,9 +144,12 @@ GridLu::GridLu(int width, int height, int threads) : width_(width), height_(heig
       childMaps_.insert(childMaps_.end(), map.begin(), map.end());
     }
   }
+  // upper_ in reverse postorder: the node whose block ends last in postorder starts at 0.
+  for (Node& node : nodes_) node.upperOffset = upper - node.upperOffset;
   workspaces_.resize((std::size_t(2) << parallelDepth_) - 1);
-  factorEntries_ = panel;
-  factors_.resize(panel);  // every entry is written by factor()
+  factorEntries_ = lower + upper;
+  lower_.resize(lower);  // every entry is written by factor()
+  upper_.resize(upper);
   pivots_.assign(pivots, 0);
 }
 
@@ -255,29 +287,46 @@ void GridLu::factorNode(int index, const StencilMatrix& a, Workspace& work, int&
       if (pivot == 0.0f || !std::isfinite(pivot)) pivot = tiny, ++replaced;
     }
   }
-  float* factors = factors_.data();
+  float* u12 = front.data() + std::size_t(s) * mm;  // column q of U12 at u12 + q m
   if (b > 0) {
     const float one = 1.0f, minusOne = -1.0f;
     const int first = 1, inc = 1;
-    float* f12 = front.data() + std::size_t(s) * mm;
-    float* f21 = front.data() + s;
-    slaswp_(&b, f12, &m, &first, &s, ipiv, &inc);
-    strsm_("L", "L", "N", "U", &s, &b, &one, front.data(), &m, f12, &m, 1, 1, 1, 1);  // U12 = L11^-1 P F12
-    strsm_("R", "U", "N", "N", &b, &s, &one, front.data(), &m, f21, &m, 1, 1, 1, 1);  // L21 = F21 U11^-1
+    float* l21 = front.data() + s;
+    slaswp_(&b, u12, &m, &first, &s, ipiv, &inc);
+    strsm_("L", "L", "N", "U", &s, &b, &one, front.data(), &m, u12, &m, 1, 1, 1, 1);  // U12 = L11^-1 P F12
+    strsm_("R", "U", "N", "N", &b, &s, &one, front.data(), &m, l21, &m, 1, 1, 1, 1);  // L21 = F21 U11^-1
     const std::size_t base = stack.size();
     stack.resize(base + std::size_t(b) * b);
     float* update = stack.data() + base;
-    for (int q = 0; q < b; ++q) std::copy_n(f12 + std::size_t(q) * mm + s, b, update + std::size_t(q) * b);
-    sgemm_("N", "N", &b, &b, &s, &minusOne, f21, &m, f12, &m, &one, update, &b, 1, 1);  // F22 - L21 U12
-    for (int q = 0; q < b; ++q)
-      std::copy_n(f12 + std::size_t(q) * mm, std::size_t(s), factors + node.upperOffset + std::size_t(q) * s);
+    for (int q = 0; q < b; ++q) std::copy_n(u12 + std::size_t(q) * mm + s, b, update + std::size_t(q) * b);
+    sgemm_("N", "N", &b, &b, &s, &minusOne, l21, &m, u12, &m, &one, update, &b, 1, 1);  // F22 - L21 U12
   }
-  // [L11\U11; L21] as factored, but with U11's diagonal inverted: the backward solve multiplies instead of
-  // dividing.
-  float* panel = factors + node.panelOffset;
-  std::copy_n(front.data(), mm * std::size_t(s), panel);
-  for (std::size_t j = 0; j < std::size_t(s); ++j)
-    panel[j * mm + j] = toFactor(1.0 / double(front[j * mm + j]));
+  // The factors in the solves' layouts (lowerSize, upperSize).
+  const std::size_t own = std::size_t(s);
+  const auto column = [&](std::size_t j) { return front.data() + j * mm; };
+  const auto inverted = [](float pivot) { return toFactor(1.0 / double(pivot)); };
+  float* lower = lower_.data() + node.lowerOffset;
+  std::size_t j = 0;
+  for (; j + 4 <= own; j += 4) {
+    const float *c0 = column(j), *c1 = column(j + 1), *c2 = column(j + 2);
+    for (float entry : {c0[j + 1], c0[j + 2], c1[j + 2], c0[j + 3], c1[j + 3], c2[j + 3]}) *lower++ = entry;
+    for (std::size_t k = 0; k < 4; ++k) lower = std::copy(column(j + k) + j + 4, column(j + k) + mm, lower);
+  }
+  for (; j < own; ++j) lower = std::copy(column(j) + j + 1, column(j) + mm, lower);
+  float* upper = upper_.data() + node.upperOffset;
+  for (std::size_t q = 0; q < std::size_t(b); ++q) upper = std::copy_n(u12 + q * mm, own, upper);
+  for (j = own; j >= 4; j -= 4) {
+    const std::size_t top = j - 4;
+    const float *c0 = column(top), *c1 = column(top + 1), *c2 = column(top + 2), *c3 = column(top + 3);
+    for (float entry : {inverted(c3[top + 3]), c3[top + 2], inverted(c2[top + 2]), c3[top + 1], c2[top + 1],
+                        inverted(c1[top + 1]), c3[top], c2[top], c1[top], inverted(c0[top])})
+      *upper++ = entry;
+    for (std::size_t k = 0; k < 4; ++k) upper = std::copy_n(column(top + k), top, upper);
+  }
+  while (j-- > 0) {
+    *upper++ = inverted(column(j)[j]);
+    upper = std::copy_n(column(j), j, upper);
+  }
 }
 
 void GridLu::solve(std::span<double> bx) {
@@ -336,24 +385,27 @@ void GridLu::forwardNode(int index, std::span<double> w, std::vector<double>& st
   }
   const int* ipiv = pivots_.data() + node.pivotOffset;
   for (std::size_t i = 0; i < s; ++i) std::swap(own[i], own[std::size_t(ipiv[i] - 1)]);
-  // One pass over the panel [L11; L21], four columns at a time: their 4 x 4 unit-lower triangle first, then
-  // the rows below it.
-  const float* panel = factors_.data() + node.panelOffset;
+  // [L11; L21] four columns at a time, in lowerSize's layout: their 4 x 4 unit-lower triangle first, then
+  // the rows below it (own, then boundary).
+  const float* lower = lower_.data() + node.lowerOffset;
   std::size_t j = 0;
   for (; j + 4 <= s; j += 4) {
-    const float *c0 = panel + j * m, *c1 = c0 + m, *c2 = c1 + m, *c3 = c2 + m;
+    const float* t = lower;
     const double y0 = own[j];
-    const double y1 = own[j + 1] -= c0[j + 1] * y0;
-    const double y2 = own[j + 2] -= c0[j + 2] * y0 + c1[j + 2] * y1;
-    const double y3 = own[j + 3] -= c0[j + 3] * y0 + c1[j + 3] * y1 + c2[j + 3] * y2;
-    const std::size_t rest = j + 4;
-    subtractColumns(own + rest, s - rest, c0 + rest, c1 + rest, c2 + rest, c3 + rest, y0, y1, y2, y3);
-    subtractColumns(boundary, b, c0 + s, c1 + s, c2 + s, c3 + s, y0, y1, y2, y3);
+    const double y1 = own[j + 1] -= t[0] * y0;
+    const double y2 = own[j + 2] -= t[1] * y0 + t[2] * y1;
+    const double y3 = own[j + 3] -= t[3] * y0 + t[4] * y1 + t[5] * y2;
+    const std::size_t rest = j + 4, rows = m - rest, ownRows = s - rest;
+    const float *c0 = lower + 6, *c1 = c0 + rows, *c2 = c1 + rows, *c3 = c2 + rows;
+    subtractColumns(own + rest, ownRows, c0, c1, c2, c3, y0, y1, y2, y3);
+    subtractColumns(boundary, b, c0 + ownRows, c1 + ownRows, c2 + ownRows, c3 + ownRows, y0, y1, y2, y3);
+    lower = c3 + rows;
   }
   for (; j < s; ++j) {
-    const float* column = panel + j * m;
-    subtractColumn(own + j + 1, s - j - 1, column + j + 1, own[j]);
-    subtractColumn(boundary, b, column + s, own[j]);
+    const std::size_t ownRows = s - j - 1;
+    subtractColumn(own + j + 1, ownRows, lower, own[j]);
+    subtractColumn(boundary, b, lower + ownRows, own[j]);
+    lower += m - j - 1;
   }
   // Pop the children's updates; this node's update takes their place.
   std::copy_n(boundary, b, stack.data() + below);
@@ -385,8 +437,8 @@ void GridLu::backwardNode(int index, std::span<double> w, std::vector<double>& s
   const Node& node = nodes_[std::size_t(index)];
   const std::size_t m = node.vars.size(), s = std::size_t(node.own), b = m - s;
   double* own = w.data() + node.ownStart;
-  const float* upper = factors_.data() + node.upperOffset;
-  const std::size_t base = stack.size() - b;  // this node's boundary x, pushed by its parent
+  const float* upper = upper_.data() + node.upperOffset;  // in upperSize's layout
+  const std::size_t base = stack.size() - b;              // this node's boundary x, pushed by its parent
   const auto boundaryX = [&](std::size_t q) { return stack[base + q]; };
   std::size_t q = 0;
   for (; q + 4 <= b; q += 4) {
@@ -395,23 +447,25 @@ void GridLu::backwardNode(int index, std::span<double> w, std::vector<double>& s
                     boundaryX(q + 2), boundaryX(q + 3));
   }
   for (; q < b; ++q) subtractColumn(own, s, upper + q * s, boundaryX(q));
+  upper += s * b;
   // U11, four columns at a time from the last: their 4 x 4 upper triangle (inverted diagonal), then the rows
   // above it.
-  const float* panel = factors_.data() + node.panelOffset;
   std::size_t j = s;
   for (; j >= 4; j -= 4) {
     const std::size_t top = j - 4;
-    const float *c0 = panel + top * m, *c1 = c0 + m, *c2 = c1 + m, *c3 = c2 + m;
-    const double x3 = own[top + 3] *= c3[top + 3];
-    const double x2 = (own[top + 2] -= c3[top + 2] * x3) *= c2[top + 2];
-    const double x1 = (own[top + 1] -= c3[top + 1] * x3 + c2[top + 1] * x2) *= c1[top + 1];
-    const double x0 = (own[top] -= c3[top] * x3 + c2[top] * x2 + c1[top] * x1) *= c0[top];
+    const float* t = upper;
+    const double x3 = own[top + 3] *= t[0];
+    const double x2 = (own[top + 2] -= t[1] * x3) *= t[2];
+    const double x1 = (own[top + 1] -= t[3] * x3 + t[4] * x2) *= t[5];
+    const double x0 = (own[top] -= t[6] * x3 + t[7] * x2 + t[8] * x1) *= t[9];
+    const float *c0 = upper + 10, *c1 = c0 + top, *c2 = c1 + top, *c3 = c2 + top;
     subtractColumns(own, top, c0, c1, c2, c3, x0, x1, x2, x3);
+    upper = c3 + top;
   }
   while (j-- > 0) {
-    const float* column = panel + j * m;
-    const double x = own[j] *= column[j];  // the inverted diagonal
-    subtractColumn(own, j, column, x);
+    const double x = own[j] *= upper[0];  // the inverted diagonal
+    subtractColumn(own, j, upper + 1, x);
+    upper += 1 + j;
   }
   // Pop this node's boundary and push the children's, the second child's on top: the front's x is own
   // (in w) then boundary (on the stack), and a child's map indexes it.

@@ -65,8 +65,9 @@ class GridLu {
     // variables, in the child's order (one flat array in postorder, so the solves stream through it).
     std::array<std::size_t, 2> childMapOffset{0, 0};
     std::array<std::size_t, 2> childMapSize{0, 0};
-    std::size_t panelOffset = 0;  // front size x own block [L11\U11; L21], column-major
-    std::size_t upperOffset = 0;  // own x boundary block U12, column-major (leading dimension own)
+    // Where the node's factors start in lower_ (read by the forward solve) and upper_ (the backward solve),
+    // each laid out in the order its solve reads it (see the .cpp's layout functions).
+    std::size_t lowerOffset = 0, upperOffset = 0;
     std::size_t pivotOffset = 0;  // own row interchanges (LAPACK ipiv, 1-based)
     std::size_t maxFront = 0;     // the largest front size in this subtree
     int subtreeFirst = 0;         // the subtree is nodes_[subtreeFirst .. this node] (nodes_ is in postorder)
@@ -104,7 +105,10 @@ class GridLu {
   std::vector<double> solveOrder_;  // the right-hand side in elimination order
   std::vector<int> order_;          // elimination position -> cell
   int root_ = -1;
-  BigBuffer<float> factors_;
+  // The factors, split by the solve that reads them and laid out in its order: lower_ in postorder (the
+  // forward solve's), upper_ in reverse postorder (the backward solve's), so each solve streams through
+  // one array from start to end.
+  BigBuffer<float> lower_, upper_;
   std::vector<int> pivots_;
   std::size_t factorEntries_ = 0;
   double flops_ = 0.0;
