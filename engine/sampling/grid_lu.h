@@ -2,6 +2,7 @@
 // solver's Newton Jacobian: multifrontal (Duff & Reid, ACM TOMS 9(3), 1983) in the geometric nested-
 // dissection order of George (SIAM J. Numer. Anal. 10(2), 1973). The grid's separators are known, so the
 // symbolic phase is a recursion over rectangles, and every front is a dense block factored by LAPACK/BLAS.
+// The factors are stored in the order the solves read them (one array each, read from start to end).
 // Pivoting is partial within each front's fully summed block; a zero pivot there is replaced by a tiny one
 // (static pivoting, Li & Demmel, ACM TOMS 29(2), 2003), which the OT solver's GMRES corrects.
 // The factorisation runs in single precision and so are its factors (they precondition GMRES, which works in

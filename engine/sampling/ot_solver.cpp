@@ -514,17 +514,18 @@ class LevelSolver {
   // Newton direction: GMRES with the cheap Laplacian preconditioner while it reaches its tolerance; when it
   // does not (a strongly distorted map), GMRES preconditioned by the LU factors of the exact Jacobian,
   // refactored at the current map when the lagged factors no longer reach the tolerance either. A
-  // factorisation costs about 9 solves at n = 512 (0.16 s against 0.018 s with grid_lu.h; it was 0.7 s
-  // against 0.047 s with UMFPACK), so lagged factors are kept as long as GMRES fixes their mismatch in at
-  // most 4 steps (8 gave sunrise at n = 512 526 solves and 31 s, against 314 and 21 s, with UMFPACK; city,
-  // forest and sun1e5 moved within the noise, measured). Renewing them whenever one lagged step missed the
-  // tolerance (grid LU, n = 512) made city and sunrise 1.5-2x faster but studio, sunset, forest and
-  // sun1e5 1.3-1.8x slower, and night and interior no faster. They are asked for a tighter tolerance than
-  // fresh ones, which meet krylovTolerance in one or two steps and so give nearly exact directions: lagged
-  // factors at krylovTolerance gave inexact directions that cost more Newton iterations than the
-  // factorisations saved (measured). At 0.03 rather than 0.01 (the same session, smoothed starts): night,
-  // interior and sunrise at n = 512 from 1.9-2.3 s to 1.7-2.0 s in the same iterations (+-1), night at 1024
-  // 12.6 -> 10.9 s, the other maps within the noise or faster; 0.05 cost night and interior 4-6 more
+  // factorisation costs about 11 solves at n = 512 and 14 at 1024 (0.07 s against 6.5 ms, 0.39 s against
+  // 27 ms with grid_lu.h; it was 0.7 s against 0.047 s at 512 with UMFPACK), so lagged factors are kept as
+  // long as GMRES fixes their mismatch in at most 4 steps (8 gave sunrise at n = 512 526 solves and 31 s,
+  // against 314 and 21 s, with UMFPACK; with grid_lu.h's streamed solves, 6 or 8 steps made sunrise and city
+  // at 512 20-50 % slower and interior and studio 10-30 % faster, measured). Renewing them whenever one
+  // lagged step missed the tolerance (grid LU, n = 512) made city and sunrise 1.5-2x faster but studio,
+  // sunset, forest and sun1e5 1.3-1.8x slower, and night and interior no faster. They are asked for a tighter
+  // tolerance than fresh ones, which meet krylovTolerance in one or two steps and so give nearly exact
+  // directions: lagged factors at krylovTolerance gave inexact directions that cost more Newton iterations
+  // than the factorisations saved (measured). At 0.03 rather than 0.01 (the same session, smoothed starts):
+  // night, interior and sunrise at n = 512 from 1.9-2.3 s to 1.7-2.0 s in the same iterations (+-1), night at
+  // 1024 12.6 -> 10.9 s, the other maps within the noise or faster; 0.05 cost night and interior 4-6 more
   // iterations at 512. Of the lagged attempts that failed at 0.01, most ended at 0.01-0.03. A short step is
   // no sign of poor factors (the guard cuts the first step of most continuation stages): renewing them after
   // every short step made sunrise at n = 512 factorise 118 times without finishing in 240 s.
