@@ -80,11 +80,12 @@ std::size_t lowerSize(std::size_t m, std::size_t s) {
   return size;
 }
 
-// upper (backward solve): U12 (s x b, column-major), then for each block from the last (columns top ..
-// top + 3, top = s - 4, s - 8, ... >= 0): the ten entries of its 4 x 4 upper triangle in the order (3,3)
-// (2,3) (2,2) (1,3) (1,2) (1,1) (0,3) (0,2) (0,1) (0,0), diagonal entries inverted (the solve multiplies),
-// then the four columns' rows 0 .. top - 1 one column after the other; then for each remaining column j
-// (s mod 4 of them, from the last) its inverted diagonal and its rows 0 .. j - 1.
+// upper (backward solve): U12 (s x b, column-major; the backward solve subtracts U12 x_boundary first), then
+// for each block from the last (columns top .. top + 3, top = s - 4, s - 8, ... >= 0): the ten entries of its
+// 4 x 4 upper triangle in the order (3,3) (2,3) (2,2) (1,3) (1,2) (1,1) (0,3) (0,2) (0,1) (0,0), diagonal
+// entries inverted (the solve multiplies), then the four columns' rows 0 .. top - 1 one column after the
+// other; then for each remaining column j (s mod 4 of them, from the last) its inverted diagonal and its rows
+// 0 .. j - 1.
 std::size_t upperSize(std::size_t m, std::size_t s) {
   std::size_t size = s * (m - s), j = s;
   for (; j >= 4; j -= 4) size += 10 + 4 * (j - 4);
@@ -122,8 +123,8 @@ GridLu::GridLu(int width, int height, int threads) : width_(width), height_(heig
   std::vector<std::vector<int>> maps;  // per node and child (2 node + k), flattened into childMaps_ below
   root_ = build(0, width, 0, height, position, maps);
   // build() appends a node after its subtree, so nodes_ is in postorder and a subtree is the index range
-  // [subtreeFirst, node]. The factor storage and the elimination order (the fronts' own variables) follow
-  // the same order.
+  // [subtreeFirst, node]. The elimination order (the fronts' own variables), the pivots and lower_ follow the
+  // same order; upper_ follows the reverse one (the backward solve's), set below.
   std::size_t lower = 0, upper = 0, pivots = 0;
   for (Node& node : nodes_) {
     const std::size_t m = node.vars.size(), s = std::size_t(node.own), b = m - s;

@@ -95,9 +95,11 @@ std::vector<double> luSolve(GridLu& lu, const StencilMatrix& a, const std::vecto
 TEST_CASE("Grid LU: solutions match dense elimination on grids of every shape") {
   // 1x1 and 4x4 are single leaves; 5x4 splits once; 17x3, 3x17 and the strips 64x1, 1x64 and 2x40 split
   // along their long side only; 13x11 and 31x29 nest several separators, with fronts whose boundary rings
-  // touch the grid's edges and corners.
-  const int shapes[][2] = {{1, 1},  {4, 4},  {5, 4},  {17, 3},  {3, 17},
-                           {64, 1}, {1, 64}, {2, 40}, {13, 11}, {31, 29}};
+  // touch the grid's edges and corners. Between them the fronts' own sizes take every value mod 4, the unit
+  // the solves' factor layout works in (grid_lu.cpp); 7x6's root has 6 own variables and no boundary: one
+  // block of four columns and two single ones, with no boundary rows.
+  const int shapes[][2] = {{1, 1},  {4, 4},  {5, 4}, {17, 3},  {3, 17}, {64, 1},
+                           {1, 64}, {2, 40}, {7, 6}, {13, 11}, {31, 29}};
   unsigned seed = 1;
   for (const auto& shape : shapes) {
     const int w = shape[0], h = shape[1];
