@@ -148,7 +148,6 @@ GridLu::GridLu(int width, int height, int threads) : width_(width), height_(heig
   // upper_ in reverse postorder: the node whose block ends last in postorder starts at 0.
   for (Node& node : nodes_) node.upperOffset = upper - node.upperOffset;
   workspaces_.resize((std::size_t(2) << parallelDepth_) - 1);
-  factorEntries_ = lower + upper;
   lower_.resize(lower);  // every entry is written by factor()
   upper_.resize(upper);
   pivots_.assign(pivots, 0);

@@ -52,8 +52,9 @@ class GridLu {
   void solve(std::span<double> bx);
 
   bool factored() const { return factored_; }
-  std::size_t factorEntries() const { return factorEntries_; }  // single-precision entries of the factors
-  double factorFlops() const { return flops_; }                 // of one factorisation
+  // Single-precision entries of the factors.
+  std::size_t factorEntries() const { return lower_.size() + upper_.size(); }
+  double factorFlops() const { return flops_; }  // of one factorisation
 
  private:
   struct Node {
@@ -66,13 +67,11 @@ class GridLu {
     // variables, in the child's order (one flat array in postorder, so the solves stream through it).
     std::array<std::size_t, 2> childMapOffset{0, 0};
     std::array<std::size_t, 2> childMapSize{0, 0};
-    // Where the node's factors start in lower_ (read by the forward solve) and upper_ (the backward solve),
-    // each laid out in the order its solve reads it (see the .cpp's layout functions).
-    std::size_t lowerOffset = 0, upperOffset = 0;
-    std::size_t pivotOffset = 0;  // own row interchanges (LAPACK ipiv, 1-based)
-    std::size_t maxFront = 0;     // the largest front size in this subtree
-    int subtreeFirst = 0;         // the subtree is nodes_[subtreeFirst .. this node] (nodes_ is in postorder)
-    std::size_t ownStart = 0;     // where the own variables start in the elimination order
+    std::size_t lowerOffset = 0, upperOffset = 0;  // where the node's factors start in lower_ and upper_
+    std::size_t pivotOffset = 0;                   // own row interchanges (LAPACK ipiv, 1-based)
+    std::size_t maxFront = 0;                      // the largest front size in this subtree
+    int subtreeFirst = 0;      // the subtree is nodes_[subtreeFirst .. this node] (nodes_ is in postorder)
+    std::size_t ownStart = 0;  // where the own variables start in the elimination order
   };
 
   // Buffers of one subtree thread, kept between calls (allocating them anew made the kernel clear pages for
@@ -106,12 +105,10 @@ class GridLu {
   std::vector<double> solveOrder_;  // the right-hand side in elimination order
   std::vector<int> order_;          // elimination position -> cell
   int root_ = -1;
-  // The factors, split by the solve that reads them and laid out in its order: lower_ in postorder (the
-  // forward solve's), upper_ in reverse postorder (the backward solve's), so each solve streams through
-  // one array from start to end.
+  // The factors in the order the solves read them (grid_lu.cpp's lowerSize, upperSize): lower_ for the
+  // forward solve, in postorder; upper_ for the backward solve, in reverse postorder.
   BigBuffer<float> lower_, upper_;
   std::vector<int> pivots_;
-  std::size_t factorEntries_ = 0;
   double flops_ = 0.0;
   bool factored_ = false;
 };
