@@ -5,7 +5,6 @@
 // integrates one pixel (frame.recordPixelX/Y) through this same code and stores every sample's record
 // (lib/sample_record.glsl, engine/render/sample_recorder.h).
 #include "lib/frame_resources.glsl"
-#include "lib/hash.glsl"
 #include "lib/latlong.glsl"
 #include "lib/pixel_shading.glsl"
 #include "lib/sample_record.glsl"
@@ -32,16 +31,14 @@ void main() {
   vec3 sum = vec3(0.0), sumSquares = vec3(0.0);
   uint nonFinite = 0u;
   for (uint k = 0u; k < frame.samplesPerPass; ++k) {
-    vec2 u = sequenceSample(pixel, frame.sampleOffset + k, frame.seed);
-    // Padding dimensions: a hash of the sample's identity, independent of every sequence's 2D point.
-    uvec4 padding = pcg4d(uvec4(pixel, frame.sampleOffset + k, frame.seed ^ 0x9e3779b9u));
     RECORD_BEGIN();
-    vec3 x = estimateRadiance(u, vec2(uintToUnitFloat(padding.x), uintToUnitFloat(padding.y)), s);
-    if (any(isnan(x)) || any(isinf(x))) {
+    vec3 x = estimateRadiance(SamplePoint(pixel, frame.sampleOffset + k, frame.seed), s);
+    bool finite = !(any(isnan(x)) || any(isinf(x)));
+    if (!finite) {
       x = vec3(0.0);
       ++nonFinite;
     }
-    RECORD_STORE(frame.sampleOffset + k, u, x);
+    RECORD_STORE(frame.sampleOffset + k, x, finite);
     sum += x;
     sumSquares += x * x;
   }

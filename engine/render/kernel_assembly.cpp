@@ -42,6 +42,7 @@ KernelParts integratorParts(const Scene& scene, const SceneGpu& gpu, const Resol
   if (mode == IntegratorMode::RecordPixel) {
     k.defines.emplace_back("IBLX_RECORD_SAMPLES", "1");
     k.defines.emplace_back("SAMPLE_RECORD_BINDING", std::to_string(kSampleRecordBinding));
+    k.defines.emplace_back("SAMPLE_RECORD_DRAWS", std::to_string(method.drawsPerSample()) + "u");
   }
   k.defines.insert(k.defines.end(), brdfTechniqueData.defines.begin(), brdfTechniqueData.defines.end());
   const auto bindings = brdfBindingDefines(gpu.brdfData.size());
@@ -53,6 +54,8 @@ KernelParts integratorParts(const Scene& scene, const SceneGpu& gpu, const Resol
   k.parts.push_back(scene.brdf->evalPart);
   if (method.brdfTechnique) k.parts.push_back(method.brdfTechnique->part);
   k.parts.push_back(strategyPart(method.method->strategy));
+  if (method.method->strategy == Strategy::Mis && method.misOneSample)
+    k.defines.emplace_back("MIS_ONE_SAMPLE", "1");
   if (method.method->strategy == Strategy::Ris)
     k.defines.emplace_back("RIS_CANDIDATES", std::to_string(method.risCandidates) + "u");
   if (!scene.brdf->evalSource.empty()) k.sources.emplace_back(scene.brdf->evalPart, scene.brdf->evalSource);

@@ -241,7 +241,8 @@ const MethodInfo kMethods[] = {
     {"env-ot-inv", "env technique 'env-ot-inv' alone", Strategy::SingleEnv, "env-ot-inv"},
     {"env-ot-fwd", "env technique 'env-ot-fwd' alone", Strategy::SingleEnv, "env-ot-fwd"},
     {"brdf", "the BRDF technique alone (--brdf-sampler)", Strategy::SingleBrdf, ""},
-    {"mis", "one-sample MIS of --env-sampler and --brdf-sampler", Strategy::Mis, ""},
+    {"mis", "two-sample MIS of --env-sampler and --brdf-sampler (one-sample with --mis-split)", Strategy::Mis,
+     ""},
     {"ris", "--ris-candidates from --env-sampler resampled by f cos (Talbot 2005)", Strategy::Ris, ""},
 };
 

@@ -80,7 +80,7 @@ void Renderer::setRecordedPixel(uint32_t x, uint32_t y) {
 std::vector<gpu::SampleRecord> Renderer::lastPassRecords() const {
   if (mode_ != IntegratorMode::RecordPixel)
     throw Error("lastPassRecords: the renderer does not record samples");
-  std::vector<gpu::SampleRecord> records(lastPassSamples_);
+  std::vector<gpu::SampleRecord> records(std::size_t(lastPassSamples_) * method_.drawsPerSample());
   sampleRecords_.read(records.data(), records.size() * sizeof(gpu::SampleRecord));
   return records;
 }
@@ -151,9 +151,10 @@ PassTiming Renderer::runPass(uint32_t samplesPerPass) {
   const uint32_t groupsX = recording ? 1 : (params.width + 7) / 8,
                  groupsY = recording ? 1 : (params.height + 7) / 8;
   if (recording) {
-    if (sampleRecords_.size() < vk::DeviceSize(samplesPerPass) * sizeof(gpu::SampleRecord)) {
-      sampleRecords_ =
-          Buffer(context_, vk::DeviceSize(samplesPerPass) * sizeof(gpu::SampleRecord), "sample records");
+    const vk::DeviceSize recordBytes =
+        vk::DeviceSize(samplesPerPass) * method_.drawsPerSample() * sizeof(gpu::SampleRecord);
+    if (sampleRecords_.size() < recordBytes) {
+      sampleRecords_ = Buffer(context_, recordBytes, "sample records");
       bindRecordingFrameSet();
     }
     params.recordPixelX = recordX_;

@@ -19,8 +19,11 @@
 
 namespace iblx {
 
+// One direction drawn by a sample. A sample draws ResolvedMethod::drawsPerSample() directions (two-sample
+// MIS: one from each technique, in that order), so runPass returns that many records per sample, with one
+// index.
 struct RecordedSample {
-  uint64_t index = 0;  // in the pixel's sequence, from 0
+  uint64_t index = 0;  // of the sample in the pixel's sequence, from 0
   uint64_t pass = 0;   // the pass that drew it
   // Registry name of the technique that drew it (e.g. "env-cdf", "ggx-vndf"), "none" when nothing was drawn
   // (ris: every candidate had zero weight; all other fields are then 0).
@@ -31,12 +34,14 @@ struct RecordedSample {
   double pdf = 0.0;              // solid-angle density of the technique that drew it
   double misWeight = 0.0;        // MIS weight; 1 for a single technique and ris; 0 if it contributes nothing
   // Contribution weight per channel, as the strategy uses it: estimate = radiance * weight. Single technique:
-  // f cos / pdf. mis: w f cos / (c p), c the technique's share of samples (--mis-split). ris: f cos W with
-  // W = sum(w) / (M p^), the kept candidate's resampling weight.
+  // f cos / pdf. mis: w f cos / p (two-sample), w f cos / (c p) with c the technique's share of samples
+  // (one-sample, --mis-split). ris: f cos W with W = sum(w) / (M p^), the kept candidate's resampling weight.
   glm::dvec3 weight{0.0};
   glm::dvec3 radiance{0.0};  // the environment radiance the estimate used; 0 if it contributes nothing
-  glm::dvec3 estimate{0.0};  // what the integrator accumulated (after its NaN/Inf guard)
-  glm::dvec2 point{0.0};     // the sequence's 2D point u
+  // What the integrator accumulated for this draw (after its NaN/Inf guard): the records of one sample sum
+  // to the sample's estimate.
+  glm::dvec3 estimate{0.0};
+  glm::dvec2 point{0.0};  // the sequence's 2D point the direction was drawn from
 };
 
 // Why pixel (x, y) of `gbuffer` cannot be recorded (outside the image, background), or nothing.

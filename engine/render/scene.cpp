@@ -146,17 +146,24 @@ Scene loadScene(const SceneSpec& spec, LoadedBrdf brdf) {
 std::string ResolvedMethod::techniqueLabel() const {
   std::ostringstream s;
   s << method->name;
-  if (method->strategy == Strategy::Mis)
-    s << "(" << envTechnique->name << "+" << brdfTechnique->name << ", " << (misPower ? "power " : "balance ")
-      << misEnvFraction << (misCompensation ? ", compensated" : "") << ")";
-  else if (method->strategy == Strategy::SingleBrdf)
+  if (method->strategy == Strategy::Mis) {
+    s << "(" << envTechnique->name << "+" << brdfTechnique->name << ", " << (misPower ? "power" : "balance");
+    if (misOneSample) s << ", one-sample " << misEnvFraction;
+    s << (misCompensation ? ", compensated" : "") << ")";
+  } else if (method->strategy == Strategy::SingleBrdf)
     s << "(" << brdfTechnique->name << ")";
   else if (method->strategy == Strategy::Ris)
     s << "(" << envTechnique->name << ", M=" << risCandidates << ")";
   return s.str();
 }
 
-std::string ResolvedMethod::label() const { return techniqueLabel() + "/" + sequence->name; }
+std::string ResolvedMethod::label() const {
+  return techniqueLabel() + "/" + sequence->name;
+}
+
+uint32_t ResolvedMethod::drawsPerSample() const {
+  return method->strategy == Strategy::Mis && !misOneSample ? 2 : 1;
+}
 
 ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
   ResolvedMethod r;
@@ -169,6 +176,7 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
   if (spec.risCandidates && !(*spec.risCandidates >= 1 && *spec.risCandidates <= kMaxRisCandidates))
     throw Error("--ris-candidates must be in [1, " + std::to_string(kMaxRisCandidates) + "]");
   r.misPower = spec.misHeuristic == "power";
+  r.misOneSample = spec.misEnvFraction.has_value() && findMethod(spec.method).strategy == Strategy::Mis;
   r.misEnvFraction = float(spec.misEnvFraction.value_or(0.5));
   r.risCandidates = uint32_t(spec.risCandidates.value_or(8));
   const bool isMis = r.method->strategy == Strategy::Mis, isRis = r.method->strategy == Strategy::Ris;

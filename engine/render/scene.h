@@ -37,10 +37,12 @@ struct MethodSpec {
   std::string envSampler;   // mis: default env-cdf
   std::string brdfSampler;  // brdf, mis: default the BRDF's best
   std::string sequence = "random";
-  std::optional<double> misEnvFraction;  // mis: default 0.5
-  std::string misHeuristic;              // mis: balance (default) | power
-  std::optional<int> risCandidates;      // ris: default 8
-  bool misCompensation = false;          // mis: the env technique samples max(p - mean(p), 0)
+  // mis: given, one-sample MIS with this fraction of samples drawn by the env technique; unset, two-sample
+  // MIS (one direction from each technique per sample).
+  std::optional<double> misEnvFraction;
+  std::string misHeuristic;          // mis: balance (default) | power
+  std::optional<int> risCandidates;  // ris: default 8
+  bool misCompensation = false;      // mis: the env technique samples max(p - mean(p), 0)
 };
 
 struct MerlThetaHData;
@@ -92,19 +94,22 @@ struct ResolvedMethod {
   const EnvTechniqueInfo* envTechnique = nullptr;    // null when the strategy needs none
   const BrdfTechniqueInfo* brdfTechnique = nullptr;  // null when the strategy needs none
   const SequenceInfo* sequence = nullptr;
-  float misEnvFraction = 0.5f;
+  bool misOneSample = false;    // mis: one-sample MIS (--mis-split) instead of two-sample MIS
+  float misEnvFraction = 0.5f;  // one-sample MIS: the env technique's share of samples
   bool misPower = false;
   uint32_t risCandidates = 8;
   bool misCompensation = false;
-  std::string label() const;           // e.g. "mis(env-cdf+ggx-vndf, balance 0.5)/sobol"
+  std::string label() const;           // e.g. "mis(env-cdf+ggx-vndf, balance)/sobol"
   std::string techniqueLabel() const;  // the same without the sequence
+  // Directions each sample draws and records (lib/sample_record.glsl): 2 for two-sample MIS, else 1.
+  uint32_t drawsPerSample() const;
 };
 
 std::filesystem::path defaultEnvPath();
 Scene makeScene(EnvImage env, const SceneSpec& spec);  // reads the --brdf file, if any
 // The same with the --brdf argument already loaded.
 Scene makeScene(EnvImage env, const SceneSpec& spec, LoadedBrdf brdf);
-Scene loadScene(const SceneSpec& spec);  // reads spec.envPath (or the default map)
+Scene loadScene(const SceneSpec& spec);                   // reads spec.envPath (or the default map)
 Scene loadScene(const SceneSpec& spec, LoadedBrdf brdf);  // the same with the --brdf argument already loaded
 ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf);
 

@@ -1,13 +1,15 @@
 // Sample recording (`iblx samples`, the viewer's sample overlay): with IBLX_RECORD_SAMPLES defined,
-// strategies describe each sample they draw and integrate.comp stores that for the one pixel it integrates.
+// strategies describe each direction they draw and integrate.comp stores that for the one pixel it integrates.
 // Without the define every macro below is empty, so the integrator that renders images is unchanged.
 //
-// A strategy calls, on the path of every sample:
-//   RECORD_DRAW(technique, wi, pdf)            which technique drew wi (environment frame) and its pdf;
-//                                              resets the contribution to 0 (a sample that exits early
-//                                              contributes nothing)
-//   RECORD_WEIGHT(misWeight, weight, radiance) the contribution: the strategy returns radiance * weight
-//   RECORD_SCALE_WEIGHT(factor)                weight *= factor, for a factor known only later (ris)
+// A sample draws SAMPLE_RECORD_DRAWS directions (the host's ResolvedMethod::drawsPerSample: 2 for two-sample
+// MIS, else 1), each recorded in its own slot d. A strategy calls, on the path of every sample:
+//   RECORD_DRAW(d, technique, u, wi, pdf)         which technique drew wi (environment frame) from the 2D
+//                                                 point u, and its pdf; resets slot d's contribution to 0 (a
+//                                                 draw that exits early contributes nothing); a later call
+//                                                 for the same slot replaces it (ris keeps the last taken)
+//   RECORD_WEIGHT(d, misWeight, weight, radiance) slot d's contribution is radiance * weight
+//   RECORD_SCALE_WEIGHT(d, factor)                slot d's weight *= factor, for a factor known only later (ris)
 #ifndef IBLX_LIB_SAMPLE_RECORD
 #define IBLX_LIB_SAMPLE_RECORD
 #include "lib/frame_resources.glsl"
@@ -18,47 +20,52 @@ layout(std430, set = 0, binding = SAMPLE_RECORD_BINDING) writeonly buffer Sample
   SampleRecord sampleRecords[];
 };
 
-SampleRecord gSampleRecord;
+SampleRecord gSampleRecords[SAMPLE_RECORD_DRAWS];
 
 void recordBegin() {
-  gSampleRecord =
-      SampleRecord(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), 0.0, 0.0, 0u, kSampleTechniqueNone);
+  for (uint d = 0u; d < SAMPLE_RECORD_DRAWS; ++d)
+    gSampleRecords[d] =
+        SampleRecord(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), 0.0, 0.0, 0u, kSampleTechniqueNone);
 }
 
-void recordDraw(uint technique, vec3 wi, float pdf) {
-  gSampleRecord.technique = technique;
-  gSampleRecord.direction = vec4(wi, pdf);
-  gSampleRecord.weight = vec4(0.0);
-  gSampleRecord.radiance = vec4(0.0);
+void recordDraw(uint d, uint technique, vec2 u, vec3 wi, float pdf) {
+  gSampleRecords[d].technique = technique;
+  gSampleRecords[d].direction = vec4(wi, pdf);
+  gSampleRecords[d].weight = vec4(0.0);
+  gSampleRecords[d].radiance = vec4(0.0);
+  gSampleRecords[d].pointX = u.x;
+  gSampleRecords[d].pointY = u.y;
 }
 
-void recordWeight(float misWeight, vec3 weight, vec3 radiance) {
-  gSampleRecord.weight = vec4(weight, misWeight);
-  gSampleRecord.radiance = vec4(radiance, 0.0);
+void recordWeight(uint d, float misWeight, vec3 weight, vec3 radiance) {
+  gSampleRecords[d].weight = vec4(weight, misWeight);
+  gSampleRecords[d].radiance = vec4(radiance, 0.0);
 }
 
-// Stores the record of sample `sampleIndex` (u: its sequence point, x: the estimate accumulated) at its place
-// in the pass.
-void recordStore(uint sampleIndex, vec2 u, vec3 x) {
+// Stores the records of sample `sampleIndex` at their place in the pass. x is the estimate the integrator
+// accumulates (0 when it was non-finite: finite is false). With one draw per sample the record holds x itself;
+// with several, each holds its own contribution, so the records of a sample sum to x.
+void recordStore(uint sampleIndex, vec3 x, bool finite) {
   uint slot = sampleIndex - frame.recordFirstSample;
   if (slot >= frame.recordCapacity) return;  // the host sizes the buffer for the pass; guard all the same
-  gSampleRecord.estimate = vec4(x, 0.0);
-  gSampleRecord.pointX = u.x;
-  gSampleRecord.pointY = u.y;
-  gSampleRecord.sampleIndex = sampleIndex;
-  sampleRecords[slot] = gSampleRecord;
+  for (uint d = 0u; d < SAMPLE_RECORD_DRAWS; ++d) {
+    vec3 contribution = gSampleRecords[d].radiance.rgb * gSampleRecords[d].weight.rgb;
+    gSampleRecords[d].estimate = vec4(SAMPLE_RECORD_DRAWS == 1u ? x : (finite ? contribution : vec3(0.0)), 0.0);
+    gSampleRecords[d].sampleIndex = sampleIndex;
+    sampleRecords[slot * SAMPLE_RECORD_DRAWS + d] = gSampleRecords[d];
+  }
 }
 
 #define RECORD_BEGIN() recordBegin()
-#define RECORD_DRAW(technique, wi, pdf) recordDraw(technique, wi, pdf)
-#define RECORD_WEIGHT(misWeight, weight, radiance) recordWeight(misWeight, weight, radiance)
-#define RECORD_SCALE_WEIGHT(factor) gSampleRecord.weight.rgb *= (factor)
-#define RECORD_STORE(sampleIndex, u, x) recordStore(sampleIndex, u, x)
+#define RECORD_DRAW(d, technique, u, wi, pdf) recordDraw(d, technique, u, wi, pdf)
+#define RECORD_WEIGHT(d, misWeight, weight, radiance) recordWeight(d, misWeight, weight, radiance)
+#define RECORD_SCALE_WEIGHT(d, factor) gSampleRecords[d].weight.rgb *= (factor)
+#define RECORD_STORE(sampleIndex, x, finite) recordStore(sampleIndex, x, finite)
 #else
 #define RECORD_BEGIN()
-#define RECORD_DRAW(technique, wi, pdf)
-#define RECORD_WEIGHT(misWeight, weight, radiance)
-#define RECORD_SCALE_WEIGHT(factor)
-#define RECORD_STORE(sampleIndex, u, x)
+#define RECORD_DRAW(d, technique, u, wi, pdf)
+#define RECORD_WEIGHT(d, misWeight, weight, radiance)
+#define RECORD_SCALE_WEIGHT(d, factor)
+#define RECORD_STORE(sampleIndex, x, finite)
 #endif
 #endif

@@ -1,43 +1,78 @@
-// Strategy "mis": one-sample multiple importance sampling of the env and BRDF techniques (Veach 1997, §9.2.4).
-// The technique is chosen by u.x < c (c = frame.strategy.x, the env fraction) and u.x is rescaled, so each
-// sample uses one 2D point. Estimate = w_i f L cos / (c_i p_i) with the balance or power (beta = 2) heuristic.
+// Strategy "mis": multiple importance sampling of the env and BRDF techniques (Veach 1997, "Robust Monte Carlo
+// Methods for Light Transport Simulation", ch. 9), with the balance or the power (beta = 2) heuristic.
+//   Two-sample (default, §9.2.2 with n_env = n_brdf = 1): each sample draws one direction from each
+//   technique, from its own 2D point (dimension pairs 0 and 1), and adds both weighted estimates:
+//     Lo ~ sum_i w_i(x_i) f L cos(x_i) / p_i(x_i).
+//   One-sample (MIS_ONE_SAMPLE, §9.2.4): the technique is chosen by u.x < c (c = frame.strategy.x, the env
+//   fraction) and u.x is rescaled, so each sample uses one 2D point; Lo ~ w_i f L cos / (c_i p_i).
+// Both directions are drawn and both pdfs evaluated in either mode; the one-sample estimator keeps one result.
 #include "lib/sample_record.glsl"
 
+// w_i / (n_i p_i) for chosen = n_i p_i and other = n_j p_j >= 0 (n: the technique's share of samples); 0 when
+// chosen is 0.
 float misWeightTimesInvPdf(float chosen, float other, bool power) {
-  // chosen = c_i p_i, other = c_j p_j >= 0; returns w_i / (c_i p_i), 0 when chosen is 0.
   if (!(chosen > 0.0)) return 0.0;
   float r = other / chosen;
   return power ? 1.0 / (chosen * (1.0 + r * r)) : 1.0 / (chosen + other);
 }
 
-vec3 estimateRadiance(vec2 u, vec2 uPadding, Shading s) {
-  float c = frame.strategy.x;
+// Whether a direction drawn with chosen = n_i p_i contributes: a positive density, above the horizon.
+bool misContributes(vec3 wiLocal, float chosen) { return chosen > 0.0 && wiLocal.z > 0.0; }
+
+// f cos w / (n p) of a contributing direction wiLocal drawn with chosen = n_i p_i: the weight its radiance is
+// multiplied by; 0 for one that does not contribute.
+vec3 misWeight(vec3 wiLocal, Shading s, float chosen, float other, bool power, out float weightOverPdf) {
+  weightOverPdf = misWeightTimesInvPdf(chosen, other, power);
+  if (!misContributes(wiLocal, chosen)) return vec3(0.0);
+  return brdfEval(wiLocal, s.woLocal) * (wiLocal.z * weightOverPdf);
+}
+
+vec3 estimateRadiance(SamplePoint p, Shading s) {
   bool power = frame.strategy.y > 0.5;
+#ifdef MIS_ONE_SAMPLE
+  float c = frame.strategy.x;
+  vec2 u = samplePair(p, 0u);
   bool envChosen = u.x < c;
-  // Both techniques are evaluated and one result is kept: on SIMD hardware (GPU warps, lavapipe lanes) a
-  // per-lane branch executes both sides anyway, and straight-line code avoids the masking overhead.
+  // Straight-line code: on SIMD hardware (GPU warps, lavapipe lanes) a per-lane branch executes both sides
+  // anyway, and this avoids the masking overhead.
   vec2 uEnv = vec2(c > 0.0 ? clamp(u.x / c, 0.0, kOneMinusEpsilon) : 0.0, u.y);
   vec2 uBrdf = vec2(c < 1.0 ? clamp((u.x - c) / (1.0 - c), 0.0, kOneMinusEpsilon) : 0.0, u.y);
+  float shareEnv = c, shareBrdf = 1.0 - c;
+#else
+  vec2 uEnv = samplePair(p, 0u), uBrdf = samplePair(p, 1u);
+  float shareEnv = 1.0, shareBrdf = 1.0;
+#endif
   float pEnvE, pBrdfB;
   vec3 radianceE;
   vec3 wiE = envSample(uEnv, s.n, pEnvE, radianceE);
   vec3 wiLocalB = brdfSample(uBrdf, s.woLocal, pBrdfB);
   vec3 wiB = normalize(toWorld(s, wiLocalB));
   vec3 wiLocalE = toLocal(s, wiE);
-  float pBrdfE = brdfPdf(wiLocalE, s.woLocal);  // the other technique's density at each sample
+  float pBrdfE = brdfPdf(wiLocalE, s.woLocal);  // the other technique's density at each direction
   float pEnvB = envPdf(wiB, s.n);
   vec3 radianceB = envRadiance(wiB);
+#ifdef MIS_ONE_SAMPLE
   vec3 wiLocal = envChosen ? wiLocalE : wiLocalB;
   float pEnv = envChosen ? pEnvE : pEnvB;
   float pBrdf = envChosen ? pBrdfE : pBrdfB;
   vec3 radiance = envChosen ? radianceE : radianceB;
-  float chosen = envChosen ? c * pEnv : (1.0 - c) * pBrdf;
-  float other = envChosen ? (1.0 - c) * pBrdf : c * pEnv;
-  RECORD_DRAW(envChosen ? kSampleTechniqueEnv : kSampleTechniqueBrdf, envChosen ? wiE : wiB,
-              envChosen ? pEnv : pBrdf);
-  if (!(chosen > 0.0) || wiLocal.z <= 0.0) return vec3(0.0);
-  float weightOverPdf = misWeightTimesInvPdf(chosen, other, power);
-  vec3 weight = brdfEval(wiLocal, s.woLocal) * (wiLocal.z * weightOverPdf);
-  RECORD_WEIGHT(weightOverPdf * chosen, weight, radiance);
+  float chosen = envChosen ? shareEnv * pEnv : shareBrdf * pBrdf;
+  float other = envChosen ? shareBrdf * pBrdf : shareEnv * pEnv;
+  RECORD_DRAW(0u, envChosen ? kSampleTechniqueEnv : kSampleTechniqueBrdf, envChosen ? uEnv : uBrdf,
+              envChosen ? wiE : wiB, envChosen ? pEnv : pBrdf);
+  float weightOverPdf;
+  vec3 weight = misWeight(wiLocal, s, chosen, other, power, weightOverPdf);
+  if (!misContributes(wiLocal, chosen)) return vec3(0.0);
+  RECORD_WEIGHT(0u, weightOverPdf * chosen, weight, radiance);
   return radiance * weight;
+#else
+  float weightOverPdfE, weightOverPdfB;
+  vec3 weightE = misWeight(wiLocalE, s, shareEnv * pEnvE, shareBrdf * pBrdfE, power, weightOverPdfE);
+  vec3 weightB = misWeight(wiLocalB, s, shareBrdf * pBrdfB, shareEnv * pEnvB, power, weightOverPdfB);
+  RECORD_DRAW(0u, kSampleTechniqueEnv, uEnv, wiE, pEnvE);
+  if (misContributes(wiLocalE, shareEnv * pEnvE)) RECORD_WEIGHT(0u, weightOverPdfE * pEnvE, weightE, radianceE);
+  RECORD_DRAW(1u, kSampleTechniqueBrdf, uBrdf, wiB, pBrdfB);
+  if (misContributes(wiLocalB, shareBrdf * pBrdfB)) RECORD_WEIGHT(1u, weightOverPdfB * pBrdfB, weightB, radianceB);
+  return radianceE * weightE + radianceB * weightB;
+#endif
 }

@@ -42,6 +42,12 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
               compensated.misCompensation = true;
               specs.push_back(compensated);
             }
+            if (e.name == "env-cdf") {  // one-sample MIS with an uneven split
+              MethodSpec oneSample = spec;
+              oneSample.misHeuristic = "balance";
+              oneSample.misEnvFraction = 0.3;
+              specs.push_back(oneSample);
+            }
           }
         }
     }
@@ -50,7 +56,8 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
 }
 
 glm::dvec3 viewAt(double thetaDegrees, double phiDegrees) {
-  const double t = thetaDegrees * 3.14159265358979323846 / 180.0, p = phiDegrees * 3.14159265358979323846 / 180.0;
+  const double t = thetaDegrees * 3.14159265358979323846 / 180.0,
+               p = phiDegrees * 3.14159265358979323846 / 180.0;
   return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
 }
 

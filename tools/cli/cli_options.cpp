@@ -152,8 +152,11 @@ void addMethodFlags(ArgParser& p, RenderSpec& s) {
           [&](const std::string& v) { s.method.sequence = v; });
   p.value("--mis-heuristic", "NAME", "balance | power (default balance)",
           [&](const std::string& v) { s.method.misHeuristic = v; });
-  p.value("--mis-split", "F", "fraction of MIS samples given to the env technique (default 0.5)",
-          [&](const std::string& v) { s.method.misEnvFraction = parseDouble("--mis-split", v, 0.0, 1.0); });
+  p.value(
+      "--mis-split", "F",
+      "one-sample MIS with this fraction of samples given to the env technique (default: two-sample MIS, one "
+      "direction from each technique per sample)",
+      [&](const std::string& v) { s.method.misEnvFraction = parseDouble("--mis-split", v, 0.0, 1.0); });
   p.toggle(
       "--mis-compensation",
       "mis: the env technique samples max(p - mean(p), 0) (Karlik et al. 2019), leaving flat regions to the "

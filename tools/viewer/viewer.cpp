@@ -93,9 +93,9 @@ class ViewerApp {
   std::optional<Screenshot> frame(bool readback) {
     pollJobs();
     if (rebuild_ && !buildJob_) startBuild();
-    // While a ground truth computes (minutes for a real map on lavapipe), passes compete with it for the device
-    // and are discarded when it arrives (the curve starts from the first pass): a few give a picture to look at,
-    // then they wait.
+    // While a ground truth computes (minutes for a real map on lavapipe), passes compete with it for the
+    // device and are discarded when it arrives (the curve starts from the first pass): a few give a picture
+    // to look at, then they wait.
     constexpr uint32_t kPassesWhileComputing = 16;
     const bool computing = referenceJob_ != nullptr;
     if (active_.renderer && !paused_ && !(computing && passes_ >= kPassesWhileComputing)) {
@@ -312,8 +312,9 @@ class ViewerApp {
           next.scene = scene, next.method = resolveMethod(spec, *scene->brdf), next.generation = generation;
           ShaderCompiler compiler;
           next.renderer = std::make_unique<Renderer>(context, compiler, *scene, next.method, seed);
-          // One warm-up pass here: lavapipe compiles the pipeline on first use, which would otherwise sit in the
-          // first pass's time and bend the start of the curve against time (as converge's warm-up avoids).
+          // One warm-up pass here: lavapipe compiles the pipeline on first use, which would otherwise sit in
+          // the first pass's time and bend the start of the curve against time (as converge's warm-up
+          // avoids).
           next.renderer->runPass(1);
           next.renderer->restart(seed);
           return next;
@@ -506,9 +507,16 @@ class ViewerApp {
         rebuild |= combo("BRDF technique", m.brdfSampler, brdfTechniqueRegistry(), "(default)");
       rebuild |= combo("sequence", m.sequence, sequenceRegistry());
       if (info.strategy == Strategy::Mis) {
-        float fraction = float(m.misEnvFraction.value_or(0.5));
-        if (ImGui::SliderFloat("env fraction", &fraction, 0.0f, 1.0f))
-          m.misEnvFraction = fraction, rebuild = true;
+        bool oneSample = m.misEnvFraction.has_value();
+        if (ImGui::Checkbox("one-sample MIS", &oneSample)) {
+          m.misEnvFraction = oneSample ? std::optional<double>(0.5) : std::nullopt;
+          rebuild = true;
+        }
+        if (oneSample) {
+          float fraction = float(m.misEnvFraction.value_or(0.5));
+          if (ImGui::SliderFloat("env fraction", &fraction, 0.0f, 1.0f))
+            m.misEnvFraction = fraction, rebuild = true;
+        }
         bool power = m.misHeuristic == "power";
         if (ImGui::Checkbox("power heuristic", &power))
           m.misHeuristic = power ? "power" : "balance", rebuild = true;
