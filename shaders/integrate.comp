@@ -28,6 +28,7 @@ void main() {
     return;
   }
   Shading s = pixelShading(g);
+  prepareStrategy(s);
   vec3 sum = vec3(0.0), sumSquares = vec3(0.0);
   uint nonFinite = 0u;
   for (uint k = 0u; k < frame.samplesPerPass; ++k) {

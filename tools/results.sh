@@ -2,8 +2,8 @@
 # Regenerates the published comparison (docs/RESULTS.md links to it): `iblx converge` on Lambert, GGX a = 0.3,
 # GGX a = 0.05 and a synthetic MERL material (GGX a = 0.1 metal tabulated by `iblx merl-synth`) under two real
 # HDRIs of Debian's blender-data (CC0): forest.exr (no sun) and sunrise.exr (a strong sun). Every default
-# method with both sequences and several seeds, equal wall-time budgets.
-# Writes docs/results/<env>-<material>/ (summary.md, converge.csv, two plots, three heat maps) and
+# method with `random` and `sobol` and several seeds, equal wall-time budgets.
+# Writes docs/results/<env>-<material>/ (summary.md, converge.csv, two plots, four heat maps) and
 # docs/results/tables.md (the equal-time and slope matrices of tools/results_matrix.sh, then every summary).
 # Usage: tools/results.sh [SECONDS_PER_RUN (default 2)] [SEEDS (default 3)] [SIZE (default 64)]
 set -euo pipefail
@@ -39,8 +39,8 @@ for env in forest sunrise; do
     rm -rf "$dir"
     # shellcheck disable=SC2086
     "$iblx" converge --env "$world/$env.exr" ${brdf[$material]} --size "${size}x${size}" --time "$seconds" \
-      --seeds "$seeds" --target-relmse 1e-2 --out-dir "$dir" > /dev/null
-    # Three heat maps per scene keep the repository small: the env-only, MIS and RIS estimators with sobol.
+      --seeds "$seeds" --seq random --seq sobol --target-relmse 1e-2 --out-dir "$dir" > /dev/null
+    # Four heat maps per scene keep the repository small: env-cdf, mis, product-mis and ris with sobol.
     find "$dir" -name 'heat-*.png' ! -name '*env-cdf-sobol.png' ! -name '*mis_*sobol.png' ! -name '*ris_*sobol.png' -delete
     # Two of the four plots likewise: relMSE against time (the comparison) and MSE against spp (the slopes).
     rm -f "$dir/reference.exr" "$dir/mse_vs_time.png" "$dir/relmse_vs_spp.png"

@@ -8,6 +8,7 @@
 #include "engine/render/scene.h"
 #include "engine/sampling/env_cdf.h"
 #include "engine/sampling/env_hier.h"
+#include "engine/sampling/env_product.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/merl_sampling.h"
 #include "engine/sampling/ot_cache.h"
@@ -45,16 +46,26 @@ TechniqueData makeEnvCdf(const EnvImage& image) {
 }
 
 TechniqueData makeEnvHier(const EnvImage& image) {
-  const EnvHierGpuData hier = packEnvHierForGpu(buildEnvHier(image));
+  const EnvHierSampler sampler(buildEnvHier(image));
+  const EnvHierGpuData& hier = sampler.gpuData();
+  // Bindings 3-4: the coarse level the product strategies choose nodes on
+  // (shaders/lib/product_sampling.glsl).
+  const EnvProductLevel product = buildEnvProductLevel(sampler);
   TechniqueData data;
   data.add("env-hier splits", std::span<const glm::vec4>(hier.splits), 4);
   data.add("env-hier guide", std::span<const uint32_t>(hier.guideNodes));
   data.add("env-hier texel rectangles", std::span<const glm::vec4>(hier.texelRects), 4);
+  data.add("env-hier product node rectangles", std::span<const glm::vec4>(product.rects), 4);
+  data.add("env-hier product node centres", std::span<const glm::vec4>(product.centers), 4);
   // Sizes are compile-time constants of the part: read from a buffer, lavapipe would load them per lane.
   const auto u = [](uint32_t v) { return std::to_string(v) + "u"; };
   data.defines = {{"ENV_HIER_LEAF_START", u(hier.leafStart)},
                   {"ENV_HIER_GUIDE_SIZE", u(hier.guideSize)},
-                  {"ENV_HIER_WIDTH", std::to_string(image.width)}};
+                  {"ENV_HIER_WIDTH", std::to_string(image.width)},
+                  {"PRODUCT_WIDTH", u(product.width)},
+                  {"PRODUCT_ROWS", u(product.rows)},
+                  {"PRODUCT_TEXELS_PER_NODE", u(product.texelsPerNode)},
+                  {"PRODUCT_DEFENSIVE", std::to_string(kEnvProductDefensive)}};
   return data;
 }
 
@@ -244,6 +255,9 @@ const MethodInfo kMethods[] = {
     {"mis", "two-sample MIS of --env-sampler and --brdf-sampler (one-sample with --mis-split)", Strategy::Mis,
      ""},
     {"ris", "--ris-candidates from --env-sampler resampled by f cos (Talbot 2005)", Strategy::Ris, ""},
+    {"product", "env x f cos per pixel over env-hier's pyramid, finished in its texel tables",
+     Strategy::Product, "env-hier"},
+    {"product-mis", "two-sample MIS of 'product' and --brdf-sampler", Strategy::ProductMis, "env-hier"},
 };
 
 template <typename T>
@@ -292,6 +306,10 @@ std::string strategyPart(Strategy strategy) {
       return "strategy/mis.glsl";
     case Strategy::Ris:
       return "strategy/ris.glsl";
+    case Strategy::Product:
+      return "strategy/product.glsl";
+    case Strategy::ProductMis:
+      return "strategy/product_mis.glsl";
   }
   return {};
 }

@@ -96,13 +96,16 @@ struct SequenceInfo {
 };
 
 // ---- methods (what --method selects) ----------------------------------------------------------------------
-enum class Strategy { SingleEnv, SingleBrdf, Mis, Ris };
+// Product and ProductMis sample env x f cos per pixel over env-hier's pyramid
+// (engine/sampling/env_product.h), alone or under two-sample MIS with the BRDF technique.
+enum class Strategy { SingleEnv, SingleBrdf, Mis, Ris, Product, ProductMis };
 
 struct MethodInfo {
   std::string name;
   std::string description;
   Strategy strategy;
-  std::string envTechnique;  // fixed env technique for SingleEnv methods; MIS and RIS take --env-sampler
+  // Fixed env technique of SingleEnv and the product methods; MIS and RIS take --env-sampler.
+  std::string envTechnique;
 };
 
 std::span<const BrdfInfo> brdfRegistry();

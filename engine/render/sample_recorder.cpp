@@ -11,6 +11,7 @@ namespace {
 std::string_view techniqueName(const ResolvedMethod& method, uint32_t role) {
   if (role == gpu::kSampleTechniqueEnv && method.envTechnique) return method.envTechnique->name;
   if (role == gpu::kSampleTechniqueBrdf && method.brdfTechnique) return method.brdfTechnique->name;
+  if (role == gpu::kSampleTechniqueProduct) return "product";
   return "none";
 }
 

@@ -150,10 +150,16 @@ std::string ResolvedMethod::techniqueLabel() const {
     s << "(" << envTechnique->name << "+" << brdfTechnique->name << ", " << (misPower ? "power" : "balance");
     if (misOneSample) s << ", one-sample " << misEnvFraction;
     s << (misCompensation ? ", compensated" : "") << ")";
-  } else if (method->strategy == Strategy::SingleBrdf)
+  } else if (method->strategy == Strategy::SingleBrdf) {
     s << "(" << brdfTechnique->name << ")";
-  else if (method->strategy == Strategy::Ris)
+  } else if (method->strategy == Strategy::Ris) {
     s << "(" << envTechnique->name << ", M=" << risCandidates << ")";
+  } else if (method->strategy == Strategy::Product) {
+    s << "(" << envTechnique->name << ")";
+  } else if (method->strategy == Strategy::ProductMis) {
+    s << "(" << envTechnique->name << "+" << brdfTechnique->name << ", " << (misPower ? "power" : "balance")
+      << ")";
+  }
   return s.str();
 }
 
@@ -162,7 +168,9 @@ std::string ResolvedMethod::label() const {
 }
 
 uint32_t ResolvedMethod::drawsPerSample() const {
-  return method->strategy == Strategy::Mis && !misOneSample ? 2 : 1;
+  const bool twoSample =
+      (method->strategy == Strategy::Mis && !misOneSample) || method->strategy == Strategy::ProductMis;
+  return twoSample ? 2 : 1;
 }
 
 ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
@@ -180,8 +188,9 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
   r.misEnvFraction = float(spec.misEnvFraction.value_or(0.5));
   r.risCandidates = uint32_t(spec.risCandidates.value_or(8));
   const bool isMis = r.method->strategy == Strategy::Mis, isRis = r.method->strategy == Strategy::Ris;
+  const bool isProductMis = r.method->strategy == Strategy::ProductMis;
   const bool needsEnv = r.method->strategy != Strategy::SingleBrdf;
-  const bool needsBrdf = r.method->strategy == Strategy::SingleBrdf || isMis;
+  const bool needsBrdf = r.method->strategy == Strategy::SingleBrdf || isMis || isProductMis;
   // Flags that the chosen method does not use are reported, so a typo'd command line cannot mislead.
   auto ignored = [&](bool given, const char* flag) {
     if (given) warn(std::string(flag) + " is ignored by --method " + r.method->name);
@@ -192,9 +201,9 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
   r.misCompensation = spec.misCompensation && isMis;
   ignored(!spec.brdfSampler.empty() && !needsBrdf, "--brdf-sampler");
   ignored(spec.misEnvFraction.has_value() && !isMis, "--mis-split");
-  ignored(!spec.misHeuristic.empty() && !isMis, "--mis-heuristic");
+  ignored(!spec.misHeuristic.empty() && !isMis && !isProductMis, "--mis-heuristic");
   if (needsEnv)
-    r.envTechnique = r.method->strategy == Strategy::SingleEnv
+    r.envTechnique = !r.method->envTechnique.empty()
                          ? &findEnvTechnique(r.method->envTechnique)
                          : &findEnvTechnique(spec.envSampler.empty() ? "env-cdf" : spec.envSampler);
   if (needsBrdf) {

@@ -207,6 +207,18 @@ std::optional<glm::dvec2> EnvHierSampler::invert(glm::dvec3 wi) const {
   return glm::min(u, glm::dvec2(double(kOneMinusEpsilonF)));
 }
 
+glm::vec4 envHierNodeRect(const EnvHierGpuData& gpu, uint32_t level, uint32_t x, uint32_t y) {
+  glm::vec4 rect(0.0f, 0.0f, 1.0f, 1.0f);
+  uint32_t g = 0;
+  for (uint32_t depth = 1; depth <= level; ++depth) {
+    if (g >= gpu.leafStart) throw Error("env-hier: level " + std::to_string(level) + " is below the texels");
+    const uint32_t column = (x >> (level - depth)) & 1u, row = (y >> (level - depth)) & 1u;
+    rect = childRect(rect, gpu.splits[g], column, row);
+    g = hierChild(g, column, row);
+  }
+  return rect;
+}
+
 EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize) {
   if (!hasSquareLevels(data.levels))
     throw Error("env-hier: the pyramid's levels are not 1, 2, 4, ... squared; rebuild it with buildEnvHier");

@@ -70,6 +70,11 @@ struct EnvHierGpuData {
 inline constexpr uint32_t kEnvHierGuideSize = 128;
 EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize = 0);
 
+// The rectangle in u (minX, minY, maxX, maxY) of node (x, y) of pyramid level `level` (2^level nodes across):
+// exactly the float set of u whose descent passes through the node, found by walking the splits from the
+// root. The level must be coarser than the finest one's parent's children, i.e. level <= the finest level.
+glm::vec4 envHierNodeRect(const EnvHierGpuData& gpu, uint32_t level, uint32_t x, uint32_t y);
+
 // CPU twin of the env-hier GLSL part, step by step in float as the GPU computes it.
 //
 // sample(): u as the float the GPU receives (toGpuU) selects its guide cell min(floor(u * G), G - 1); from

@@ -59,6 +59,7 @@ struct FrameParams {
 const uint kSampleTechniqueNone = 0u;  // no sample drawn (ris: no candidate kept); the record is all zero
 const uint kSampleTechniqueEnv = 1u;
 const uint kSampleTechniqueBrdf = 2u;
+const uint kSampleTechniqueProduct = 3u;  // the product strategies' own technique (over the env technique)
 
 // One sample of the recorded pixel (set 0, binding 8 of the recording integrator; lib/sample_record.glsl).
 struct SampleRecord {

@@ -10,6 +10,8 @@
 // (two decisions per pair), so no per-candidate arrays are needed.
 #include "lib/sample_record.glsl"
 
+void prepareStrategy(Shading s) {}
+
 vec3 estimateRadiance(SamplePoint p, Shading s) {
   const uint candidates = RIS_CANDIDATES;  // fixed by the method: the loop unrolls
   vec2 decisions = vec2(0.0);

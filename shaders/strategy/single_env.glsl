@@ -1,6 +1,8 @@
 // Strategy "single technique, environment": Lo ~ L(wi) f(wi, wo) cos(theta_i) / p_env(wi).
 #include "lib/sample_record.glsl"
 
+void prepareStrategy(Shading s) {}
+
 vec3 estimateRadiance(SamplePoint p, Shading s) {
   vec2 u = samplePair(p, 0u);
   float pdf;

@@ -24,6 +24,11 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
         if (t.appliesTo(brdf)) specs.push_back((spec.brdfSampler = t.name, spec));
     } else if (m.strategy == Strategy::Ris) {
       for (const auto& e : envTechniqueRegistry()) specs.push_back((spec.envSampler = e.name, spec));
+    } else if (m.strategy == Strategy::Product) {
+      specs.push_back(spec);
+    } else if (m.strategy == Strategy::ProductMis) {
+      // With the BRDF's best sampler: MIS above already pairs every BRDF technique with the env techniques.
+      specs.push_back(spec);
     } else {
       // Every env technique with every BRDF technique that applies (balance), and with the BRDF's best
       // sampler also under the power heuristic.

@@ -17,7 +17,7 @@ namespace iblx::test {
 // applicable BRDF technique alone, MIS of every env technique with every applicable BRDF technique
 // (two-sample, balance heuristic; the BRDF's best sampler also with the power heuristic, with MIS compensation
 // for the table-based env techniques, and with env-cdf as one-sample MIS at a 0.3 split), and RIS over every
-// env technique (8 candidates).
+// env technique (8 candidates), and the product strategies (product-mis with the BRDF's best sampler).
 std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& sequence);
 
 // The unit view direction at polar angle theta and azimuth phi (degrees) in the local shading frame (n = +z).

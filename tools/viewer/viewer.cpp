@@ -503,7 +503,7 @@ class ViewerApp {
       if (info.strategy == Strategy::Mis || info.strategy == Strategy::Ris)
         rebuild |= combo("env technique", m.envSampler, envTechniqueRegistry(), "(default)");
       if (info.strategy == Strategy::SingleBrdf || info.strategy == Strategy::Mis ||
-          info.strategy == Strategy::Ris)
+          info.strategy == Strategy::Ris || info.strategy == Strategy::ProductMis)
         rebuild |= combo("BRDF technique", m.brdfSampler, brdfTechniqueRegistry(), "(default)");
       rebuild |= combo("sequence", m.sequence, sequenceRegistry());
       if (info.strategy == Strategy::Mis) {
@@ -521,6 +521,11 @@ class ViewerApp {
         if (ImGui::Checkbox("power heuristic", &power))
           m.misHeuristic = power ? "power" : "balance", rebuild = true;
         if (ImGui::Checkbox("compensated env technique", &m.misCompensation)) rebuild = true;
+      }
+      if (info.strategy == Strategy::ProductMis) {
+        bool power = m.misHeuristic == "power";
+        if (ImGui::Checkbox("power heuristic", &power))
+          m.misHeuristic = power ? "power" : "balance", rebuild = true;
       }
       if (info.strategy == Strategy::Ris) {
         int candidates = m.risCandidates.value_or(8);

@@ -1,0 +1,140 @@
+// env-hier product level: the level's node rectangles and centres, and the CPU twin of the product sampler.
+#include "engine/sampling/env_product.h"
+
+#include "engine/core/error.h"
+#include "engine/sampling/sphere_mapping.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace iblx {
+namespace {
+
+// The largest i in [0, n) with cdf[i] <= value (cdf[0] = 0, increasing): value's bin; a bin of zero width is
+// never chosen.
+std::size_t findBin(const double* cdf, std::size_t n, double value) {
+  const double* end = std::upper_bound(cdf, cdf + n, value);
+  return std::size_t(std::max<std::ptrdiff_t>(end - cdf - 1, 0));
+}
+
+}  // namespace
+
+EnvProductLevel buildEnvProductLevel(const EnvHierSampler& env, uint32_t maxNodes) {
+  if (maxNodes == 0) throw Error("env-hier product level: at least one node is needed");
+  const EnvHierData& data = env.data();
+  const uint32_t finest = uint32_t(data.levels.size() - 1), size = data.levels.back().width;
+  // Nodes across and node rows that hold texels at level k.
+  auto extent = [&](uint32_t k) {
+    const uint32_t width = 1u << k, per = size >> k;
+    return std::pair{width, (uint32_t(data.height) + per - 1) / per};
+  };
+  uint32_t level = 0;
+  for (uint32_t k = 0; k <= finest; ++k) {
+    const auto [width, rows] = extent(k);
+    if (uint64_t(width) * rows <= maxNodes) level = k;
+  }
+  EnvProductLevel l;
+  std::tie(l.width, l.rows) = extent(level);
+  l.texelsPerNode = size >> level;
+  for (uint32_t y = 0; y < l.rows; ++y)
+    for (uint32_t x = 0; x < l.width; ++x) {
+      l.rects.push_back(envHierNodeRect(env.gpuData(), level, x, y));
+      // The centre of the node's texels (the part of its block inside the map): u, v of DESIGN §3.
+      const double x0 = double(x * l.texelsPerNode), y0 = double(y * l.texelsPerNode);
+      const double x1 = std::min(x0 + l.texelsPerNode, double(data.width)),
+                   y1 = std::min(y0 + l.texelsPerNode, double(data.height));
+      const glm::dvec3 d =
+          x0 < x1 ? latLongToDirection({0.5 * (x0 + x1) / data.width, 0.5 * (y0 + y1) / data.height})
+                  : glm::dvec3(0.0, 1.0, 0.0);
+      // The angular radius from a 17 x 17 grid over the block (its edges included), widened by one grid
+      // step's angle so that no point of the block lies outside the cap.
+      double cosRadius = 1.0;
+      constexpr int kGrid = 16;
+      for (int b = 0; b <= kGrid && x0 < x1; ++b)
+        for (int a = 0; a <= kGrid; ++a) {
+          const glm::dvec2 uv((x0 + (x1 - x0) * a / kGrid) / data.width,
+                              (y0 + (y1 - y0) * b / kGrid) / data.height);
+          cosRadius = std::min(cosRadius, glm::dot(d, latLongToDirection(uv)));
+        }
+      const double step = std::max(2.0 * kPi * (x1 - x0) / data.width, kPi * (y1 - y0) / data.height) / kGrid;
+      const double radius = std::min(std::acos(std::clamp(cosRadius, -1.0, 1.0)) + step, kPi);
+      l.centers.emplace_back(glm::vec3(d), float(std::cos(radius)));
+    }
+  return l;
+}
+
+glm::dvec3 closestDirectionInCap(glm::dvec3 centre, double cosRadius, glm::dvec3 towards) {
+  const double cosAngle = glm::dot(centre, towards);
+  if (cosAngle >= cosRadius) return towards;
+  const glm::dvec3 tangent = towards - centre * cosAngle;
+  const double length = glm::length(tangent);
+  if (!(length > 1e-12)) return centre;  // towards is opposite the centre: every direction is as close
+  const double sinRadius = std::sqrt(std::max(0.0, 1.0 - cosRadius * cosRadius));
+  return centre * cosRadius + tangent * (sinRadius / length);
+}
+
+EnvProductSampler::EnvProductSampler(const EnvHierSampler& env, const EnvProductLevel& level,
+                                     std::span<const double> fCos)
+    : env_(env), level_(level) {
+  const std::size_t n = level.nodes();
+  if (fCos.size() != n) throw Error("env product sampler: one f cos value per node is needed");
+  std::vector<double> area(n), weight(n);
+  double sumEF = 0.0;
+  for (std::size_t j = 0; j < n; ++j) {
+    const glm::vec4& r = level.rects[j];
+    area[j] = double((r.z - r.x) * (r.w - r.y));
+    sumEF += area[j] * std::max(fCos[j], 0.0);
+  }
+  for (std::size_t j = 0; j < n; ++j)
+    weight[j] =
+        sumEF > 0.0
+            ? area[j] * ((1.0 - kEnvProductDefensive) * std::max(fCos[j], 0.0) / sumEF + kEnvProductDefensive)
+            : area[j];
+  rowCdf_.assign(level.rows + 1, 0.0);
+  columnCdf_.assign(level.rows * (level.width + 1), 0.0);
+  for (uint32_t y = 0; y < level.rows; ++y) {
+    double* row = &columnCdf_[y * (level.width + 1)];
+    for (uint32_t x = 0; x < level.width; ++x) row[x + 1] = row[x] + weight[y * level.width + x];
+    rowCdf_[y + 1] = rowCdf_[y] + row[level.width];
+  }
+  probability_.assign(n, 0.0);
+  const double total = rowCdf_[level.rows];
+  for (std::size_t j = 0; j < n; ++j) probability_[j] = total > 0.0 ? weight[j] / total : 0.0;
+}
+
+std::size_t EnvProductSampler::nodeOf(glm::ivec2 texel) const {
+  return std::size_t(uint32_t(texel.y) / level_.texelsPerNode) * level_.width +
+         uint32_t(texel.x) / level_.texelsPerNode;
+}
+
+EnvSample EnvProductSampler::sample(glm::dvec2 u) const {
+  const double total = rowCdf_[level_.rows];
+  if (!(total > 0.0)) return {};
+  const std::size_t y = findBin(rowCdf_.data(), level_.rows, u.y * total);
+  const double* row = &columnCdf_[y * (level_.width + 1)];
+  const std::size_t x = findBin(row, level_.width, u.x * row[level_.width]);
+  const glm::dvec2 v(std::clamp((u.x * row[level_.width] - row[x]) / (row[x + 1] - row[x]), 0.0, 1.0),
+                     std::clamp((u.y * total - rowCdf_[y]) / (rowCdf_[y + 1] - rowCdf_[y]), 0.0, 1.0));
+  const glm::vec4& r = level_.rects[y * level_.width + x];
+  // Inside the node's rectangle (a float set): one float step below its upper edges at most.
+  const glm::dvec2 inNode(
+      std::clamp(double(r.x) + v.x * double(r.z - r.x), double(r.x), double(std::nextafter(r.z, r.x))),
+      std::clamp(double(r.y) + v.y * double(r.w - r.y), double(r.y), double(std::nextafter(r.w, r.y))));
+  // The chosen node's probability over its area, times env-hier's density inside it.
+  EnvSample s = env_.sample(inNode);
+  const double area = double((r.z - r.x) * (r.w - r.y));
+  s.pdfSolidAngle = area > 0.0 ? probability_[y * level_.width + x] / area * s.pdfSolidAngle : 0.0;
+  return s;
+}
+
+double EnvProductSampler::pdf(glm::dvec3 wi) const {
+  if (!isUsableDirection(wi)) return 0.0;
+  const glm::ivec2 texel = directionToTexel(wi, env_.data().width, env_.data().height);
+  const std::size_t j = nodeOf(texel);
+  const glm::vec4& r = level_.rects[j];
+  const double area = double((r.z - r.x) * (r.w - r.y));
+  return area > 0.0 ? probability_[j] / area * env_.pdf(wi) : 0.0;
+}
+
+}  // namespace iblx

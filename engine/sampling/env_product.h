@@ -1,0 +1,76 @@
+// env-hier product level: the data and CPU twin of the `product` strategies
+// (shaders/lib/product_sampling.glsl), which sample the environment times the BRDF per shading point over
+// env-hier's pyramid.
+//
+// Per shading point, every node j of one coarse pyramid level gets the weight
+//   w_j = E_j ((1 - d) F_j / sum_k E_k F_k + d),
+// E_j the node's env-hier probability (the area of its rectangle in u), F_j = mean_rgb(f) cos at the node's
+// direction closest to the mirror direction of wo (the mirror direction itself when the node holds it), so a
+// glossy lobe that touches a node is seen near its peak there, d = kEnvProductDefensive. A node is chosen by
+// a marginal (rows) / conditional (columns) table over w, and the direction is finished inside the node by
+// env-hier's own descent: the chosen node's rectangle R_j in u is filled by the remaining uniform, and
+// env-hier's exact texel tables pick the texel. So
+//   pdf(wi) = P(j) / E_j * p_env-hier(wi),   P(j) = w_j / sum_k w_k,
+// exact and evaluable at any direction (hierarchical product sampling, Clarberg, Jarosz, Akenine-Möller &
+// Jensen 2005, "Wavelet Importance Sampling", with one product level; the conditional finish is the
+// environment's exact warp, as in Clarberg & Akenine-Möller 2008 §4). The defensive share d keeps every node
+// of positive env mass reachable (F_j is 0 for a node whose chosen direction is below the horizon, and a
+// lobe not centred on the mirror direction can fall between the directions evaluated), so the estimator is
+// unbiased whatever F does elsewhere in a node.
+#pragma once
+
+#include "engine/sampling/env_hier.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace iblx {
+
+inline constexpr uint32_t kEnvProductMaxNodes = 512;  // per-pixel tables: 512 floats of private memory
+inline constexpr double kEnvProductDefensive = 0.1;   // d: the env-hier share of every node's probability
+
+// One level of env-hier's pyramid as the product strategies read it. The level is the finest one whose nodes
+// that hold texels (width x rows) number at most maxNodes; node (x, y) covers finest-level cells
+// [x s, (x + 1) s) x [y s, (y + 1) s), s = texelsPerNode, of which those inside the W x H map are texels.
+struct EnvProductLevel {
+  uint32_t width = 0, rows = 0;
+  uint32_t texelsPerNode = 0;
+  // Per node, row-major (rows x width): its rectangle in u (minX, minY, maxX, maxY), exactly the float set of
+  // u whose env-hier descent ends in one of its texels (empty for padding).
+  std::vector<glm::vec4> rects;
+  // Per node: the unit direction (environment frame) at the centre of its texels' block, and in w the cosine
+  // of the node's angular radius (an upper bound of the angle from the centre to any point of the block).
+  std::vector<glm::vec4> centers;
+  std::size_t nodes() const { return rects.size(); }
+};
+
+// Throws iblx::Error when maxNodes is 0 or the pyramid is invalid.
+EnvProductLevel buildEnvProductLevel(const EnvHierSampler& env, uint32_t maxNodes = kEnvProductMaxNodes);
+
+// The direction of the cap (centre, cosRadius) closest to `towards` (unit vectors): `towards` itself inside
+// the cap, else the centre turned towards it by the radius. The GLSL twin is productNodeDirection.
+glm::dvec3 closestDirectionInCap(glm::dvec3 centre, double cosRadius, glm::dvec3 towards);
+
+// CPU twin of the GLSL sampler for one shading point, in double: fCos[j] = F_j (>= 0) of node j.
+class EnvProductSampler {
+ public:
+  EnvProductSampler(const EnvHierSampler& env, const EnvProductLevel& level, std::span<const double> fCos);
+
+  // Chooses a node by u.y (row) and u.x (column), rescales u inside the choice, fills the node's rectangle
+  // with it and lets env-hier's descent finish.
+  EnvSample sample(glm::dvec2 u) const;
+  double pdf(glm::dvec3 wi) const;
+  double nodeProbability(std::size_t node) const { return probability_[node]; }
+  std::size_t nodeOf(glm::ivec2 texel) const;
+
+ private:
+  const EnvHierSampler& env_;
+  const EnvProductLevel& level_;
+  std::vector<double> probability_;         // P(j)
+  std::vector<double> rowCdf_, columnCdf_;  // marginal over rows; per row, conditional over its columns
+};
+
+}  // namespace iblx

@@ -1,0 +1,122 @@
+// Product sampling of environment x BRDF over env-hier's pyramid, for the `product` strategies
+// (engine/sampling/env_product.h documents the method and holds the CPU twin, EnvProductSampler). Needs the
+// env technique env-hier, whose builder also provides the product level's tables and PRODUCT_* defines.
+//
+// productPrepare(s), once per shading point: weights w_j = (1 - d) E_j F_j / sum_k E_k F_k + d E_j over the
+// level's nodes (E_j the node's env-hier probability, F_j = mean_rgb(f) cos at the node's direction closest to
+// the mirror direction of wo, d = PRODUCT_DEFENSIVE),
+// kept as running sums per row (gProductColumnSums) and over rows (gProductRowSums). productSample chooses a row
+// by u.y and a node in it by u.x, rescales u inside the choice, fills the node's rectangle in u with it and lets
+// env-hier's descent (envSample) finish, so pdf = P(j) / E_j * p_env-hier, with P(j) computed from the same
+// sums in sampling and in productPdf.
+#ifndef IBLX_LIB_PRODUCT_SAMPLING
+#define IBLX_LIB_PRODUCT_SAMPLING
+#extension GL_EXT_control_flow_attributes : require
+#include "lib/latlong.glsl"
+#include "lib/table.glsl"
+
+// Per node (PRODUCT_ROWS x PRODUCT_WIDTH, row-major): its rectangle in u (minX, minY, maxX, maxY), and the
+// direction at its centre (environment frame) with the cosine of its angular radius.
+IBLX_TABLE(2, 3, productNodeRects);    // 4-word elements
+IBLX_TABLE(2, 4, productNodeCenters);  // 4-word elements
+
+const uint kProductNodes = PRODUCT_WIDTH * PRODUCT_ROWS;
+float gProductColumnSums[kProductNodes];  // per row: inclusive running sums of the weights
+float gProductRowSums[PRODUCT_ROWS];      // inclusive running sums of the row totals
+
+float productNodeArea(uint j) {
+  vec4 r = tableVec4(productNodeRects, j);
+  return (r.z - r.x) * (r.w - r.y);
+}
+
+// The direction of the cap (centre, cosRadius) closest to `towards`: the CPU twin is closestDirectionInCap.
+vec3 productNodeDirection(vec3 centre, float cosRadius, vec3 towards) {
+  float cosAngle = dot(centre, towards);
+  if (cosAngle >= cosRadius) return towards;
+  vec3 tangent = towards - centre * cosAngle;
+  float len = length(tangent);
+  if (!(len > 1e-6)) return centre;
+  return centre * cosRadius + tangent * (sqrt(max(0.0, 1.0 - cosRadius * cosRadius)) / len);
+}
+
+void productPrepare(Shading s) {
+  float sumEF = 0.0;
+  vec3 mirror = vec3(-s.woLocal.xy, s.woLocal.z);  // the mirror direction of wo about n, local frame
+  [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) {
+    float area = productNodeArea(j);
+    vec4 centre = tableVec4(productNodeCenters, j);
+    vec3 d = normalize(productNodeDirection(toLocal(s, centre.xyz), centre.w, mirror));
+    float fCos = 0.0;
+    if (area > 0.0 && d.z > 0.0) {
+      vec3 f = brdfEval(d, s.woLocal);
+      fCos = (f.r + f.g + f.b) / 3.0 * d.z;
+      if (!(fCos > 0.0) || isinf(fCos)) fCos = 0.0;  // a non-finite or negative lobe value gives no preference
+    }
+    gProductColumnSums[j] = area * fCos;
+    sumEF += area * fCos;
+  }
+  float envShare = sumEF > 0.0 && !isinf(sumEF) ? PRODUCT_DEFENSIVE : 1.0;
+  float productScale = envShare < 1.0 ? (1.0 - envShare) / sumEF : 0.0;
+  float rows = 0.0;
+  [[dont_unroll]] for (uint y = 0u; y < PRODUCT_ROWS; ++y) {
+    float running = 0.0;
+    [[dont_unroll]] for (uint x = 0u; x < PRODUCT_WIDTH; ++x) {
+      uint j = y * PRODUCT_WIDTH + x;
+      running += productScale * gProductColumnSums[j] + envShare * productNodeArea(j);
+      gProductColumnSums[j] = running;
+    }
+    rows += running;
+    gProductRowSums[y] = rows;
+  }
+}
+
+// P(node (x, y)) from the running sums, as sampling chooses it; 0 for an empty node, row or table.
+float productNodeProbability(uint x, uint y) {
+  float total = gProductRowSums[PRODUCT_ROWS - 1u];
+  uint base = y * PRODUCT_WIDTH;
+  float rowTotal = gProductColumnSums[base + PRODUCT_WIDTH - 1u];
+  float rowWidth = gProductRowSums[y] - (y == 0u ? 0.0 : gProductRowSums[y - 1u]);
+  float columnWidth = gProductColumnSums[base + x] - (x == 0u ? 0.0 : gProductColumnSums[base + x - 1u]);
+  return total > 0.0 && rowTotal > 0.0 ? (rowWidth / total) * (columnWidth / rowTotal) : 0.0;
+}
+
+vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
+  pdf = 0.0;
+  radiance = vec3(0.0);
+  float total = gProductRowSums[PRODUCT_ROWS - 1u];
+  if (!(total > 0.0)) return vec3(0.0, 1.0, 0.0);
+  // The first row whose running sum exceeds u.y * total: a row of zero width is never chosen.
+  float ty = u.y * total;
+  uint y = 0u;
+  for (uint k = 0u; k + 1u < PRODUCT_ROWS; ++k) y += gProductRowSums[k] <= ty ? 1u : 0u;
+  float rowStart = y == 0u ? 0.0 : gProductRowSums[y - 1u], rowWidth = gProductRowSums[y] - rowStart;
+  uint base = y * PRODUCT_WIDTH;
+  float rowTotal = gProductColumnSums[base + PRODUCT_WIDTH - 1u];
+  float tx = u.x * rowTotal;
+  uint x = 0u;
+  for (uint k = 0u; k + 1u < PRODUCT_WIDTH; ++k) x += gProductColumnSums[base + k] <= tx ? 1u : 0u;
+  float columnStart = x == 0u ? 0.0 : gProductColumnSums[base + x - 1u];
+  float columnWidth = gProductColumnSums[base + x] - columnStart;
+  if (!(rowWidth > 0.0) || !(columnWidth > 0.0)) return vec3(0.0, 1.0, 0.0);  // u on a float edge
+  vec2 v = clamp(vec2((tx - columnStart) / columnWidth, (ty - rowStart) / rowWidth), vec2(0.0),
+                 vec2(kOneMinusEpsilon));
+  uint j = base + x;
+  vec4 r = tableVec4(productNodeRects, j);
+  // Inside the node's rectangle, a float set: at most one float step below its upper edges (which are > 0).
+  vec2 below = uintBitsToFloat(floatBitsToUint(r.zw) - 1u);
+  vec2 inNode = clamp(r.xy + v * (r.zw - r.xy), r.xy, below);
+  float envDensity;
+  vec3 wi = envSample(inNode, s.n, envDensity, radiance);
+  float area = (r.z - r.x) * (r.w - r.y);
+  pdf = envDensity > 0.0 && area > 0.0 ? productNodeProbability(x, y) / area * envDensity : 0.0;
+  return wi;
+}
+
+float productPdf(vec3 wi, Shading s) {
+  ivec2 texel = directionToTexel(wi);
+  uint x = uint(texel.x) / PRODUCT_TEXELS_PER_NODE, y = uint(texel.y) / PRODUCT_TEXELS_PER_NODE;
+  if (x >= PRODUCT_WIDTH || y >= PRODUCT_ROWS) return 0.0;
+  float area = productNodeArea(y * PRODUCT_WIDTH + x);
+  return area > 0.0 ? productNodeProbability(x, y) / area * envPdf(wi, s.n) : 0.0;
+}
+#endif
