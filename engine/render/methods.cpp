@@ -51,12 +51,15 @@ TechniqueData makeEnvHier(const EnvImage& image) {
   // Bindings 3-4: the coarse level the product strategies choose nodes on
   // (shaders/lib/product_sampling.glsl).
   const EnvProductLevel product = buildEnvProductLevel(sampler);
+  // Binding 5: the uniform grid over u of `product-warp` (its rectangles are arithmetic, only the caps).
+  const EnvProductLevel grid = buildEnvProductGrid(sampler);
   TechniqueData data;
   data.add("env-hier splits", std::span<const glm::vec4>(hier.splits), 4);
   data.add("env-hier guide", std::span<const uint32_t>(hier.guideNodes));
   data.add("env-hier texel rectangles", std::span<const glm::vec4>(hier.texelRects), 4);
   data.add("env-hier product node rectangles", std::span<const glm::vec4>(product.rects), 4);
   data.add("env-hier product node centres", std::span<const glm::vec4>(product.centers), 4);
+  data.add("env-hier product grid centres", std::span<const glm::vec4>(grid.centers), 4);
   // Sizes are compile-time constants of the part: read from a buffer, lavapipe would load them per lane.
   const auto u = [](uint32_t v) { return std::to_string(v) + "u"; };
   data.defines = {{"ENV_HIER_LEAF_START", u(hier.leafStart)},
@@ -65,6 +68,8 @@ TechniqueData makeEnvHier(const EnvImage& image) {
                   {"PRODUCT_WIDTH", u(product.width)},
                   {"PRODUCT_ROWS", u(product.rows)},
                   {"PRODUCT_TEXELS_PER_NODE", u(product.texelsPerNode)},
+                  {"PRODUCT_GRID_WIDTH", u(grid.width)},
+                  {"PRODUCT_GRID_ROWS", u(grid.rows)},
                   {"PRODUCT_DEFENSIVE", std::to_string(kEnvProductDefensive)}};
   return data;
 }
@@ -258,6 +263,8 @@ const MethodInfo kMethods[] = {
     {"product", "env x f cos per pixel over env-hier's pyramid, finished in its texel tables",
      Strategy::Product, "env-hier"},
     {"product-mis", "two-sample MIS of 'product' and --brdf-sampler", Strategy::ProductMis, "env-hier"},
+    {"product-warp", "warp composition (Hart 2020): per pixel, f cos tabulated over env-hier's unit square",
+     Strategy::ProductWarp, "env-hier"},
 };
 
 template <typename T>
@@ -310,6 +317,8 @@ std::string strategyPart(Strategy strategy) {
       return "strategy/product.glsl";
     case Strategy::ProductMis:
       return "strategy/product_mis.glsl";
+    case Strategy::ProductWarp:
+      return "strategy/product_warp.glsl";
   }
   return {};
 }

@@ -96,9 +96,10 @@ struct SequenceInfo {
 };
 
 // ---- methods (what --method selects) ----------------------------------------------------------------------
-// Product and ProductMis sample env x f cos per pixel over env-hier's pyramid
-// (engine/sampling/env_product.h), alone or under two-sample MIS with the BRDF technique.
-enum class Strategy { SingleEnv, SingleBrdf, Mis, Ris, Product, ProductMis };
+// Product and ProductMis sample env x f cos per pixel over a level of env-hier's pyramid
+// (engine/sampling/env_product.h), alone or under two-sample MIS with the BRDF technique; ProductWarp over a
+// uniform grid of env-hier's unit square (warp composition).
+enum class Strategy { SingleEnv, SingleBrdf, Mis, Ris, Product, ProductMis, ProductWarp };
 
 struct MethodInfo {
   std::string name;

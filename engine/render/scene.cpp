@@ -154,7 +154,7 @@ std::string ResolvedMethod::techniqueLabel() const {
     s << "(" << brdfTechnique->name << ")";
   } else if (method->strategy == Strategy::Ris) {
     s << "(" << envTechnique->name << ", M=" << risCandidates << ")";
-  } else if (method->strategy == Strategy::Product) {
+  } else if (method->strategy == Strategy::Product || method->strategy == Strategy::ProductWarp) {
     s << "(" << envTechnique->name << ")";
   } else if (method->strategy == Strategy::ProductMis) {
     s << "(" << envTechnique->name << "+" << brdfTechnique->name << ", " << (misPower ? "power" : "balance")

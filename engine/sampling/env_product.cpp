@@ -64,6 +64,41 @@ EnvProductLevel buildEnvProductLevel(const EnvHierSampler& env, uint32_t maxNode
   return l;
 }
 
+EnvProductLevel buildEnvProductGrid(const EnvHierSampler& env, uint32_t width, uint32_t rows) {
+  if (width == 0 || rows == 0) throw Error("env-hier product grid: at least one cell is needed");
+  EnvProductLevel l;
+  l.width = width;
+  l.rows = rows;
+  l.uniformGrid = true;
+  // A texel's angular size: the margin of every cap (a cell's image holds whole texels' pieces).
+  const double texel = std::max(2.0 * kPi / env.data().width, kPi / env.data().height);
+  for (uint32_t y = 0; y < rows; ++y)
+    for (uint32_t x = 0; x < width; ++x) {
+      const glm::vec4 rect(float(x) / float(width), float(y) / float(rows), float(x + 1) / float(width),
+                           float(y + 1) / float(rows));
+      l.rects.push_back(rect);
+      // The cell's image under env-hier, from a 17 x 17 grid of u inside it: the mean direction and the
+      // largest angle from it.
+      constexpr int kGrid = 16;
+      std::vector<glm::dvec3> image;
+      glm::dvec3 sum(0.0);
+      for (int b = 0; b <= kGrid; ++b)
+        for (int a = 0; a <= kGrid; ++a) {
+          const glm::dvec2 u(double(rect.x) + (rect.z - rect.x) * (a + 0.5) / (kGrid + 1),
+                             double(rect.y) + (rect.w - rect.y) * (b + 0.5) / (kGrid + 1));
+          image.push_back(env.sample(u).direction);
+          sum += image.back();
+        }
+      const double length = glm::length(sum);
+      const glm::dvec3 centre = length > 1e-9 ? sum / length : image.front();
+      double cosRadius = 1.0;
+      for (const glm::dvec3& w : image) cosRadius = std::min(cosRadius, glm::dot(centre, w));
+      const double radius = std::min(std::acos(std::clamp(cosRadius, -1.0, 1.0)) + texel, kPi);
+      l.centers.emplace_back(glm::vec3(centre), float(std::cos(radius)));
+    }
+  return l;
+}
+
 glm::dvec3 closestDirectionInCap(glm::dvec3 centre, double cosRadius, glm::dvec3 towards) {
   const double cosAngle = glm::dot(centre, towards);
   if (cosAngle >= cosRadius) return towards;
@@ -103,7 +138,13 @@ EnvProductSampler::EnvProductSampler(const EnvHierSampler& env, const EnvProduct
   for (std::size_t j = 0; j < n; ++j) probability_[j] = total > 0.0 ? weight[j] / total : 0.0;
 }
 
-std::size_t EnvProductSampler::nodeOf(glm::ivec2 texel) const {
+std::size_t EnvProductSampler::nodeOf(glm::dvec3 wi) const {
+  if (level_.uniformGrid) {
+    const glm::dvec2 u = env_.invert(wi).value_or(glm::dvec2(0.0));
+    return std::min(std::size_t(u.y * level_.rows), std::size_t(level_.rows - 1)) * level_.width +
+           std::min(std::size_t(u.x * level_.width), std::size_t(level_.width - 1));
+  }
+  const glm::ivec2 texel = directionToTexel(wi, env_.data().width, env_.data().height);
   return std::size_t(uint32_t(texel.y) / level_.texelsPerNode) * level_.width +
          uint32_t(texel.x) / level_.texelsPerNode;
 }
@@ -130,8 +171,7 @@ EnvSample EnvProductSampler::sample(glm::dvec2 u) const {
 
 double EnvProductSampler::pdf(glm::dvec3 wi) const {
   if (!isUsableDirection(wi)) return 0.0;
-  const glm::ivec2 texel = directionToTexel(wi, env_.data().width, env_.data().height);
-  const std::size_t j = nodeOf(texel);
+  const std::size_t j = nodeOf(wi);
   const glm::vec4& r = level_.rects[j];
   const double area = double((r.z - r.x) * (r.w - r.y));
   return area > 0.0 ? probability_[j] / area * env_.pdf(wi) : 0.0;

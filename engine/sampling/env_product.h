@@ -32,23 +32,38 @@ namespace iblx {
 inline constexpr uint32_t kEnvProductMaxNodes = 512;  // per-pixel tables: 512 floats of private memory
 inline constexpr double kEnvProductDefensive = 0.1;   // d: the env-hier share of every node's probability
 
-// One level of env-hier's pyramid as the product strategies read it. The level is the finest one whose nodes
-// that hold texels (width x rows) number at most maxNodes; node (x, y) covers finest-level cells
-// [x s, (x + 1) s) x [y s, (y + 1) s), s = texelsPerNode, of which those inside the W x H map are texels.
+// The nodes a product strategy chooses among, a partition of env-hier's unit square u into rectangles, in one
+// of two layouts:
+// - a pyramid level (`product`, `product-mis`): the finest level whose nodes that hold texels (width x rows)
+//   number at most maxNodes; node (x, y) covers finest-level cells [x s, (x + 1) s) x [y s, (y + 1) s),
+//   s = texelsPerNode, of which those inside the W x H map are texels. Its rectangle in u is where env-hier's
+//   splits put it, so the nodes are regular in directions and their areas E_j follow the map.
+// - a uniform grid over u (`product-warp`, warp composition: Hart, Pharr, Müller, Lopes, McGuire & Shirley
+//   2020, "Practical Product Sampling by Fitting and Composing Warps"): node (x, y) is [x/width, (x+1)/width)
+//   x [y/rows, (y+1)/rows), a piecewise-constant head warp over env-hier's square (the tail warp), so every
+//   node carries the same env mass 1/(width rows) and the nodes are fine where the map is bright.
 struct EnvProductLevel {
   uint32_t width = 0, rows = 0;
-  uint32_t texelsPerNode = 0;
+  uint32_t texelsPerNode = 0;  // pyramid level only
+  bool uniformGrid = false;    // the layout: a uniform grid over u, else a pyramid level
   // Per node, row-major (rows x width): its rectangle in u (minX, minY, maxX, maxY), exactly the float set of
   // u whose env-hier descent ends in one of its texels (empty for padding).
   std::vector<glm::vec4> rects;
-  // Per node: the unit direction (environment frame) at the centre of its texels' block, and in w the cosine
-  // of the node's angular radius (an upper bound of the angle from the centre to any point of the block).
+  // Per node: a unit direction (environment frame) at its centre, and in w the cosine of its angular radius
+  // (the largest angle from the centre to a direction of the node, widened by a margin; -1 when the node's
+  // directions spread over the sphere). A grid cell's cap is estimated from a 17 x 17 grid of u and can miss
+  // a dim block thinner in u than its step. Only the weights read it, so a loose or short cap costs
+  // efficiency, never bias.
   std::vector<glm::vec4> centers;
   std::size_t nodes() const { return rects.size(); }
 };
 
 // Throws iblx::Error when maxNodes is 0 or the pyramid is invalid.
 EnvProductLevel buildEnvProductLevel(const EnvHierSampler& env, uint32_t maxNodes = kEnvProductMaxNodes);
+// The uniform grid over u; throws iblx::Error for an empty grid.
+inline constexpr uint32_t kEnvProductGridWidth = 32, kEnvProductGridRows = 16;
+EnvProductLevel buildEnvProductGrid(const EnvHierSampler& env, uint32_t width = kEnvProductGridWidth,
+                                    uint32_t rows = kEnvProductGridRows);
 
 // The direction of the cap (centre, cosRadius) closest to `towards` (unit vectors): `towards` itself inside
 // the cap, else the centre turned towards it by the radius. The GLSL twin is productNodeDirection.
@@ -64,7 +79,8 @@ class EnvProductSampler {
   EnvSample sample(glm::dvec2 u) const;
   double pdf(glm::dvec3 wi) const;
   double nodeProbability(std::size_t node) const { return probability_[node]; }
-  std::size_t nodeOf(glm::ivec2 texel) const;
+  // The node holding direction wi: by its texel (pyramid level) or by env-hier's inverse (uniform grid).
+  std::size_t nodeOf(glm::dvec3 wi) const;
 
  private:
   const EnvHierSampler& env_;

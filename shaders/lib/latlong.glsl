@@ -33,6 +33,17 @@ vec3 texelToDirection(ivec2 texel, vec2 t) {
   return vec3(sinTheta * cos(phi), cosTheta, sinTheta * sin(phi));
 }
 
+// Inverse of texelToDirection's t for a direction inside (or on the border of) `texel`, clamped to [0,1]^2.
+vec2 directionToTexelOffset(vec3 w, ivec2 texel) {
+  float tx = directionToLatLong(w).x * float(frame.envWidth) - float(texel.x);
+  if (tx < -0.5 * float(frame.envWidth)) tx += float(frame.envWidth);  // phi wrapped to 0 on the last column
+  vec4 row = tableVec4(envRows, texel.y);
+  float cosTheta = w.y / length(w);
+  float a = row.w > 0.5 ? 0.5 * (1.0 + cosTheta) : 0.5 * (1.0 - cosTheta);
+  float ty = row.z != row.y ? (a - row.y) / (row.z - row.y) : 0.5;
+  return clamp(vec2(tx, ty), vec2(0.0), vec2(1.0));
+}
+
 vec3 tableRgb(usamplerBuffer table, uint i) {
   return vec3(tableFloat(table, i), tableFloat(table, i + 1u), tableFloat(table, i + 2u));
 }

@@ -1,6 +1,8 @@
-// Product sampling of environment x BRDF over env-hier's pyramid, for the `product` strategies
+// Product sampling of environment x BRDF over env-hier's unit square, for the `product` strategies
 // (engine/sampling/env_product.h documents the method and holds the CPU twin, EnvProductSampler). Needs the
-// env technique env-hier, whose builder also provides the product level's tables and PRODUCT_* defines.
+// env technique env-hier, whose builder also provides the nodes' tables and PRODUCT_* defines. The nodes are a
+// pyramid level (default) or, with PRODUCT_UNIFORM_GRID defined by the strategy part before including this
+// file, a uniform grid over u (warp composition, `product-warp`).
 //
 // productPrepare(s), once per shading point: weights w_j = (1 - d) E_j F_j / sum_k E_k F_k + d E_j over the
 // level's nodes (E_j the node's env-hier probability, F_j = mean_rgb(f) cos at the node's direction closest to
@@ -15,17 +17,40 @@
 #include "lib/latlong.glsl"
 #include "lib/table.glsl"
 
-// Per node (PRODUCT_ROWS x PRODUCT_WIDTH, row-major): its rectangle in u (minX, minY, maxX, maxY), and the
-// direction at its centre (environment frame) with the cosine of its angular radius.
+#ifdef PRODUCT_UNIFORM_GRID
+#define PRODUCT_NODES_X PRODUCT_GRID_WIDTH
+#define PRODUCT_NODES_Y PRODUCT_GRID_ROWS
+// Per cell (row-major): the direction at the centre of its image under env-hier, with the cosine of the
+// image's angular radius.
+IBLX_TABLE(2, 5, productNodeCenters);  // 4-word elements
+vec4 productNodeRect(uint j) {
+  uvec2 c = uvec2(j % PRODUCT_NODES_X, j / PRODUCT_NODES_X);
+  return vec4(vec2(c), vec2(c + 1u)) / vec4(PRODUCT_NODES_X, PRODUCT_NODES_Y, PRODUCT_NODES_X, PRODUCT_NODES_Y);
+}
+// The cell of u = env-hier's inverse of wi (its texel's rectangle, and wi's place in the texel).
+uvec2 productNodeOf(vec3 wi) {
+  ivec2 texel = directionToTexel(wi);
+  vec4 rect = hierTexelRect(texel);
+  vec2 u = rect.xy + directionToTexelOffset(wi, texel) * rect.zw;
+  return min(uvec2(u * vec2(PRODUCT_NODES_X, PRODUCT_NODES_Y)), uvec2(PRODUCT_NODES_X - 1u, PRODUCT_NODES_Y - 1u));
+}
+#else
+#define PRODUCT_NODES_X PRODUCT_WIDTH
+#define PRODUCT_NODES_Y PRODUCT_ROWS
+// Per node (row-major): its rectangle in u (minX, minY, maxX, maxY), and the direction at its centre
+// (environment frame) with the cosine of its angular radius.
 IBLX_TABLE(2, 3, productNodeRects);    // 4-word elements
 IBLX_TABLE(2, 4, productNodeCenters);  // 4-word elements
+vec4 productNodeRect(uint j) { return tableVec4(productNodeRects, j); }
+uvec2 productNodeOf(vec3 wi) { return uvec2(directionToTexel(wi)) / PRODUCT_TEXELS_PER_NODE; }
+#endif
 
-const uint kProductNodes = PRODUCT_WIDTH * PRODUCT_ROWS;
+const uint kProductNodes = PRODUCT_NODES_X * PRODUCT_NODES_Y;
 float gProductColumnSums[kProductNodes];  // per row: inclusive running sums of the weights
-float gProductRowSums[PRODUCT_ROWS];      // inclusive running sums of the row totals
+float gProductRowSums[PRODUCT_NODES_Y];   // inclusive running sums of the row totals
 
 float productNodeArea(uint j) {
-  vec4 r = tableVec4(productNodeRects, j);
+  vec4 r = productNodeRect(j);
   return (r.z - r.x) * (r.w - r.y);
 }
 
@@ -58,10 +83,10 @@ void productPrepare(Shading s) {
   float envShare = sumEF > 0.0 && !isinf(sumEF) ? PRODUCT_DEFENSIVE : 1.0;
   float productScale = envShare < 1.0 ? (1.0 - envShare) / sumEF : 0.0;
   float rows = 0.0;
-  [[dont_unroll]] for (uint y = 0u; y < PRODUCT_ROWS; ++y) {
+  [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {
     float running = 0.0;
-    [[dont_unroll]] for (uint x = 0u; x < PRODUCT_WIDTH; ++x) {
-      uint j = y * PRODUCT_WIDTH + x;
+    [[dont_unroll]] for (uint x = 0u; x < PRODUCT_NODES_X; ++x) {
+      uint j = y * PRODUCT_NODES_X + x;
       running += productScale * gProductColumnSums[j] + envShare * productNodeArea(j);
       gProductColumnSums[j] = running;
     }
@@ -72,9 +97,9 @@ void productPrepare(Shading s) {
 
 // P(node (x, y)) from the running sums, as sampling chooses it; 0 for an empty node, row or table.
 float productNodeProbability(uint x, uint y) {
-  float total = gProductRowSums[PRODUCT_ROWS - 1u];
-  uint base = y * PRODUCT_WIDTH;
-  float rowTotal = gProductColumnSums[base + PRODUCT_WIDTH - 1u];
+  float total = gProductRowSums[PRODUCT_NODES_Y - 1u];
+  uint base = y * PRODUCT_NODES_X;
+  float rowTotal = gProductColumnSums[base + PRODUCT_NODES_X - 1u];
   float rowWidth = gProductRowSums[y] - (y == 0u ? 0.0 : gProductRowSums[y - 1u]);
   float columnWidth = gProductColumnSums[base + x] - (x == 0u ? 0.0 : gProductColumnSums[base + x - 1u]);
   return total > 0.0 && rowTotal > 0.0 ? (rowWidth / total) * (columnWidth / rowTotal) : 0.0;
@@ -83,25 +108,25 @@ float productNodeProbability(uint x, uint y) {
 vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
   pdf = 0.0;
   radiance = vec3(0.0);
-  float total = gProductRowSums[PRODUCT_ROWS - 1u];
+  float total = gProductRowSums[PRODUCT_NODES_Y - 1u];
   if (!(total > 0.0)) return vec3(0.0, 1.0, 0.0);
   // The first row whose running sum exceeds u.y * total: a row of zero width is never chosen.
   float ty = u.y * total;
   uint y = 0u;
-  for (uint k = 0u; k + 1u < PRODUCT_ROWS; ++k) y += gProductRowSums[k] <= ty ? 1u : 0u;
+  for (uint k = 0u; k + 1u < PRODUCT_NODES_Y; ++k) y += gProductRowSums[k] <= ty ? 1u : 0u;
   float rowStart = y == 0u ? 0.0 : gProductRowSums[y - 1u], rowWidth = gProductRowSums[y] - rowStart;
-  uint base = y * PRODUCT_WIDTH;
-  float rowTotal = gProductColumnSums[base + PRODUCT_WIDTH - 1u];
+  uint base = y * PRODUCT_NODES_X;
+  float rowTotal = gProductColumnSums[base + PRODUCT_NODES_X - 1u];
   float tx = u.x * rowTotal;
   uint x = 0u;
-  for (uint k = 0u; k + 1u < PRODUCT_WIDTH; ++k) x += gProductColumnSums[base + k] <= tx ? 1u : 0u;
+  for (uint k = 0u; k + 1u < PRODUCT_NODES_X; ++k) x += gProductColumnSums[base + k] <= tx ? 1u : 0u;
   float columnStart = x == 0u ? 0.0 : gProductColumnSums[base + x - 1u];
   float columnWidth = gProductColumnSums[base + x] - columnStart;
   if (!(rowWidth > 0.0) || !(columnWidth > 0.0)) return vec3(0.0, 1.0, 0.0);  // u on a float edge
   vec2 v = clamp(vec2((tx - columnStart) / columnWidth, (ty - rowStart) / rowWidth), vec2(0.0),
                  vec2(kOneMinusEpsilon));
   uint j = base + x;
-  vec4 r = tableVec4(productNodeRects, j);
+  vec4 r = productNodeRect(j);
   // Inside the node's rectangle, a float set: at most one float step below its upper edges (which are > 0).
   vec2 below = uintBitsToFloat(floatBitsToUint(r.zw) - 1u);
   vec2 inNode = clamp(r.xy + v * (r.zw - r.xy), r.xy, below);
@@ -113,10 +138,9 @@ vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
 }
 
 float productPdf(vec3 wi, Shading s) {
-  ivec2 texel = directionToTexel(wi);
-  uint x = uint(texel.x) / PRODUCT_TEXELS_PER_NODE, y = uint(texel.y) / PRODUCT_TEXELS_PER_NODE;
-  if (x >= PRODUCT_WIDTH || y >= PRODUCT_ROWS) return 0.0;
-  float area = productNodeArea(y * PRODUCT_WIDTH + x);
-  return area > 0.0 ? productNodeProbability(x, y) / area * envPdf(wi, s.n) : 0.0;
+  uvec2 node = productNodeOf(wi);
+  if (node.x >= PRODUCT_NODES_X || node.y >= PRODUCT_NODES_Y) return 0.0;
+  float area = productNodeArea(node.y * PRODUCT_NODES_X + node.x);
+  return area > 0.0 ? productNodeProbability(node.x, node.y) / area * envPdf(wi, s.n) : 0.0;
 }
 #endif

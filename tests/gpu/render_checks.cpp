@@ -24,7 +24,7 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
         if (t.appliesTo(brdf)) specs.push_back((spec.brdfSampler = t.name, spec));
     } else if (m.strategy == Strategy::Ris) {
       for (const auto& e : envTechniqueRegistry()) specs.push_back((spec.envSampler = e.name, spec));
-    } else if (m.strategy == Strategy::Product) {
+    } else if (m.strategy == Strategy::Product || m.strategy == Strategy::ProductWarp) {
       specs.push_back(spec);
     } else if (m.strategy == Strategy::ProductMis) {
       // With the BRDF's best sampler: MIS above already pairs every BRDF technique with the env techniques.
