@@ -12,19 +12,9 @@ iblx="$root/build/iblx"
 seconds="${1:-2}"
 seeds="${2:-3}"
 size="${3:-64}"
-world=/usr/share/blender/datafiles/studiolights/world
 out="$root/docs/results"
-[ -f "$world/forest.exr" ] || { echo "results.sh: $world/forest.exr missing: install blender-data (tools/install.sh)" >&2; exit 1; }
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-"$iblx" merl-synth --brdf ggx --param roughness=0.1 --param metallic=1 --out "$work/ggx-0.1-metal.binary" > /dev/null
-
-declare -A brdf=(
-  [lambert]="--brdf lambert"
-  [ggx-0.3]="--brdf ggx --param roughness=0.3"
-  [ggx-0.05]="--brdf ggx --param roughness=0.05"
-  [merl-ggx-0.1]="--brdf $work/ggx-0.1-metal.binary"
-)
+# shellcheck source=tools/results_scenes.sh
+source "$root/tools/results_scenes.sh"
 mkdir -p "$out"
 {
   echo "# iblx converge: every summary of tools/results.sh"
