@@ -1,5 +1,6 @@
 // BRDF Explorer's analytic BRDF files (.brdf) and saved parameter sets (.bparam), with its exact grammar
-// (../shared/reference/brdf_explorer.md §3-§4): the first kept line is `analytic` or `bparam <path>`;
+// (BRDF Explorer's reader, github.com/wdas/brdf BRDFBase::loadBRDF and BRDFAnalytic): the first kept line is
+// `analytic` or `bparam <path>`;
 // `::begin NAME` / `::end NAME` sections that do not nest; blank lines and lines whose first non-blank
 // character is '#' are dropped everywhere, even inside the shader; parameter lines are
 // `float NAME MIN MAX DEFAULT`, `bool NAME 0|1` and `color NAME R G B`. Turning the GLSL into a part is

@@ -1,6 +1,7 @@
 // MERL isotropic measured BRDFs (Matusik et al. 2003) in their .binary layout: reading with every check a
-// user needs, writing (for `iblx merl-synth`), and the reference lookup in double. The facts are in
-// ../shared/reference/brdf_explorer.md §9 and sampling_sota.md §3.3; the GLSL twin is shaders/brdf/merl.glsl.
+// user needs, writing (for `iblx merl-synth`), and the reference lookup in double. The layout, scales and
+// index mapping are those of the MERL database's reference reader (BRDFRead.cpp, distributed with the data)
+// and of BRDF Explorer's BRDFMeasuredMERL (github.com/wdas/brdf); the GLSL twin is shaders/brdf/merl.glsl.
 #pragma once
 
 #include <glm/glm.hpp>

@@ -152,7 +152,7 @@ class LevelSolver {
   // 0, solved by the start) to the target (s = 1) in stages m_s = ((1 - s) A0^p + s m^p)^(1/p)
   // (renormalised), p = homotopyPower. The geometric mean (p = 0) moves every log-area at the same rate; the
   // arithmetic one (p = 1) lets the cells that must grow (the lamps and suns) grow early and the ones that
-  // must shrink into slivers shrink late. Measured (iblx_ot_bench, the same session): p = 1/2 took sunrise,
+  // must shrink into slivers shrink late. Measured (iblx_ot_bench, alternating): p = 1/2 took sunrise,
   // interior and night at n = 1024 from 25.4, 27.4, 29.3 s to 8.8, 18.9, 14.8 s and at 512
   // from 1.8-2.1, 3.5, 4.2-4.4 s to 1.7-1.8, 3.2, 3.0-3.2 s, the other maps within the noise; p = 1 made
   // night at 512 2.2 s but interior 4.1 s, p = 1/4 was between p = 0 and 1/2. Each stage starts from the
@@ -523,7 +523,7 @@ class LevelSolver {
   // sunset, forest and sun1e5 1.3-1.8x slower, and night and interior no faster. They are asked for a tighter
   // tolerance than fresh ones, which meet krylovTolerance in one or two steps and so give nearly exact
   // directions: lagged factors at krylovTolerance gave inexact directions that cost more Newton iterations
-  // than the factorisations saved (measured). At 0.03 rather than 0.01 (the same session, smoothed starts):
+  // than the factorisations saved (measured). At 0.03 rather than 0.01 (alternating runs, smoothed starts):
   // night, interior and sunrise at n = 512 from 1.9-2.3 s to 1.7-2.0 s in the same iterations (+-1), night at
   // 1024 12.6 -> 10.9 s, the other maps within the noise or faster; 0.05 cost night and interior 4-6 more
   // iterations at 512. Of the lagged attempts that failed at 0.01, most ended at 0.01-0.03. A short step is
@@ -1008,7 +1008,7 @@ LevelResult solveLevels(std::span<const double> rho, int n, const OtSolverOption
   // the scale of the coarse grid stays. Measured (iblx_ot_bench): 1-8 passes unfolded every folded start of
   // the 13 benchmark densities at n = 16-1024. The start this replaced (continue from the folded map, and
   // after three stages restart 14-50 % of the way from the identity) was, alternating in one
-  // session, 1.5-1.7x slower on night and interior at n = 512 (3.8-3.9 s against 2.2-2.5 s) and 1.3-1.8x at
+  // run, 1.5-1.7x slower on night and interior at n = 512 (3.8-3.9 s against 2.2-2.5 s) and 1.3-1.8x at
   // 1024 (17-19 s against 11-13 s), 2x on sun1e5 at 1024; studio at 512 lost 15 % (8 passes on its 4 639
   // folded quads). Smoothing only near the folded quads folded new ones at the edge of the smoothed region.
   level.startFoldedQuads = solver.foldedAt(result.psi);

@@ -1,7 +1,6 @@
 // Optimal-transport map from an environment's sampling density on an n x n grid over the lat-long square to
 // the uniform density on [0,1]^2, after Nader & Guennebaud, "Instant Transport Maps on 2D Grids" (TOG 37(6),
-// 2018), as analysed in ../shared/reference/otmap.md §2.1-2.3. CPU, double precision; the samplers build on
-// the map.
+// 2018, §4-5 and Algorithm 1). CPU, double precision; the samplers build on the map.
 //
 // Differences from that paper's released solver (written from the notes, not its code):
 // - Newton directions on the relative residual (A - m) / m: GMRES preconditioned by the fixed

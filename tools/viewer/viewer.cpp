@@ -755,7 +755,7 @@ int runViewer(const ViewerOptions& options) {
         screenshotWritten = true;
       } catch (const std::exception& e) {
         if (scripted) throw;
-        app.showError(e.what());  // an unwritable directory is no reason to end the session
+        app.showError(e.what());  // an unwritable directory is no reason to close the viewer
       }
       app.clearScreenshotRequest();
     }
