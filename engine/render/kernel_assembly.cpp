@@ -54,8 +54,7 @@ KernelParts integratorParts(const Scene& scene, const SceneGpu& gpu, const Resol
   k.parts.push_back(scene.brdf->evalPart);
   if (method.brdfTechnique) k.parts.push_back(method.brdfTechnique->part);
   k.parts.push_back(strategyPart(method.method->strategy));
-  if (method.method->strategy == Strategy::Mis && method.misOneSample)
-    k.defines.emplace_back("MIS_ONE_SAMPLE", "1");
+  if (method.misOneSample) k.defines.emplace_back("MIS_ONE_SAMPLE", "1");
   if (method.method->strategy == Strategy::Ris)
     k.defines.emplace_back("RIS_CANDIDATES", std::to_string(method.risCandidates) + "u");
   if (!scene.brdf->evalSource.empty()) k.sources.emplace_back(scene.brdf->evalPart, scene.brdf->evalSource);

@@ -45,32 +45,43 @@ TechniqueData makeEnvCdf(const EnvImage& image) {
   return data;
 }
 
-TechniqueData makeEnvHier(const EnvImage& image) {
-  const EnvHierSampler sampler(buildEnvHier(image));
+// env-hier's tables (bindings 0-2) from its pyramid.
+TechniqueData packEnvHier(const EnvHierSampler& sampler) {
   const EnvHierGpuData& hier = sampler.gpuData();
-  // Bindings 3-4: the coarse level the product strategies choose nodes on
-  // (shaders/lib/product_sampling.glsl).
-  const EnvProductLevel product = buildEnvProductLevel(sampler);
-  // Binding 5: the uniform grid over u of `product-warp` (its rectangles are arithmetic, only the caps).
-  const EnvProductLevel grid = buildEnvProductGrid(sampler);
   TechniqueData data;
   data.add("env-hier splits", std::span<const glm::vec4>(hier.splits), 4);
   data.add("env-hier guide", std::span<const uint32_t>(hier.guideNodes));
   data.add("env-hier texel rectangles", std::span<const glm::vec4>(hier.texelRects), 4);
-  data.add("env-hier product node rectangles", std::span<const glm::vec4>(product.rects), 4);
-  data.add("env-hier product node centres", std::span<const glm::vec4>(product.centers), 4);
-  data.add("env-hier product grid centres", std::span<const glm::vec4>(grid.centers), 4);
   // Sizes are compile-time constants of the part: read from a buffer, lavapipe would load them per lane.
   const auto u = [](uint32_t v) { return std::to_string(v) + "u"; };
   data.defines = {{"ENV_HIER_LEAF_START", u(hier.leafStart)},
                   {"ENV_HIER_GUIDE_SIZE", u(hier.guideSize)},
-                  {"ENV_HIER_WIDTH", std::to_string(image.width)},
-                  {"PRODUCT_WIDTH", u(product.width)},
-                  {"PRODUCT_ROWS", u(product.rows)},
-                  {"PRODUCT_TEXELS_PER_NODE", u(product.texelsPerNode)},
-                  {"PRODUCT_GRID_WIDTH", u(grid.width)},
-                  {"PRODUCT_GRID_ROWS", u(grid.rows)},
-                  {"PRODUCT_DEFENSIVE", std::to_string(kEnvProductDefensive)}};
+                  {"ENV_HIER_WIDTH", std::to_string(sampler.data().width)}};
+  return data;
+}
+
+TechniqueData makeEnvHier(const EnvImage& image) {
+  return packEnvHier(EnvHierSampler(buildEnvHier(image)));
+}
+
+// env-hier's tables, then the product strategies' from the same pyramid (shaders/lib/product_sampling.glsl):
+// bindings 3-4 the pyramid level `product` and `product-mis` choose nodes on, binding 5 the caps of
+// `product-warp`'s uniform grid over u (its rectangles are arithmetic).
+TechniqueData makeEnvHierProduct(const EnvImage& image) {
+  const EnvHierSampler sampler(buildEnvHier(image));
+  TechniqueData data = packEnvHier(sampler);
+  const EnvProductLevel product = buildEnvProductLevel(sampler);
+  const EnvProductLevel grid = buildEnvProductGrid(sampler);
+  data.add("env-hier product node rectangles", std::span<const glm::vec4>(product.rects), 4);
+  data.add("env-hier product node centres", std::span<const glm::vec4>(product.centers), 4);
+  data.add("env-hier product grid centres", std::span<const glm::vec4>(grid.centers), 4);
+  const auto u = [](uint32_t v) { return std::to_string(v) + "u"; };
+  data.defines.insert(data.defines.end(), {{"PRODUCT_WIDTH", u(product.width)},
+                                           {"PRODUCT_ROWS", u(product.rows)},
+                                           {"PRODUCT_TEXELS_PER_NODE", u(product.texelsPerNode)},
+                                           {"PRODUCT_GRID_WIDTH", u(grid.width)},
+                                           {"PRODUCT_GRID_ROWS", u(grid.rows)},
+                                           {"PRODUCT_DEFENSIVE", std::to_string(kEnvProductDefensive)}});
   return data;
 }
 
@@ -261,10 +272,11 @@ const MethodInfo kMethods[] = {
      ""},
     {"ris", "--ris-candidates from --env-sampler resampled by f cos (Talbot 2005)", Strategy::Ris, ""},
     {"product", "env x f cos per pixel over env-hier's pyramid, finished in its texel tables",
-     Strategy::Product, "env-hier"},
-    {"product-mis", "two-sample MIS of 'product' and --brdf-sampler", Strategy::ProductMis, "env-hier"},
+     Strategy::Product, "env-hier", makeEnvHierProduct},
+    {"product-mis", "two-sample MIS of 'product' and --brdf-sampler", Strategy::ProductMis, "env-hier",
+     makeEnvHierProduct},
     {"product-warp", "warp composition (Hart 2020): per pixel, f cos tabulated over env-hier's unit square",
-     Strategy::ProductWarp, "env-hier"},
+     Strategy::ProductWarp, "env-hier", makeEnvHierProduct},
 };
 
 template <typename T>

@@ -107,6 +107,9 @@ struct MethodInfo {
   Strategy strategy;
   // Fixed env technique of SingleEnv and the product methods; MIS and RIS take --env-sampler.
   std::string envTechnique;
+  // The env technique's tables with more that the strategy reads, built in place of the technique's own
+  // (the product strategies add their node tables to env-hier's); null = the technique's build.
+  std::function<TechniqueData(const EnvImage&)> envData;
 };
 
 std::span<const BrdfInfo> brdfRegistry();

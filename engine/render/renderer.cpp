@@ -30,9 +30,11 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
       seed_(seed),
       params_(scene.params) {
   // MIS compensation changes only the density the env technique samples; radiance still comes from scene.env.
-  TechniqueData envData = !method.envTechnique     ? TechniqueData{}
-                          : method.misCompensation ? method.envTechnique->build(misCompensated(scene.env))
-                                                   : method.envTechnique->build(scene.env);
+  TechniqueData envData;
+  if (method.envTechnique) {
+    const auto& build = method.method->envData ? method.method->envData : method.envTechnique->build;
+    envData = method.misCompensation ? build(misCompensated(scene.env)) : build(scene.env);
+  }
   envBuffers_ = uploadTables(context, envData);
   TechniqueData brdfData = method.brdfTechnique && method.brdfTechnique->build
                                ? method.brdfTechnique->build(scene, {context, compiler})

@@ -184,7 +184,7 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
   if (spec.risCandidates && !(*spec.risCandidates >= 1 && *spec.risCandidates <= kMaxRisCandidates))
     throw Error("--ris-candidates must be in [1, " + std::to_string(kMaxRisCandidates) + "]");
   r.misPower = spec.misHeuristic == "power";
-  r.misOneSample = spec.misEnvFraction.has_value() && findMethod(spec.method).strategy == Strategy::Mis;
+  r.misOneSample = spec.misEnvFraction.has_value() && r.method->strategy == Strategy::Mis;
   r.misEnvFraction = float(spec.misEnvFraction.value_or(0.5));
   r.risCandidates = uint32_t(spec.risCandidates.value_or(8));
   const bool isMis = r.method->strategy == Strategy::Mis, isRis = r.method->strategy == Strategy::Ris;

@@ -9,17 +9,6 @@
 #include <string>
 
 namespace iblx {
-namespace {
-
-// The largest i in [0, n) with cdf[i] <= value (cdf[0] = 0, increasing): value's bin; a bin of zero width is
-// never chosen.
-std::size_t findBin(const double* cdf, std::size_t n, double value) {
-  const double* end = std::upper_bound(cdf, cdf + n, value);
-  return std::size_t(std::max<std::ptrdiff_t>(end - cdf - 1, 0));
-}
-
-}  // namespace
-
 EnvProductLevel buildEnvProductLevel(const EnvHierSampler& env, uint32_t maxNodes) {
   if (maxNodes == 0) throw Error("env-hier product level: at least one node is needed");
   const EnvHierData& data = env.data();
@@ -109,9 +98,10 @@ glm::dvec3 closestDirectionInCap(glm::dvec3 centre, double cosRadius, glm::dvec3
   return centre * cosRadius + tangent * (sinRadius / length);
 }
 
-EnvProductSampler::EnvProductSampler(const EnvHierSampler& env, const EnvProductLevel& level,
-                                     std::span<const double> fCos)
-    : env_(env), level_(level) {
+namespace {
+
+// w_j = E_j ((1 - d) F_j / sum_k E_k F_k + d) of every node (E_j alone when no node has a lobe value).
+std::vector<double> productWeights(const EnvProductLevel& level, std::span<const double> fCos) {
   const std::size_t n = level.nodes();
   if (fCos.size() != n) throw Error("env product sampler: one f cos value per node is needed");
   std::vector<double> area(n), weight(n);
@@ -126,16 +116,24 @@ EnvProductSampler::EnvProductSampler(const EnvHierSampler& env, const EnvProduct
         sumEF > 0.0
             ? area[j] * ((1.0 - kEnvProductDefensive) * std::max(fCos[j], 0.0) / sumEF + kEnvProductDefensive)
             : area[j];
-  rowCdf_.assign(level.rows + 1, 0.0);
-  columnCdf_.assign(level.rows * (level.width + 1), 0.0);
-  for (uint32_t y = 0; y < level.rows; ++y) {
-    double* row = &columnCdf_[y * (level.width + 1)];
-    for (uint32_t x = 0; x < level.width; ++x) row[x + 1] = row[x] + weight[y * level.width + x];
-    rowCdf_[y + 1] = rowCdf_[y] + row[level.width];
-  }
-  probability_.assign(n, 0.0);
-  const double total = rowCdf_[level.rows];
-  for (std::size_t j = 0; j < n; ++j) probability_[j] = total > 0.0 ? weight[j] / total : 0.0;
+  return weight;
+}
+
+}  // namespace
+
+EnvProductSampler::EnvProductSampler(const EnvHierSampler& env, const EnvProductLevel& level,
+                                     std::span<const double> fCos)
+    : EnvProductSampler(FromWeights{}, env, level, productWeights(level, fCos)) {}
+
+EnvProductSampler::EnvProductSampler(FromWeights, const EnvHierSampler& env, const EnvProductLevel& level,
+                                     std::vector<double> weights)
+    : env_(env),
+      level_(level),
+      probability_(std::move(weights)),
+      nodes_(probability_, int(level.width), int(level.rows)) {
+  double total = 0.0;
+  for (double w : probability_) total += w;
+  for (double& p : probability_) p = total > 0.0 ? p / total : 0.0;
 }
 
 std::size_t EnvProductSampler::nodeOf(glm::dvec3 wi) const {
@@ -150,14 +148,13 @@ std::size_t EnvProductSampler::nodeOf(glm::dvec3 wi) const {
 }
 
 EnvSample EnvProductSampler::sample(glm::dvec2 u) const {
-  const double total = rowCdf_[level_.rows];
-  if (!(total > 0.0)) return {};
-  const std::size_t y = findBin(rowCdf_.data(), level_.rows, u.y * total);
-  const double* row = &columnCdf_[y * (level_.width + 1)];
-  const std::size_t x = findBin(row, level_.width, u.x * row[level_.width]);
-  const glm::dvec2 v(std::clamp((u.x * row[level_.width] - row[x]) / (row[x + 1] - row[x]), 0.0, 1.0),
-                     std::clamp((u.y * total - rowCdf_[y]) / (rowCdf_[y + 1] - rowCdf_[y]), 0.0, 1.0));
-  const glm::vec4& r = level_.rects[y * level_.width + x];
+  const PiecewiseConstant2D::Sample chosen = nodes_.sample(u);
+  const std::size_t j = std::size_t(chosen.bin.y) * level_.width + std::size_t(chosen.bin.x);
+  if (!(probability_[j] > 0.0)) return {};  // an all-zero table: no node to choose
+  // u's place inside the chosen node's cell of the table.
+  const glm::dvec2 v = glm::clamp(chosen.p * glm::dvec2(level_.width, level_.rows) - glm::dvec2(chosen.bin),
+                                  glm::dvec2(0.0), glm::dvec2(1.0));
+  const glm::vec4& r = level_.rects[j];
   // Inside the node's rectangle (a float set): one float step below its upper edges at most.
   const glm::dvec2 inNode(
       std::clamp(double(r.x) + v.x * double(r.z - r.x), double(r.x), double(std::nextafter(r.z, r.x))),
@@ -165,7 +162,7 @@ EnvSample EnvProductSampler::sample(glm::dvec2 u) const {
   // The chosen node's probability over its area, times env-hier's density inside it.
   EnvSample s = env_.sample(inNode);
   const double area = double((r.z - r.x) * (r.w - r.y));
-  s.pdfSolidAngle = area > 0.0 ? probability_[y * level_.width + x] / area * s.pdfSolidAngle : 0.0;
+  s.pdfSolidAngle = area > 0.0 ? probability_[j] / area * s.pdfSolidAngle : 0.0;
   return s;
 }
 

@@ -20,6 +20,7 @@
 #pragma once
 
 #include "engine/sampling/env_hier.h"
+#include "engine/sampling/piecewise_constant.h"
 
 #include <glm/glm.hpp>
 
@@ -83,10 +84,14 @@ class EnvProductSampler {
   std::size_t nodeOf(glm::dvec3 wi) const;
 
  private:
+  struct FromWeights {};
+  EnvProductSampler(FromWeights, const EnvHierSampler& env, const EnvProductLevel& level,
+                    std::vector<double> weights);
+
   const EnvHierSampler& env_;
   const EnvProductLevel& level_;
-  std::vector<double> probability_;         // P(j)
-  std::vector<double> rowCdf_, columnCdf_;  // marginal over rows; per row, conditional over its columns
+  std::vector<double> probability_;  // P(j)
+  PiecewiseConstant2D nodes_;        // the row/column choice over the weights
 };
 
 }  // namespace iblx

@@ -133,7 +133,9 @@ vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
   float envDensity;
   vec3 wi = envSample(inNode, s.n, envDensity, radiance);
   float area = (r.z - r.x) * (r.w - r.y);
-  pdf = envDensity > 0.0 && area > 0.0 ? productNodeProbability(x, y) / area * envDensity : 0.0;
+  // P(j) as productNodeProbability computes it, from the widths found above.
+  float probability = (rowWidth / total) * (columnWidth / rowTotal);
+  pdf = envDensity > 0.0 && area > 0.0 ? probability / area * envDensity : 0.0;
   return wi;
 }
 
