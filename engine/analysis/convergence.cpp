@@ -2,6 +2,7 @@
 #include "engine/analysis/convergence.h"
 
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 
 #include <algorithm>
 #include <cmath>
@@ -240,8 +241,8 @@ std::string formatSummaryJson(const ConvergenceSummary& summary) {
 }
 
 void writeConvergenceCsv(const std::filesystem::path& path, std::span<const ConvergenceRun> runs) {
-  std::ofstream out(path);
-  if (!out) throw Error(path.string() + ": cannot open for writing");
+  AtomicOutput output(path);
+  std::ofstream& out = output.stream();
   out << "method,sequence,seed,pass,spp,gpu_s,wall_s,mse,relmse\n";
   char line[160];
   for (const auto& run : runs)
@@ -253,7 +254,7 @@ void writeConvergenceCsv(const std::filesystem::path& path, std::span<const Conv
                     p.mse, p.relMse);
       out << '"' << run.method << '"' << line;
     }
-  if (!out) throw Error(path.string() + ": write failed");
+  output.commit();
 }
 
 }  // namespace iblx

@@ -19,6 +19,13 @@ class DeviceLimitError : public Error {
   using Error::Error;
 };
 
+// The user interrupted a long computation (Ctrl-C): commands exit with status 130 after keeping what is
+// complete.
+class Interrupted : public Error {
+ public:
+  using Error::Error;
+};
+
 [[noreturn]] void assertionFailed(const char* expression, const char* file, int line);
 
 }  // namespace iblx

@@ -4,15 +4,17 @@
 #include "engine/geometry/obj_file.h"
 
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/core/log.h"
 
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -39,6 +41,27 @@ std::string parseError(const std::filesystem::path& path, const std::string& mes
   return prefix(path, line) + (text.empty() ? std::string("cannot be parsed") : "tinyobjloader: " + text);
 }
 
+// tinyobjloader parses indices into int with wrap-around (4294967299 becomes 3), so each index of an element
+// line is checked here to fit an int before it parses them.
+void checkIndices(const std::filesystem::path& path, int number, std::istringstream& tokens) {
+  for (std::string token; tokens >> token;) {
+    if (token[0] == '#') return;
+    for (std::size_t begin = 0; begin <= token.size();) {
+      const std::size_t end = std::min(token.find('/', begin), token.size());
+      const std::string index = token.substr(begin, end - begin);
+      if (!index.empty()) {
+        errno = 0;
+        char* stop = nullptr;
+        const long long value = std::strtoll(index.c_str(), &stop, 10);
+        if (stop == index.c_str() + index.size() &&
+            (errno == ERANGE || value > std::numeric_limits<int>::max() || value < -std::numeric_limits<int>::max()))
+          throw Error(prefix(path, number) + "index " + index + " is out of range");
+      }
+      begin = end + 1;
+    }
+  }
+}
+
 // tinyobjloader reads a missing or malformed number on a `v` or `vn` line as 0 without a word, so the
 // coordinates are checked here first: three numbers, each finite (strtod accepts "nan" and "inf").
 void checkCoordinateLines(const std::filesystem::path& path, const std::string& text) {
@@ -48,6 +71,10 @@ void checkCoordinateLines(const std::filesystem::path& path, const std::string& 
     std::istringstream tokens(line);
     std::string keyword;
     tokens >> keyword;
+    if (keyword == "f" || keyword == "l" || keyword == "p") {
+      checkIndices(path, number, tokens);
+      continue;
+    }
     if (keyword != "v" && keyword != "vn") continue;
     for (int k = 0; k < 3; ++k) {
       std::string token;
@@ -66,14 +93,8 @@ void checkCoordinateLines(const std::filesystem::path& path, const std::string& 
 }  // namespace
 
 TriMesh readObj(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw Error(prefix(path) + "is a directory, not an .obj file");
-  if (!std::filesystem::exists(path, ec)) throw Error(prefix(path) + "no such file");
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (!in) throw Error(prefix(path) + "cannot be read");
-  const std::string text = buffer.str();
+  // tinyobjloader holds several copies of the text's worth of arrays: an eighth of the memory budget.
+  const std::string text = readInputText(path, memoryBudgetBytes() / 8);
   checkCoordinateLines(path, text);
 
   tinyobj::ObjReaderConfig config;
@@ -174,16 +195,16 @@ TriMesh loadObjMesh(const std::filesystem::path& path) {
 }
 
 void writeObj(const std::filesystem::path& path, const TriMesh& mesh, const std::string& comment) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.string().c_str(), "wb"), &std::fclose);
-  if (!file) throw Error(prefix(path) + "cannot be written");
-  std::FILE* f = file.get();
+  AtomicOutput output(path);
+  std::ofstream& f = output.stream();
+  f.precision(7);
   std::istringstream lines(comment);
-  for (std::string line; std::getline(lines, line);) std::fprintf(f, "# %s\n", line.c_str());
-  for (const auto& p : mesh.positions) std::fprintf(f, "v %.7g %.7g %.7g\n", p.x, p.y, p.z);
-  for (const auto& n : mesh.normals) std::fprintf(f, "vn %.7g %.7g %.7g\n", n.x, n.y, n.z);
+  for (std::string line; std::getline(lines, line);) f << "# " << line << "\n";
+  for (const auto& p : mesh.positions) f << "v " << p.x << " " << p.y << " " << p.z << "\n";
+  for (const auto& n : mesh.normals) f << "vn " << n.x << " " << n.y << " " << n.z << "\n";
   for (const auto& t : mesh.triangles)
-    std::fprintf(f, "f %u//%u %u//%u %u//%u\n", t[0] + 1, t[0] + 1, t[1] + 1, t[1] + 1, t[2] + 1, t[2] + 1);
-  if (std::ferror(f) || std::fclose(file.release()) != 0) throw Error(prefix(path) + "write failed");
+    for (int k = 0; k < 3; ++k) f << (k == 0 ? "f " : " ") << t[k] + 1 << "//" << t[k] + 1 << (k == 2 ? "\n" : "");
+  output.commit();
 }
 
 }  // namespace iblx

@@ -2,14 +2,15 @@
 #include "engine/io/brdf_file.h"
 
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/core/log.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
+#include <unordered_map>
 
 namespace iblx {
 namespace {
@@ -93,10 +94,11 @@ class Parser {
     if (!isIdentifier(p.decl.name) || p.decl.name.rfind("gl_", 0) == 0 ||
         p.decl.name.find("__") != std::string::npos)
       fail(line, "parameter name '" + p.decl.name + "' is not a valid GLSL identifier");
-    for (const auto& other : file_.params)
-      if (other.decl.name == p.decl.name)
-        fail(line, "parameter '" + p.decl.name + "' is declared twice (first on line " +
-                       std::to_string(other.line) + ")");
+    if (const auto [it, inserted] = paramLines_.emplace(p.decl.name, line); !inserted)
+      fail(line, "parameter '" + p.decl.name + "' is declared twice (first on line " +
+                     std::to_string(it->second) + ")");
+    if (file_.params.size() >= kMaxBrdfParams)
+      fail(line, "more than " + std::to_string(kMaxBrdfParams) + " parameters");
     file_.params.push_back(std::move(p));
   }
 
@@ -172,6 +174,8 @@ class Parser {
       fail(1,
            "no '::begin shader' section: a .brdf file must define vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, "
            "vec3 Y)");
+    checkShaderComplexity(file_.shader);
+    checkShaderComplexity(file_.isFunc);
     if (file_.kind == BrdfFile::Kind::Bparam && (!file_.shader.empty() || !file_.isFunc.empty()))
       warn(name_ + ": a .bparam file's shader and isFunc sections are ignored; the BRDF comes from " +
            file_.bparamSource.string());
@@ -179,6 +183,47 @@ class Parser {
   }
 
  private:
+  // The GPU compiler recurses once per operator of an expression and per nesting level; a statement with tens
+  // of thousands of terms overflows its stack. Refused here, with the line, before anything is compiled.
+  void checkShaderComplexity(const BrdfFileSection& section) const {
+    int depth = 0, statementLine = 0;
+    std::size_t operators = 0;
+    bool blockComment = false;
+    for (std::size_t i = 0; i < section.lines.size(); ++i) {
+      const std::string& text = section.lines[i];
+      const int lineNo = section.lineNumbers[i];
+      for (std::size_t k = 0; k < text.size(); ++k) {
+        const char c = text[k];
+        const char next = k + 1 < text.size() ? text[k + 1] : '\0';
+        if (blockComment) {
+          if (c == '*' && next == '/') {
+            blockComment = false;
+            ++k;
+          }
+          continue;
+        }
+        if (c == '/' && next == '/') break;
+        if (c == '/' && next == '*') {
+          blockComment = true;
+          ++k;
+          continue;
+        }
+        if (c == ';' || c == '{' || c == '}') operators = 0;
+        if (c == '(' || c == '[' || c == '{') {
+          if (++depth > kMaxBrdfNesting)
+            fail(lineNo, "brackets nested deeper than " + std::to_string(kMaxBrdfNesting) + " levels");
+        } else if (c == ')' || c == ']' || c == '}') {
+          depth = std::max(0, depth - 1);
+        } else if (std::string_view("+-*/%<>=!&|^?:,").find(c) != std::string_view::npos) {
+          if (operators == 0) statementLine = lineNo;
+          if (++operators > kMaxBrdfStatementOperators)
+            fail(statementLine, "a statement with more than " + std::to_string(kMaxBrdfStatementOperators) +
+                                    " operators (split it into several statements)");
+        }
+      }
+    }
+  }
+
   std::filesystem::path resolveSource(const std::string& source) const {
     const std::filesystem::path p(source);
     if (p.is_absolute() || folder_.empty()) return p;
@@ -189,6 +234,7 @@ class Parser {
   std::string name_;
   std::filesystem::path folder_;
   BrdfFile file_;
+  std::unordered_map<std::string, int> paramLines_;  // name -> line of its declaration
 };
 
 std::string formatNumber(double v) {
@@ -206,14 +252,7 @@ BrdfFile parseBrdfText(std::string_view text, const std::string& displayName,
 
 BrdfFile readBrdfFile(const std::filesystem::path& path) {
   const std::string name = path.string();
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw Error(name + ": no such file");
-  if (std::filesystem::is_directory(path, ec)) throw Error(name + ": is a directory, not a .brdf file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(name + ": cannot be read (permissions?)");
-  std::ostringstream text;
-  text << in.rdbuf();
-  const std::string s = text.str();
+  const std::string s = readInputText(path, kMaxBrdfFileBytes);
   if (s.find('\0') != std::string::npos) throw Error(name + ": not a text file");
   return parseBrdfText(s, name, path.parent_path());
 }
@@ -245,10 +284,7 @@ std::string formatBparam(const std::filesystem::path& source, std::span<const Pa
 
 void writeBparam(const std::filesystem::path& out, const std::filesystem::path& source,
                  std::span<const ParamDecl> params, const ParamValues& values) {
-  std::ofstream file(out, std::ios::binary);
-  if (!file) throw Error(out.string() + ": cannot be written");
-  file << formatBparam(source, params, values);
-  if (!file) throw Error(out.string() + ": write failed");
+  writeFileAtomically(out, formatBparam(source, params, values));
 }
 
 }  // namespace iblx

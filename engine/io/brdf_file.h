@@ -9,6 +9,8 @@
 
 #include "engine/core/params.h"
 
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <span>
 #include <string>
@@ -41,10 +43,17 @@ struct BrdfFile {
   std::filesystem::path bparamSource;
 };
 
+// Limits on a file that is a program handed to the GPU compiler, checked before it is compiled: BRDF Explorer's
+// own files are under 20 KiB, with under 20 parameters and short expressions.
+inline constexpr std::uint64_t kMaxBrdfFileBytes = 256 * 1024;
+inline constexpr std::size_t kMaxBrdfParams = 256;
+inline constexpr std::size_t kMaxBrdfStatementOperators = 2000;  // operators between two ';', '{' or '}'
+inline constexpr int kMaxBrdfNesting = 64;                       // ( [ { levels
+
 // Reads and parses a .brdf or .bparam file. Throws iblx::Error as "FILE:LINE: problem" for a malformed file
 // (unknown first line, unknown parameter type, bad numbers, nested, unterminated or mismatched sections,
 // duplicate or invalid parameter names, a .brdf without a shader section) and "FILE: problem" when it cannot
-// be read. An unknown section is skipped with a warning, as BRDF Explorer does.
+// be read, or exceeds a limit above. An unknown section is skipped with a warning, as BRDF Explorer does.
 BrdfFile readBrdfFile(const std::filesystem::path& path);
 // The same on text already in memory; `displayName` names it in messages.
 BrdfFile parseBrdfText(std::string_view text, const std::string& displayName,

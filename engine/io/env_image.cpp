@@ -3,6 +3,7 @@
 #include "engine/io/env_image.h"
 
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/core/file_names.h"
 #include "engine/core/log.h"
 
@@ -38,27 +39,10 @@ constexpr long kMaxDimension = 1L << 20;
   throw Error("cannot open " + path.string() + ": " + reason);
 }
 
-// Checked up front so that a missing or unreadable file is reported the same way for every format, with the
-// operating system's reason, before any decoder gets to phrase it its own way.
-void checkReadable(const fs::path& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throwCannotOpen(path, "it is a directory");
-  std::FILE* file = std::fopen(path.string().c_str(), "rb");
-  if (!file) throwCannotOpen(path, std::strerror(errno));
-  std::fclose(file);
-}
-
-std::vector<unsigned char> readWholeFile(const fs::path& path) {
-  std::FILE* file = std::fopen(path.string().c_str(), "rb");
-  if (!file) throwCannotOpen(path, std::strerror(errno));
-  std::vector<unsigned char> bytes;
-  unsigned char buffer[1 << 16];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) bytes.insert(bytes.end(), buffer, buffer + n);
-  const bool failed = std::ferror(file) != 0;
-  std::fclose(file);
-  if (failed) throwCannotOpen(path, "read error");
-  return bytes;
+// Bytes of the float RGB image a header promises, checked against the memory budget before it is allocated.
+void checkImageBudget(const std::string& file, long width, long height) {
+  checkMemoryBudget(file + ": the " + std::to_string(width) + "x" + std::to_string(height) + " image",
+                    std::uint64_t(width) * std::uint64_t(height) * 3 * sizeof(float));
 }
 
 // -----------------------------------------------------------------------------------------------------------
@@ -100,6 +84,7 @@ class HdrDecoder {
       throw corrupt("the file is too short for a " + std::to_string(width) + "x" + std::to_string(height) +
                     " image (" + std::to_string(remaining()) + " bytes of pixel data)");
 
+    checkImageBudget(file_, width_, height_);
     EnvImage image;
     image.width = width_;
     image.height = height_;
@@ -140,6 +125,8 @@ class HdrDecoder {
     }
     if (pos_ >= bytes_.size()) throw corrupt("the file ends inside the header");
     ++pos_;  // the '\n'
+    // Files written on Windows end header lines with "\r\n"; the '\r' is not part of the line.
+    if (!line.empty() && line.back() == '\r') line.pop_back();
     return line;
   }
 
@@ -220,7 +207,8 @@ class HdrDecoder {
 };
 
 EnvImage readHdr(const fs::path& path) {
-  const std::vector<unsigned char> bytes = readWholeFile(path);
+  // The largest .hdr the memory budget admits: 4 bytes per texel when stored flat.
+  const std::vector<unsigned char> bytes = readInputFile(path, memoryBudgetBytes() / 3);
   if (bytes.empty()) throw Error("corrupt or truncated .hdr file " + path.string() + ": the file is empty");
   return HdrDecoder(bytes, path.string()).decode();
 }
@@ -249,6 +237,8 @@ EnvImage readExrLuminanceChroma(const fs::path& path) {
   const long height = long(dataWindow.max.y) - dataWindow.min.y + 1;
   if (width <= 0 || height <= 0 || width > kMaxDimension || height > kMaxDimension)
     throw Error("corrupt or truncated EXR file " + fileName + ": invalid data window");
+  checkMemoryBudget(fileName + ": the " + std::to_string(width) + "x" + std::to_string(height) + " image",
+                    std::uint64_t(width) * std::uint64_t(height) * (sizeof(Imf::Rgba) + 3 * sizeof(float)));
   Imf::Array2D<Imf::Rgba> pixels(height, width);
   file.setFrameBuffer(&pixels[0][0] - dataWindow.min.x - dataWindow.min.y * width, 1, std::size_t(width));
   file.readPixels(dataWindow.min.y, dataWindow.max.y);
@@ -303,17 +293,28 @@ EnvImage readExrChannels(const fs::path& path) {
     warn(file +
          ": the data window differs from the display window; the data window is used as the lat-long map");
 
+  checkImageBudget(file, width, height);
+  // Read in stripes, growing the image as they decode: a small file whose header claims a huge image fails
+  // on its first missing chunk instead of first allocating the whole claimed image.
   EnvImage image;
   image.width = int(width);
   image.height = int(height);
-  image.rgb.resize(3 * image.texelCount());
+  const long stripeRows = std::max(1L, std::min(height, (4L << 20) / (12 * width)));  // 4 MiB stripes
+  std::vector<float> stripe;
   const std::size_t xStride = 3 * sizeof(float), yStride = xStride * std::size_t(width);
-  Imf::FrameBuffer frameBuffer;
-  for (std::size_t c = 0; c < names.size(); ++c)
-    frameBuffer.insert(names[c],
-                       Imf::Slice::Make(Imf::FLOAT, image.rgb.data() + c, dataWindow, xStride, yStride));
-  input.setFrameBuffer(frameBuffer);
-  input.readPixels(dataWindow.min.y, dataWindow.max.y);
+  for (long row = 0; row < height; row += stripeRows) {
+    const long rows = std::min(stripeRows, height - row);
+    stripe.assign(3 * std::size_t(width) * std::size_t(rows), 0.0f);
+    const Imath::Box2i stripeWindow(Imath::V2i(dataWindow.min.x, int(dataWindow.min.y + row)),
+                                    Imath::V2i(dataWindow.max.x, int(dataWindow.min.y + row + rows - 1)));
+    Imf::FrameBuffer frameBuffer;
+    for (std::size_t c = 0; c < names.size(); ++c)
+      frameBuffer.insert(names[c],
+                         Imf::Slice::Make(Imf::FLOAT, stripe.data() + c, stripeWindow, xStride, yStride));
+    input.setFrameBuffer(frameBuffer);
+    input.readPixels(stripeWindow.min.y, stripeWindow.max.y);
+    image.rgb.insert(image.rgb.end(), stripe.begin(), stripe.end());
+  }
 
   // A luminance-only map is grey: Y was read into R, copy it to G and B.
   if (!hasRgb)
@@ -370,7 +371,7 @@ EnvImage loadRgbImage(const fs::path& path) {
   if (ext != ".exr" && ext != ".hdr")
     throw Error("cannot load " + file + ": unsupported extension '" + ext +
                 "' (supported formats: .exr, .hdr)");
-  checkReadable(path);
+  checkInputFile(path);
   try {
     return ext == ".exr" ? readExr(path) : readHdr(path);
   } catch (const std::bad_alloc&) {
@@ -391,6 +392,15 @@ EnvImage loadEnvImage(const fs::path& path) {
   if (report.total() > 0)
     warn(file + ": replaced " + std::to_string(report.nanCount) + " NaN, " + std::to_string(report.infCount) +
          " Inf and " + std::to_string(report.negativeCount) + " negative texel values");
+  for (std::size_t i = 0; i < image.rgb.size(); ++i)
+    if (double(image.rgb[i]) > kMaxEnvRadiance) {
+      const std::size_t texel = i / 3;
+      char value[32];
+      std::snprintf(value, sizeof value, "%.3g", double(image.rgb[i]));
+      throw Error(file + ": texel (" + std::to_string(texel % std::size_t(image.width)) + ", " +
+                  std::to_string(texel / std::size_t(image.width)) + ") holds " + value +
+                  ", above the largest radiance iblx accepts (1e15); scale the map down");
+    }
   // Any size is usable (u = x/W, v = y/H), but a map far from 2:1 is probably not lat-long.
   const double aspect = double(image.width) / double(image.height);
   if (std::abs(aspect - 2.0) > 0.1)

@@ -30,8 +30,15 @@ struct SanitizeReport {
 // Replaces NaN and -Inf by 0, +Inf by the largest finite value of the image (0 if none), negatives by 0.
 SanitizeReport sanitize(EnvImage& image);
 
+// The largest radiance an environment map may hold. The GPU keeps running means of squared estimates in float
+// (DESIGN §6): with values up to 1e15, a pass of 4096 squared estimates stays 1e5 below float's 3.4e38 even for
+// estimator weights of 100, while real maps, a physically scaled sun included (about 1.6e9 cd/m^2), stay far
+// below it.
+inline constexpr double kMaxEnvRadiance = 1e15;
+
 // Loads a .exr (OpenEXR; half or float; RGB, RGBA or Y) or .hdr (Radiance RGBE) lat-long map and sanitizes
-// it, emitting one warning that counts the fixed texels. Throws iblx::Error naming the file on any failure.
+// it, emitting one warning that counts the fixed texels. A texel above kMaxEnvRadiance is refused (an Error
+// naming the file, the texel and the limit), not scaled. Throws iblx::Error naming the file on any failure.
 EnvImage loadEnvImage(const std::filesystem::path& path);
 
 // Reads any .exr or .hdr as linear RGB, as it is: no sanitation, no environment-map checks (e.g. a reference

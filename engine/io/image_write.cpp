@@ -2,12 +2,14 @@
 #include "engine/io/image_write.h"
 
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/core/file_names.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
 #include <stb/stb_image_write.h>
 
 #include <algorithm>
@@ -75,9 +77,18 @@ void writeExr(const fs::path& path, int width, int height, std::span<const float
       header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
       frameBuffer.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xStride, yStride));
     }
-    Imf::OutputFile file(path.string().c_str(), header);
-    file.setFrameBuffer(frameBuffer);
-    file.writePixels(height);
+    // OpenEXR writes the offset table in OutputFile's destructor and swallows its errors there, so it writes
+    // to our stream, whose state commit() checks after the destructor has run.
+    AtomicOutput output(path);
+    {
+      Imf::StdOFStream stream(output.stream(), path.string().c_str());
+      Imf::OutputFile file(stream, header);
+      file.setFrameBuffer(frameBuffer);
+      file.writePixels(height);
+    }
+    output.commit();
+  } catch (const Error&) {
+    throw;
   } catch (const std::exception& e) {
     throw Error("cannot write EXR file " + path.string() + ": " + e.what());
   }
@@ -88,16 +99,22 @@ void writePng(const fs::path& path, int width, int height, std::span<const float
   const DisplayTransform transform{.exposureEV = exposureEV};
   std::vector<std::uint8_t> bytes(rgb.size());
   for (std::size_t i = 0; i < rgb.size(); ++i) bytes[i] = toDisplayByte(rgb[i], transform);
-  if (!stbi_write_png(path.string().c_str(), width, height, 3, bytes.data(), 3 * width))
-    throw Error("cannot write PNG file " + path.string() + " (is the directory writable?)");
+  writePngRgb8(path, width, height, bytes);
 }
 
 void writePngRgb8(const fs::path& path, int width, int height, std::span<const std::uint8_t> rgb) {
   if (width <= 0 || height <= 0 || rgb.size() != 3 * std::size_t(width) * std::size_t(height))
     throw Error("cannot write " + path.string() + ": " + std::to_string(rgb.size()) + " bytes given for a " +
                 std::to_string(width) + "x" + std::to_string(height) + " RGB8 image");
-  if (!stbi_write_png(path.string().c_str(), width, height, 3, rgb.data(), 3 * width))
-    throw Error("cannot write PNG file " + path.string() + " (is the directory writable?)");
+  // Encoded in memory, then written atomically: stb's own file writer does not report a failed write.
+  std::vector<unsigned char> png;
+  const auto append = [](void* context, void* data, int size) {
+    auto* bytes = static_cast<std::vector<unsigned char>*>(context);
+    bytes->insert(bytes->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
+  };
+  if (!stbi_write_png_to_func(append, &png, width, height, 3, rgb.data(), 3 * width))
+    throw Error("cannot write PNG file " + path.string() + ": the encoder failed");
+  writeFileAtomically(path, png);
 }
 
 void writeImage(const fs::path& path, int width, int height, std::span<const float> rgb, double exposureEV) {

@@ -4,6 +4,7 @@
 #include "engine/io/merl.h"
 
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/core/log.h"
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -29,6 +31,15 @@ constexpr int kHeaderDims[3] = {kMerlThetaHBins, kMerlThetaDBins, kMerlPhiDBins}
 constexpr std::size_t kHeaderBytes = 12;
 // Doubles per read or write: 512 KiB of bytes, so the 35 MB body is never held twice.
 constexpr std::size_t kChunkDoubles = std::size_t(1) << 16;
+// The largest reflectance a bin may hold, for the same float headroom as kMaxEnvRadiance (engine/io/env_image.h):
+// measured materials stay below about 1e4 1/sr.
+constexpr double kMaxMerlValue = 1e15;
+
+std::string formatValue(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", v);
+  return text;
+}
 
 // The file's byte order is little-endian whatever the host's; these compile to plain loads and stores on
 // little-endian machines.
@@ -66,16 +77,12 @@ glm::dvec3 rotateY(glm::dvec3 v, double a) {
 
 MerlBrdf loadMerl(const fs::path& path) {
   const std::string name = path.string();
-  std::error_code ec;
-  if (fs::is_directory(path, ec))
-    throw Error(name + ": cannot open: it is a directory, not a MERL .binary file");
+  // Size first: it tells truncated and oversized files apart before any value is read (and a FIFO or device
+  // is refused before it is opened).
+  const std::uint64_t size = checkInputFile(path);
   errno = 0;
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(name + ": cannot open: " + systemReason());
-
-  // Size first: it tells truncated and oversized files apart before any value is read.
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec) throw Error(name + ": cannot open: " + ec.message());
   if (size != kMerlFileBytes)
     throw Error(name + ": " + (size < kMerlFileBytes ? "truncated" : "oversized") + " MERL file: " +
                 std::to_string(size) + " bytes, expected exactly " + std::to_string(kMerlFileBytes) +
@@ -109,7 +116,10 @@ MerlBrdf loadMerl(const fs::path& path) {
       for (std::size_t k = 0; k < count; ++k) {
         // The range check comes first: converting a double beyond FLT_MAX to float is undefined.
         const double v = std::bit_cast<double>(loadLe64(chunk.data() + 8 * k)) * scale;
-        out[first + k] = v >= 0.0 && v <= double(std::numeric_limits<float>::max()) ? float(v) : kInvalid;
+        if (std::isfinite(v) && v > kMaxMerlValue)
+          throw Error(name + ": bin " + std::to_string(first + k) + " of channel " + "RGB"[c] + " holds " +
+                      formatValue(v) + ", above the largest BRDF value iblx accepts (1e15)");
+        out[first + k] = v >= 0.0 && v <= kMaxMerlValue ? float(v) : kInvalid;
       }
     }
   }
@@ -137,9 +147,8 @@ void writeMerl(const fs::path& path, std::span<const double> values) {
   if (values.size() != 3 * kMerlBins)
     throw Error(name + ": cannot write a MERL file from " + std::to_string(values.size()) +
                 " values; it needs 3 x " + std::to_string(kMerlBins) + " = " + std::to_string(3 * kMerlBins));
-  errno = 0;
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error(name + ": cannot open for writing: " + systemReason());
+  AtomicOutput output(path);
+  std::ofstream& out = output.stream();
 
   unsigned char header[kHeaderBytes];
   for (int d = 0; d < 3; ++d) storeLe32(std::uint32_t(kHeaderDims[d]), header + 4 * d);
@@ -156,8 +165,7 @@ void writeMerl(const fs::path& path, std::span<const double> values) {
       out.write(reinterpret_cast<const char*>(chunk.data()), std::streamsize(count * 8));
     }
   }
-  out.close();  // flushes: a full disk shows up here
-  if (!out) throw Error(name + ": write error: " + systemReason());
+  output.commit();
 }
 
 MerlAngles merlAngles(glm::dvec3 wi, glm::dvec3 wo) {

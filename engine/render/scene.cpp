@@ -3,6 +3,7 @@
 
 #include "engine/core/assets.h"
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "engine/io/brdf_file.h"
 #include "engine/render/analytic_brdf.h"
@@ -76,8 +77,15 @@ LoadedBrdf loadBrdfArgument(const std::string& nameOrPath) {
   if (sourceExtension == ".bparam")
     throw Error(nameOrPath + ":1: a .bparam must name a .brdf or MERL .binary file, not another .bparam");
   LoadedBrdf loaded;
+  // A problem in the file it names is reported as the .bparam's, which is what the user passed.
+  const auto asBparamError = [&](const Error& e) { return Error(nameOrPath + ":1: " + e.what()); };
   if (sourceExtension == ".brdf") {
-    BrdfFile target = readBrdfFile(file.bparamSource);
+    BrdfFile target;
+    try {
+      target = readBrdfFile(file.bparamSource);
+    } catch (const Error& e) {
+      throw asBparamError(e);
+    }
     for (const BrdfFileParam& saved : file.params) {
       auto it = std::find_if(target.params.begin(), target.params.end(),
                              [&](const BrdfFileParam& p) { return p.decl.name == saved.decl.name; });
@@ -105,7 +113,11 @@ LoadedBrdf loadBrdfArgument(const std::string& nameOrPath) {
     loaded.info = std::move(info);
     loaded.file = file.bparamSource;
   } else {
-    loaded = loadBrdfArgument(source);
+    try {
+      loaded = loadBrdfArgument(source);
+    } catch (const Error& e) {
+      throw asBparamError(e);
+    }
     for (const BrdfFileParam& saved : file.params)
       warn(nameOrPath + ":" + std::to_string(saved.line) + ": " + source + " has no parameters; '" +
            saved.decl.name + "' is ignored");
@@ -121,6 +133,10 @@ Scene makeScene(EnvImage env, const SceneSpec& spec, LoadedBrdf brdf) {
   if (spec.width < 1 || spec.height < 1 || spec.width > 16384 || spec.height > 16384)
     throw Error("--size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                 ": width and height must be in [1, 16384]");
+  checkMemoryBudget("--size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                        ": the image's per-pixel buffers",
+                    std::uint64_t(spec.width) * std::uint64_t(spec.height) *
+                        (sizeof(gpu::GPixel) + sizeof(gpu::AccumPixel)));
   if (!std::isfinite(spec.envRotationDeg)) throw Error("--env-rotation must be a finite number of degrees");
   Scene scene;
   scene.env = std::move(env);
@@ -214,6 +230,18 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
                   "' (see --list-methods)");
   }
   return r;
+}
+
+void checkImageFitsDevice(const VulkanContext& context, int width, int height) {
+  const std::uint64_t pixels = std::uint64_t(std::max(width, 0)) * std::uint64_t(std::max(height, 0));
+  const std::uint64_t largest = context.limits().maxStorageBufferRange;
+  const std::uint64_t bytesPerPixel = std::max(sizeof(gpu::GPixel), sizeof(gpu::AccumPixel));
+  if (pixels * bytesPerPixel <= largest) return;
+  const int side = int(std::sqrt(double(largest / bytesPerPixel)));
+  throw DeviceLimitError("--size " + std::to_string(width) + "x" + std::to_string(height) + ": the G-buffer needs " +
+                         formatBytes(pixels * sizeof(gpu::GPixel)) + ", more than this device's largest storage " +
+                         "buffer (" + formatBytes(largest) + "); images up to about " + std::to_string(side) + "x" +
+                         std::to_string(side) + " pixels fit");
 }
 
 SceneGpu uploadScene(const VulkanContext& context, const Scene& scene) {

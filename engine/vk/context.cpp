@@ -209,6 +209,15 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
       device_, vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer, queueFamily_));
 }
 
+double gpuTimeoutSeconds() {
+  if (const char* text = std::getenv("IBLX_GPU_TIMEOUT_S"); text && *text) {
+    char* end = nullptr;
+    const double seconds = std::strtod(text, &end);
+    if (end && *end == '\0' && seconds > 0.0 && seconds < 1e7) return seconds;
+  }
+  return 600.0;
+}
+
 void VulkanContext::submitAndWait(const std::function<void(vk::CommandBuffer)>& record) const {
   // The pool and the queue are shared by every thread (the viewer builds renderers and ground truths in the
   // background): both are locked for recording and submission, but not while the work runs.
@@ -224,7 +233,18 @@ void VulkanContext::submitAndWait(const std::function<void(vk::CommandBuffer)>& 
   vk::CommandBuffer handle = *cmd;
   queue_.submit(vk::SubmitInfo({}, {}, handle), *fence);
   lock.unlock();
-  while (device_.waitForFences(*fence, VK_TRUE, UINT64_MAX) == vk::Result::eTimeout) {
+  // A kernel that never ends (a .brdf whose BRDF() loops forever) would block here for good. Past the
+  // timeout the device is still running it and no resource it uses can be freed safely, so the process ends
+  // with one clear line instead of hanging.
+  const double timeoutSeconds = gpuTimeoutSeconds();
+  if (device_.waitForFences(*fence, VK_TRUE, std::uint64_t(timeoutSeconds * 1e9)) == vk::Result::eTimeout) {
+    std::fprintf(stderr,
+                 "iblx: error: the GPU did not finish a dispatch within %.0f s (IBLX_GPU_TIMEOUT_S sets the "
+                 "limit): a .brdf whose BRDF() never returns, or more work per dispatch than this device "
+                 "does in that time\n",
+                 timeoutSeconds);
+    std::fflush(stderr);
+    std::_Exit(4);
   }
   lock.lock();
   buffers.reset();  // freeing touches the pool

@@ -65,6 +65,7 @@ class VulkanContext {
   std::vector<std::string> validationMessages() const;
 
   // Records commands into a one-time command buffer, submits and waits for completion. Thread-safe.
+  // A submission still running after gpuTimeoutSeconds() ends the process with exit status 4 and a message.
   void submitAndWait(const std::function<void(vk::CommandBuffer)>& record) const;
 
   // Held by anyone else who submits to or presents on queue() (the viewer's window), for Vulkan's external
@@ -99,5 +100,8 @@ class VulkanContext {
   mutable std::vector<std::string> messages_;
   mutable std::mutex queueMutex_;  // also guards commandPool_
 };
+
+// How long one submission may run: 600 s, or $IBLX_GPU_TIMEOUT_S.
+double gpuTimeoutSeconds();
 
 }  // namespace iblx

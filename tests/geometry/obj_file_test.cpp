@@ -160,11 +160,24 @@ TEST_CASE("obj: every kind of bad file gives one line naming the file and the pr
     CHECK(message.find('\n') == std::string::npos);
   }
   CHECK(contains(errorMessage([&] { readObj(dir.file("missing.obj")); }), "missing.obj: no such file"));
-  CHECK(contains(errorMessage([&] { readObj(dir.file("folder.obj")); }), "folder.obj: is a directory"));
+  CHECK(contains(errorMessage([&] { readObj(dir.file("folder.obj")); }), "folder.obj: it is a directory"));
   // Random bytes: an iblx::Error naming the file, never a crash.
   for (std::uint32_t seed = 1; seed <= 20; ++seed) {
     const auto path = dir.file("random" + std::to_string(seed) + ".obj");
     writeBytes(path, randomBytes(2000, seed));
     CHECK(contains(errorMessage([&] { readObj(path); }), path.string()));
   }
+}
+
+TEST_CASE("obj: a face index beyond int is out of range, not wrapped") {
+  ScratchDir dir;
+  // 4294967299 = 2^32 + 3: tinyobjloader alone reads it as vertex 3 and the mesh renders.
+  for (const char* index : {"4294967299", "-4294967299", "2147483648", "99999999999999999999999"}) {
+    CAPTURE(index);
+    const auto path = writeText(dir, "wrap.obj", std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 ") + index + "\n");
+    CHECK(contains(errorMessage([&] { readObj(path); }), "wrap.obj:4: index " + std::string(index) +
+                                                             " is out of range"));
+  }
+  const auto normals = writeText(dir, "n.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//4294967297 2//1 3//1\n");
+  CHECK(contains(errorMessage([&] { readObj(normals); }), "n.obj:5: index 4294967297 is out of range"));
 }

@@ -177,3 +177,37 @@ TEST_CASE("brdf file: .bparam round trip") {
   CHECK(contains(text, "bool useFresnel 0\n"));
   CHECK(contains(text, "::end parameters\n"));
 }
+
+TEST_CASE("brdf file: limits on a file that is a program, checked before compiling") {
+  ScratchDir dir;
+  const auto shader = [](const std::string& body) {
+    return "analytic\n::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) {\n" + body +
+           "\n}\n::end shader\n";
+  };
+  // A 20 000-term sum crashed the GPU compiler (stack overflow): refused with its line.
+  std::string sum = "  return vec3(1.0";
+  for (int i = 0; i < 20000; ++i) sum += "+1.0";
+  CHECK(contains(parseError(shader(sum + ");")), "bad.brdf:4: a statement with more than 2000 operators"));
+  // At the limit it is accepted, and a statement end resets the count.
+  std::string twoSums = "  float a = 1.0";
+  for (int i = 0; i < 1500; ++i) twoSums += "+1.0";
+  twoSums += ";\n  float b = a";
+  for (int i = 0; i < 1500; ++i) twoSums += "+1.0";
+  CHECK_NOTHROW(parseBrdfText(shader(twoSums + ";\n  return vec3(b);"), "ok.brdf"));
+  // Operators in comments are not counted.
+  CHECK_NOTHROW(parseBrdfText(shader("  // " + std::string(5000, '+') + "\n  return vec3(1.0);"), "ok.brdf"));
+  CHECK(contains(parseError(shader("  return vec3" + std::string(100, '(') + "1.0" + std::string(100, ')') + ";")),
+                 "bad.brdf:4: brackets nested deeper than 64 levels"));
+
+  // 500 000 parameters took minutes (a quadratic duplicate check): the 257th is refused at once.
+  std::string params = "analytic\n::begin parameters\n";
+  for (int i = 0; i < 300; ++i) params += "float p" + std::to_string(i) + " 0 1 0.5\n";
+  params += "::end parameters\n";
+  CHECK(contains(parseError(params + shader("  return vec3(p0);")), "bad.brdf:259: more than 256 parameters"));
+
+  // A 10 MB file is refused by its size, before it is read.
+  const auto big = dir.file("big.brdf");
+  writeBytes(big, std::vector<unsigned char>(kMaxBrdfFileBytes + 1, ' '));
+  CHECK(contains(errorMessage([&] { readBrdfFile(big); }), "big.brdf: the file is 256 KiB (262145 bytes), more than the 256 KiB"));
+  CHECK(contains(errorMessage([&] { readBrdfFile("/dev/zero"); }), "/dev/zero: it is a device"));
+}

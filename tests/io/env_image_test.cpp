@@ -10,6 +10,8 @@
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -270,7 +272,9 @@ std::vector<float> hdrPattern(int width, int height) {
     for (int x = 0; x < width; ++x)
       for (int c = 0; c < 3; ++c) {
         const std::size_t i = 3 * (std::size_t(y) * std::size_t(width) + std::size_t(x)) + std::size_t(c);
-        rgb[i] = x >= width / 2 ? 0.75f : float(std::exp2(-8.0 + 0.37 * (x + 3 * y + 5 * c) - 0.9 * c));
+        // Exponents from -8 to 40: wide, and below loadEnvImage's limit of 1e15 (2^49.8).
+        rgb[i] = x >= width / 2 ? 0.75f
+                                : float(std::exp2(-8.0 + std::fmod(0.37 * (x + 3 * y + 5 * c), 48.0) - 0.9 * c));
       }
   rgb[3] = rgb[4] = rgb[5] = 0.0f;
   return rgb;
@@ -547,4 +551,64 @@ TEST_CASE("loadEnvImage: truncated .hdr files are detected at every cut point") 
       checkErrorNamesFile(path, errorMessage([&] { loadEnvImage(path); }));
     }
   }
+}
+
+TEST_CASE("loadEnvImage: hostile maps: values beyond the limit, FIFOs, CR header lines, the memory budget") {
+  ScratchDir dir;
+  WarningCapture warnings;
+  const std::string header = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n";
+  SUBCASE("a texel above 1e15 is refused naming the file and the texel; 1e15 itself loads") {
+    std::vector<float> rgb(3 * 4 * 2, 1.0f);
+    rgb[3 * 5 + 1] = 1e38f;  // texel (1, 1)
+    const auto path = dir.file("hot.exr");
+    writeExr(path, 4, 2, rgb);
+    const std::string message = errorMessage([&] { loadEnvImage(path); });
+    checkErrorNamesFile(path, message);
+    CHECK(contains(message, "texel (1, 1) holds 1e+38, above the largest radiance iblx accepts (1e15)"));
+    rgb[3 * 5 + 1] = 1e15f;
+    writeExr(path, 4, 2, rgb);
+    CHECK(loadEnvImage(path).rgb[3 * 5 + 1] == 1e15f);
+  }
+  SUBCASE("a legal RGBE exponent of 255 is refused the same way") {
+    const auto path = dir.file("e255.hdr");
+    writeBytes(path, hdrBytes(header, {128, 128, 128, 255, 128, 128, 128, 128}));
+    CHECK(contains(errorMessage([&] { loadEnvImage(path); }), "e255.hdr: texel (0, 0) holds 8.51e+37"));
+  }
+  SUBCASE("header lines ending in CR LF are read") {
+    const auto path = dir.file("crlf.hdr");
+    writeBytes(path, hdrBytes("#?RADIANCE\r\nFORMAT=32-bit_rle_rgbe\r\n\r\n-Y 1 +X 2\r\n",
+                              {128, 128, 128, 128, 128, 0, 0, 129}));
+    const EnvImage image = loadEnvImage(path);
+    REQUIRE(image.width == 2);
+    CHECK(image.rgb[0] == 0.5f);
+    CHECK(image.rgb[3] == 1.0f);
+  }
+  SUBCASE("a FIFO is refused without blocking") {
+    const auto path = dir.file("pipe.exr");
+    REQUIRE(::mkfifo(path.c_str(), 0600) == 0);
+    CHECK(contains(errorMessage([&] { loadEnvImage(path); }), "pipe.exr: it is a FIFO"));
+  }
+  SUBCASE("an image over the memory budget is refused before its pixels are allocated") {
+    const auto exr = dir.file("big.exr"), hdr = dir.file("big.hdr");
+    writeExr(exr, 256, 128, std::vector<float>(3 * 256 * 128, 1.0f));
+    REQUIRE(stbi_write_hdr(hdr.string().c_str(), 256, 128, 3, std::vector<float>(3 * 256 * 128, 1.0f).data()));
+    ::setenv("IBLX_MEMORY_BUDGET_GIB", "0.0001", 1);  // 105 KiB; the image needs 384 KiB
+    const std::string exrMessage = errorMessage([&] { loadEnvImage(exr); });
+    const std::string hdrMessage = errorMessage([&] { loadEnvImage(hdr); });
+    ::unsetenv("IBLX_MEMORY_BUDGET_GIB");
+    CHECK(contains(exrMessage, "big.exr: the 256x128 image needs 384 KiB, over iblx's memory budget"));
+    CHECK(contains(hdrMessage, "big.hdr: the 256x128 image needs 384 KiB, over iblx's memory budget"));
+    CHECK(loadEnvImage(exr).width == 256);
+  }
+}
+
+TEST_CASE("loadEnvImage: a large EXR is read in stripes, every row in its place") {
+  ScratchDir dir;
+  // 2048 wide: 170 rows per 4 MiB stripe, so 400 rows take three stripes, the last one partial.
+  const int width = 2048, height = 400;
+  std::vector<float> rgb(3 * std::size_t(width) * std::size_t(height));
+  for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = float(i % 9973) + 0.25f * float(i / (3 * width));
+  const auto path = dir.file("striped.exr");
+  writeExr(path, width, height, rgb);
+  CHECK(bitwiseEqual(loadEnvImage(path).rgb, rgb));
 }

@@ -7,6 +7,8 @@
 
 #include <doctest/doctest.h>
 
+#include <cstring>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -144,7 +146,7 @@ TEST_CASE("merl: writeMerl rejects a wrong value count and an unwritable path") 
   const auto nowhere = dir.file("no_such_dir") / "m.binary";
   const std::string unwritable = errorMessage([&] { writeMerl(nowhere, fileValues()); });
   checkErrorNamesFile(nowhere, unwritable);
-  CHECK(contains(unwritable, "cannot open"));
+  CHECK(contains(unwritable, "cannot write"));
 }
 
 TEST_CASE("merl: bad files throw iblx::Error naming the file and the problem") {
@@ -380,4 +382,17 @@ TEST_CASE("merl: evalMerl is isotropic (both directions rotated about the normal
     wrong += f != glm::dvec3(distinctValue(bin, 0), distinctValue(bin, 1), distinctValue(bin, 2));
   }
   CHECK(wrong == 0);
+}
+
+TEST_CASE("merl: a finite value beyond 1e15 is refused naming the file and the bin") {
+  ScratchDir dir;
+  std::vector<unsigned char> bytes = goodFileBytes();
+  const double huge = 3e38;
+  std::memcpy(bytes.data() + 12 + 8 * 5, &huge, 8);  // bin 5 of the red channel (little-endian host)
+  const auto path = dir.file("huge.binary");
+  writeBytes(path, bytes);
+  const std::string message = errorMessage([&] { loadMerl(path); });
+  checkErrorNamesFile(path, message);
+  CHECK(contains(message, "bin 5 of channel R holds"));
+  CHECK(contains(message, "above the largest BRDF value iblx accepts (1e15)"));
 }

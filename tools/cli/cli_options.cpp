@@ -276,6 +276,15 @@ std::string jsonEscape(const std::string& text) {
   return out;
 }
 
+std::string nonFiniteEstimatesMessage(std::uint64_t count, const std::string& brdfArgument) {
+  const std::string ext = lowerExtension(brdfArgument);
+  const bool programmable = ext == ".brdf" || ext == ".bparam";
+  return std::to_string(count) + " NaN/Inf sample estimates were replaced by 0 (" +
+         (programmable ? brdfArgument + " may return values beyond float range; otherwise a sampler bug"
+                       : "a sampler bug: please report it") +
+         ")";
+}
+
 void progressLine(const std::string& text) {
   if (isatty(STDERR_FILENO)) std::fprintf(stderr, "\r%s\x1b[K", text.c_str());
 }

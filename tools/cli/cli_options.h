@@ -3,6 +3,7 @@
 
 #include "engine/render/scene.h"
 
+#include <cstdint>
 #include <functional>
 #include <filesystem>
 #include <optional>
@@ -84,6 +85,10 @@ std::vector<float> readReferenceFile(const std::filesystem::path& path, int widt
 // A string as the inside of a JSON string literal.
 std::string jsonEscape(const std::string& text);
 // Progress line on stderr, only when stderr is a terminal.
+// The warning for estimates the GPU replaced by 0 because they were NaN or Inf: with finite inputs below
+// iblx's limits that is a sampler bug, but a BRDF file can return values whose products overflow float.
+std::string nonFiniteEstimatesMessage(std::uint64_t count, const std::string& brdfArgument);
+
 void progressLine(const std::string& text);
 void endProgressLine();
 }  // namespace iblx::cli

@@ -35,8 +35,9 @@ int cmdBench(const Args& args) {
   if (parser.parseOrShowHelp(args)) return 0;
   if (sequences.empty())
     for (const auto& s : sequenceRegistry()) sequences.push_back(s.name);
-  const Scene scene = loadScene(spec.scene);
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
+  checkImageFitsDevice(context, spec.scene.width, spec.scene.height);
+  const Scene scene = loadScene(spec.scene);
   ShaderCompiler compiler;
   const double objectPixels = double(scene.gbuffer.objectPixelCount());
   if (!spec.json)

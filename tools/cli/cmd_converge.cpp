@@ -3,6 +3,7 @@
 // CSV, the summary table and the PNG figures.
 #include "engine/analysis/convergence.h"
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "engine/io/image_write.h"
 #include "tools/cli/cli_options.h"
@@ -50,7 +51,8 @@ int cmdConverge(const Args& args) {
   parser.toggle("--no-plots", "write no PNG figures", [&] { plots = false; });
   parser.toggle("--json", "print the summary as one JSON object per method instead of the table",
                 [&] { render.json = true; });
-  for (const auto& a : args) sizeGiven = sizeGiven || a == "--size";
+  // Both spellings the parser accepts: "--size 8x8" and "--size=8x8".
+  for (const auto& a : args) sizeGiven = sizeGiven || a == "--size" || a.rfind("--size=", 0) == 0;
   if (parser.parseOrShowHelp(args)) return 0;
 
   // Everything a user can get wrong is checked before anything heavy.
@@ -60,6 +62,8 @@ int cmdConverge(const Args& args) {
   resolveParams(*brdf.info, hardCase ? hardCase->scene.params : render.scene.params);
   resolveMethods(spec, *brdf.info);  // an asked-for method that does not apply to the BRDF
 
+  VulkanContext context({render.device, render.validation ? Validation::On : Validation::Auto});
+  if (!hardCase || sizeGiven) checkImageFitsDevice(context, render.scene.width, render.scene.height);
   Scene scene = [&] {
     if (!hardCase) return loadScene(render.scene, std::move(brdf));
     HardCase sized = *hardCase;
@@ -68,7 +72,6 @@ int cmdConverge(const Args& args) {
   }();
   const std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene.brdf);
   const std::vector<std::uint32_t> seeds = seedList(spec);
-  VulkanContext context({render.device, render.validation ? Validation::On : Validation::Auto});
   ShaderCompiler compiler;
   const std::vector<float> reference = obtainReference(context, compiler, scene, hardCase, spec);
   // Created once the inputs have been checked (nothing is written for bad input), before the long part.
@@ -108,13 +111,14 @@ int cmdConverge(const Args& args) {
   }
   const std::string table = formatSummaryTable(summary);
   {
-    std::ofstream md(outDir / "summary.md");
+    AtomicOutput output(outDir / "summary.md");
+    std::ofstream& md = output.stream();
     md << "# iblx converge: " << sceneTitle << "\n\nDevice: " << context.deviceName()
        << ". Seeds: " << seeds.size() << ". Budget per run: "
        << budgetText(budget)
        << (result.interrupted ? " (interrupted)" : "") << ".\n\n"
        << table;
-    if (!md) throw Error((outDir / "summary.md").string() + ": write failed");
+    output.commit();
   }
   if (render.json)
     std::fputs(formatSummaryJson(summary).c_str(), stdout);
@@ -123,8 +127,7 @@ int cmdConverge(const Args& args) {
                 outDir.string().c_str(), figures.size());
   for (const auto& row : summary.rows)
     if (row.nonFiniteSamples || !row.finite)
-      warn(row.method + "/" + row.sequence + ": " + std::to_string(row.nonFiniteSamples) +
-           " NaN/Inf estimates (a sampler bug: please report it)");
+      warn(row.method + "/" + row.sequence + ": " + nonFiniteEstimatesMessage(row.nonFiniteSamples, render.scene.brdf));
   return result.interrupted ? 130 : 0;
 }
 

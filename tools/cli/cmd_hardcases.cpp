@@ -3,6 +3,7 @@
 // rate 1e-3), then ranks the methods by MSE at equal time. Exit status 1 when any check fails.
 #include "engine/analysis/convergence.h"
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
@@ -134,8 +135,8 @@ int cmdHardCases(const Args& args) {
     }
   }
   if (!outDir.empty()) {
-    std::ofstream md(outDir / "hardcases.md");
-    md << "# iblx hardcases on " << context.deviceName() << "\n\n" << markdown.str();
+    writeFileAtomically(outDir / "hardcases.md",
+                        "# iblx hardcases on " + context.deviceName() + "\n\n" + markdown.str());
   }
   if (failures) {
     std::fprintf(stderr, "iblx hardcases: %d method(s) failed a check\n", failures);

@@ -20,8 +20,9 @@ int cmdReference(const Args& args) {
   LoadedBrdf brdf = loadBrdfArgument(spec.scene.brdf);
   resolveParams(*brdf.info, spec.scene.params);
   checkImagePath("--out", spec.out, true);
-  const Scene scene = loadScene(spec.scene, std::move(brdf));
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
+  checkImageFitsDevice(context, spec.scene.width, spec.scene.height);
+  const Scene scene = loadScene(spec.scene, std::move(brdf));
   ShaderCompiler compiler;
   ReferenceOptions options;
   options.progress = [](double f) { progressLine("reference " + std::to_string(int(100 * f)) + "%"); };

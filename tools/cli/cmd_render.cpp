@@ -8,6 +8,7 @@
 #include "engine/render/renderer.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/measurement.h"
 
 #include <chrono>
 #include <cmath>
@@ -57,14 +58,18 @@ int cmdRender(const Args& args) {
     if (spec.reference) warn("--reference is ignored: --reference-file gives the ground truth");
     referenceImage = readReferenceFile(spec.referenceFile, spec.scene.width, spec.scene.height, "--size");
   }
-  const Scene scene = loadScene(spec.scene, std::move(brdf));
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
+  checkImageFitsDevice(context, spec.scene.width, spec.scene.height);
+  const Scene scene = loadScene(spec.scene, std::move(brdf));
   ShaderCompiler compiler;
   Renderer renderer(context, compiler, scene, method, spec.seed);
 
   double gpuSeconds = 0.0, renderWallSeconds = 0.0;
   uint32_t passes = 0;
+  // Ctrl-C ends the passes; the image accumulated so far is still written, and the exit status is 130.
+  InterruptGuard interrupt;
   for (;;) {
+    if (interrupt.flag().load()) break;
     const bool done =
         spec.timeBudgetSeconds ? renderWallSeconds >= *spec.timeBudgetSeconds : passes >= spec.passes;
     if (done) break;
@@ -82,18 +87,24 @@ int cmdRender(const Args& args) {
     progressLine(line);
   }
   endProgressLine();
+  const bool interrupted = interrupt.flag().load();
+  if (interrupted && passes == 0) throw Interrupted("before the first pass; nothing was written");
+  if (interrupted)
+    warn("interrupted after " + std::to_string(passes) + " passes: writing the image accumulated so far");
   const auto rgb = renderer.meanRgb();
   if (const uint32_t bad = renderer.nonFiniteSamples())
-    warn(std::to_string(bad) +
-         " NaN/Inf sample estimates were replaced by 0 (a sampler bug: please report it)");
+    warn(nonFiniteEstimatesMessage(bad, spec.scene.brdf));
 
   std::optional<ErrorMetrics> error;
   double referenceSeconds = 0.0;
   if (referenceImage) {
     error = compareToReference(scene.gbuffer, rgb, *referenceImage);
-  } else if (spec.reference) {
+  } else if (spec.reference && !interrupted) {
     ReferenceOptions options;
-    options.progress = [](double f) { progressLine("reference " + std::to_string(int(100 * f)) + "%"); };
+    options.progress = [&interrupt](double f) {
+      if (interrupt.flag().load()) throw Interrupted("the ground truth was not finished; nothing was written");
+      progressLine("reference " + std::to_string(int(100 * f)) + "%");
+    };
     const ReferenceImage ref = computeReference(context, compiler, scene, options);
     endProgressLine();
     referenceSeconds = ref.seconds;
@@ -134,7 +145,7 @@ int cmdRender(const Args& args) {
     }
     std::printf("wrote %s (total %.2f s)\n", spec.out.c_str(), totalWall);
   }
-  return 0;
+  return interrupted ? 130 : 0;
 }
 
 }  // namespace iblx::cli

@@ -2,6 +2,7 @@
 // lat-long uv, pdf, weight, technique, ...). The integrator records them itself
 // (engine/render/sample_recorder.h), so they are the very samples `iblx render` averages for that pixel.
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "engine/render/sample_recorder.h"
 #include "tools/cli/cli_options.h"
@@ -15,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 namespace iblx::cli {
 
@@ -101,6 +103,8 @@ int cmdSamples(const Args& args) {
   LoadedBrdf brdf = loadBrdfArgument(spec.scene.brdf);
   resolveParams(*brdf.info, spec.scene.params);
   const ResolvedMethod method = resolveMethod(spec.method, *brdf.info);
+  VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
+  checkImageFitsDevice(context, spec.scene.width, spec.scene.height);
   const Scene scene = loadScene(spec.scene, std::move(brdf));
   // Coordinates beyond int are outside any image; unrecordablePixel words the message.
   const int x = pixelX < 0 || pixelX >= scene.gbuffer.width ? -1 : int(pixelX);
@@ -108,17 +112,13 @@ int cmdSamples(const Args& args) {
   if (const auto problem = unrecordablePixel(scene.gbuffer, x, y))
     throw Error("--pixel " + pixelText + ": " + *problem);
 
-  VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
   ShaderCompiler compiler;
   SampleRecorder recorder(context, compiler, scene, method, spec.seed);
   recorder.start(x, y);
 
-  std::ofstream file;
-  if (!toStdout) {
-    file.open(spec.out, std::ios::binary);
-    if (!file) throw Error("--out " + spec.out + ": cannot open it for writing");
-  }
-  std::ostream& csv = toStdout ? std::cout : file;
+  std::optional<AtomicOutput> file;
+  if (!toStdout) file.emplace(spec.out);
+  std::ostream& csv = toStdout ? std::cout : file->stream();
   csv << kCsvHeader;
   glm::dvec3 estimateSum(0.0);
   for (uint32_t done = 0; done < count;) {
@@ -132,11 +132,14 @@ int cmdSamples(const Args& args) {
       progressLine("samples: " + std::to_string(done) + " of " + std::to_string(count));
   }
   endProgressLine();
-  csv.flush();
-  if (!csv) throw Error("--out " + spec.out + ": write failed");
+  if (file) {
+    file->commit();
+  } else {
+    csv.flush();
+    if (!csv) throw Error("standard output: write failed");
+  }
   if (const uint32_t bad = recorder.nonFiniteSamples())
-    warn(std::to_string(bad) +
-         " NaN/Inf sample estimates were replaced by 0 (a sampler bug: please report it)");
+    warn(nonFiniteEstimatesMessage(bad, spec.scene.brdf));
 
   // The records' mean and the integrator's own running mean of the pixel agree to float rounding: a check
   // the user sees on every run.

@@ -51,6 +51,9 @@ int main(int argc, char** argv) {
     if (command == "merl-synth") return cmdMerlSynth(args);
     std::fprintf(stderr, "iblx: unknown command '%s'\n%s", command.c_str(), kUsage);
     return 2;
+  } catch (const iblx::Interrupted& e) {
+    std::fprintf(stderr, "iblx: interrupted: %s\n", e.what());
+    return 130;
   } catch (const iblx::Error& e) {
     std::fprintf(stderr, "iblx: error: %s\n", e.what());
     return 1;

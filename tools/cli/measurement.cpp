@@ -99,8 +99,14 @@ std::vector<float> obtainReference(const VulkanContext& context, ShaderCompiler&
     std::fprintf(stderr, "reference: closed form of hard case %s\n", hardCase->name.c_str());
     return hardCase->exactReference(scene);
   }
+  // Ctrl-C abandons the ground truth between dispatches (exit 130); nothing partial is cached or written.
+  InterruptGuard interrupt;
   ReferenceOptions options;
-  options.progress = [](double f) { progressLine("reference " + std::to_string(int(100 * f)) + "%"); };
+  options.progress = [&interrupt](double f) {
+    if (interrupt.flag().load())
+      throw Interrupted("the ground truth was " + std::to_string(int(100 * f)) + "% done; nothing was written");
+    progressLine("reference " + std::to_string(int(100 * f)) + "%");
+  };
   bool fromCache = false;
   const ReferenceImage ref =
       cachedReference(context, compiler, scene, spec.noCache ? std::filesystem::path() : defaultCacheDir(),

@@ -1,0 +1,61 @@
+// Input files that cannot stall or flood iblx, and outputs that are either written whole or reported as failed:
+// inputs must be regular files and are read within a bound; outputs go to a temporary name in the same
+// directory, are checked on write and on close, and are renamed into place.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace iblx {
+
+// Checks, without opening it, that path names a readable regular file: a missing file, a directory, a FIFO, a
+// device or a socket is refused at once with Error("cannot open PATH: REASON"). Returns the size in bytes.
+std::uint64_t checkInputFile(const std::filesystem::path& path);
+
+// The whole file; one larger than maxBytes is refused with an Error naming the file and the limit, before
+// anything is read. The read itself stops at maxBytes, so a file that grows meanwhile cannot flood memory.
+std::vector<unsigned char> readInputFile(const std::filesystem::path& path, std::uint64_t maxBytes);
+std::string readInputText(const std::filesystem::path& path, std::uint64_t maxBytes);
+
+// The memory iblx lets one input claim (an image, a table, a G-buffer): 4 GiB, or $IBLX_MEMORY_BUDGET_GIB.
+std::uint64_t memoryBudgetBytes();
+// Throws Error("WHAT needs N GiB, over iblx's memory budget of B GiB ...") when bytes exceeds the budget, so
+// that a size read from a header or a flag is refused before it is allocated.
+void checkMemoryBudget(std::string_view what, std::uint64_t bytes);
+// "1.5 GiB", "12 MiB", "640 bytes": sizes in messages.
+std::string formatBytes(std::uint64_t bytes);
+
+// An output file written atomically: the data goes to a temporary file beside path, and commit() checks the
+// write and the close and renames it to path. Destroyed without commit() (an exception, an interrupted run)
+// it removes the temporary, so path never holds a partial file and an existing file is kept.
+class AtomicOutput {
+ public:
+  explicit AtomicOutput(std::filesystem::path path);
+  ~AtomicOutput();
+  AtomicOutput(const AtomicOutput&) = delete;
+  AtomicOutput& operator=(const AtomicOutput&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+  // For libraries that write by file name (OpenEXR, stb): they write here, then commit() renames.
+  const std::filesystem::path& temporaryPath() const { return temporary_; }
+  // A binary stream on the temporary file, opened on first use.
+  std::ofstream& stream();
+  // Throws Error("cannot write PATH: REASON") if any write or the close failed, or the rename fails.
+  void commit();
+
+ private:
+  std::filesystem::path path_, temporary_;
+  std::ofstream stream_;
+  bool opened_ = false, committed_ = false;
+};
+
+// Writes bytes to path through an AtomicOutput.
+void writeFileAtomically(const std::filesystem::path& path, std::span<const unsigned char> bytes);
+void writeFileAtomically(const std::filesystem::path& path, std::string_view text);
+
+}  // namespace iblx

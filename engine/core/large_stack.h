@@ -1,0 +1,14 @@
+// Running a deeply recursive library call (the GLSL compiler) on a thread whose stack size iblx chooses,
+// so that an input that recurses deeply fails inside a known budget instead of overflowing the main stack.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+
+namespace iblx {
+
+// Runs work on a new thread with a stack of stackBytes and waits for it; an exception thrown by work is
+// rethrown here.
+void runWithStack(std::size_t stackBytes, const std::function<void()>& work);
+
+}  // namespace iblx
