@@ -2,6 +2,7 @@
 #include "engine/geometry/bezier_patches.h"
 
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 
 #include <algorithm>
 #include <cmath>
@@ -33,10 +34,9 @@ struct Line {
 
 class LineReader {
  public:
-  explicit LineReader(const std::filesystem::path& path) : path_(path), in_(path) {
-    if (!in_)
-      throw Error(path.string() + ": " + (std::filesystem::exists(path) ? "cannot be read" : "no such file"));
-  }
+  // The whole file is read first, within a bound: patch files are a few KiB, and a FIFO or device is refused.
+  explicit LineReader(const std::filesystem::path& path)
+      : path_(path), in_(readInputText(path, std::uint64_t(16) << 20)) {}
   // The next line that is neither blank nor a comment; throws at the end of the file, saying what was
   // expected.
   Line& next(const std::string& expected) {
@@ -58,7 +58,7 @@ class LineReader {
 
  private:
   std::filesystem::path path_;
-  std::ifstream in_;
+  std::istringstream in_;
   int number_ = 0;
   Line line_;
 };

@@ -19,6 +19,12 @@ std::size_t GBuffer::objectPixelCount() const {
   return n;
 }
 
+std::vector<std::uint8_t> GBuffer::objectMask() const {
+  std::vector<std::uint8_t> mask(pixels.size());
+  for (std::size_t p = 0; p < pixels.size(); ++p) mask[p] = pixels[p].normal.w != 0.0f;
+  return mask;
+}
+
 GBuffer makeBackgroundGBuffer(const CameraFrame& frame, int width, int height) {
   GBuffer g{width, height, std::vector<gpu::GPixel>(std::size_t(width) * height)};
   for (int j = 0; j < height; ++j)

@@ -22,6 +22,8 @@ struct GBuffer {
   int width = 0, height = 0;
   std::vector<gpu::GPixel> pixels;
   std::size_t objectPixelCount() const;
+  // 1 for object pixels, 0 for background, per pixel (the display transform's automatic exposure reads it).
+  std::vector<std::uint8_t> objectMask() const;
 };
 
 // Every pixel background: normal.w = 0 and view = what the camera's pinhole sees there

@@ -94,9 +94,34 @@ void writeExr(const fs::path& path, int width, int height, std::span<const float
   }
 }
 
+double autoExposureEV(std::span<const float> rgb, std::span<const std::uint8_t> objectMask) {
+  double sumLog = 0.0;
+  std::size_t count = 0;
+  for (std::size_t p = 0; 3 * p + 2 < rgb.size(); ++p) {
+    if (!objectMask.empty() && (p >= objectMask.size() || objectMask[p] == 0)) continue;
+    const double y = 0.2126 * double(rgb[3 * p]) + 0.7152 * double(rgb[3 * p + 1]) + 0.0722 * double(rgb[3 * p + 2]);
+    if (!(y > 0.0) || !std::isfinite(y)) continue;
+    sumLog += std::log(y);
+    ++count;
+  }
+  if (count == 0) return 0.0;
+  const double logAverage = sumLog / double(count);
+  return std::clamp((std::log(0.18) - logAverage) / std::log(2.0), -32.0, 32.0);
+}
+
+DisplayTransform resolveDisplay(const DisplaySettings& settings, std::span<const float> rgb,
+                                std::span<const std::uint8_t> objectMask) {
+  const double automatic = settings.autoExposure ? autoExposureEV(rgb, objectMask) : 0.0;
+  return {.exposureEV = automatic + settings.exposureEV, .tonemap = settings.tonemap, .gamma = settings.gamma};
+}
+
 void writePng(const fs::path& path, int width, int height, std::span<const float> rgb, double exposureEV) {
+  writePng(path, width, height, rgb, DisplayTransform{.exposureEV = exposureEV});
+}
+
+void writePng(const fs::path& path, int width, int height, std::span<const float> rgb,
+              const DisplayTransform& transform) {
   checkImageSize(path, width, height, rgb);
-  const DisplayTransform transform{.exposureEV = exposureEV};
   std::vector<std::uint8_t> bytes(rgb.size());
   for (std::size_t i = 0; i < rgb.size(); ++i) bytes[i] = toDisplayByte(rgb[i], transform);
   writePngRgb8(path, width, height, bytes);
@@ -117,12 +142,17 @@ void writePngRgb8(const fs::path& path, int width, int height, std::span<const s
   writeFileAtomically(path, png);
 }
 
-void writeImage(const fs::path& path, int width, int height, std::span<const float> rgb, double exposureEV) {
+void writeImage(const fs::path& path, int width, int height, std::span<const float> rgb) {
+  writeImage(path, width, height, rgb, DisplayTransform{});
+}
+
+void writeImage(const fs::path& path, int width, int height, std::span<const float> rgb,
+                const DisplayTransform& transform) {
   const std::string ext = lowerExtension(path);
   if (ext == ".exr")
     writeExr(path, width, height, rgb);
   else if (ext == ".png")
-    writePng(path, width, height, rgb, exposureEV);
+    writePng(path, width, height, rgb, transform);
   else
     throw Error("cannot write " + path.string() + ": unsupported extension '" + ext +
                 "' (supported output formats: .exr, .png)");

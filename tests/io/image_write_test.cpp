@@ -177,7 +177,7 @@ TEST_CASE("writeImage: dispatch on the extension, errors name the file") {
   SUBCASE(".exr and .PNG") {
     writeImage(dir.file("out.exr"), 2, 1, rgb);
     CHECK(loadEnvImage(dir.file("out.exr")).rgb == rgb);
-    writeImage(dir.file("out.PNG"), 2, 1, rgb, 0.0);
+    writeImage(dir.file("out.PNG"), 2, 1, rgb);
     CHECK(loadPng(dir.file("out.PNG")).rgb[0] == 188);
   }
   SUBCASE("unsupported extension") {
@@ -201,4 +201,36 @@ TEST_CASE("writeImage: dispatch on the extension, errors name the file") {
       CHECK_FALSE(contains(message, "<"));
     }
   }
+}
+
+TEST_CASE("display: the automatic exposure keys the object's log-average luminance to 0.18") {
+  // Grey pixels of 0.09 and 0.36 (Y = value): log-average 0.18, so 0 EV; a uniform 0.09 needs +1 EV.
+  const std::vector<float> twoGreys = {0.09f, 0.09f, 0.09f, 0.36f, 0.36f, 0.36f};
+  CHECK(autoExposureEV(twoGreys, {}) == doctest::Approx(0.0).epsilon(1e-6));
+  CHECK(autoExposureEV(std::vector<float>(6, 0.09f), {}) == doctest::Approx(1.0).epsilon(1e-6));
+  // Rec. 709 weights: pure green of 0.18 / 0.7152 has Y = 0.18.
+  CHECK(autoExposureEV(std::vector<float>{0.0f, 0.18f / 0.7152f, 0.0f}, {}) == doctest::Approx(0.0).epsilon(1e-6));
+  // Background pixels (mask 0), black and non-finite pixels are left out.
+  const std::vector<float> mixed = {0.09f, 0.09f, 0.09f, 1000.0f, 1000.0f, 1000.0f, 0.0f, 0.0f, 0.0f,
+                                    std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f};
+  const std::vector<std::uint8_t> mask = {1, 0, 1, 1};
+  CHECK(autoExposureEV(mixed, mask) == doctest::Approx(1.0).epsilon(1e-6));
+  CHECK(autoExposureEV(std::vector<float>(6, 0.0f), {}) == 0.0);  // nothing lit: no change
+  CHECK(autoExposureEV(std::vector<float>(3, 1e-30f), {}) == 32.0);  // clamped
+
+  const DisplaySettings automatic{.exposureEV = -0.5};
+  const DisplayTransform resolved = resolveDisplay(automatic, std::vector<float>(6, 0.09f), {});
+  CHECK(resolved.exposureEV == doctest::Approx(0.5).epsilon(1e-6));  // +1 automatic, -0.5 compensation
+  CHECK(resolved.tonemap == Tonemap::Aces);                          // the default curve
+  const DisplaySettings manual{.autoExposure = false, .exposureEV = 2.0, .tonemap = Tonemap::Clamp, .gamma = 2.2};
+  const DisplayTransform fixed = resolveDisplay(manual, std::vector<float>(6, 0.09f), {});
+  CHECK(fixed.exposureEV == 2.0);
+  CHECK(fixed.gamma == 2.2);
+  // The default scene's problem: a sphere lit by a 1e4 sun beside a sky of 1 has pixels far above 1; the
+  // automatic exposure brings its typical pixel to mid grey, so the default curve does not clip it white.
+  std::vector<float> lit(3 * 100);
+  for (std::size_t p = 0; p < 100; ++p) lit[3 * p] = lit[3 * p + 1] = lit[3 * p + 2] = float(20.0 + p);
+  const DisplayTransform t = resolveDisplay(DisplaySettings{}, lit, {});
+  CHECK(toDisplayByte(lit[3 * 50], t) < 200);
+  CHECK(toDisplayByte(lit[3 * 50], DisplayTransform{}) == 255);  // exposure 0, clamp: white
 }

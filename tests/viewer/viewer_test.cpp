@@ -78,15 +78,17 @@ Png viewerScreenshot(const std::string& args, uint32_t frames, const std::string
 
 // The same passes rendered headless, in display bytes (RGB, top row first).
 std::vector<unsigned char> headless(const SceneSpec& sceneSpec, const MethodSpec& methodSpec, uint32_t passes,
-                                    uint32_t spp, const DisplayTransform& display) {
+                                    uint32_t spp, const DisplaySettings& display) {
   const Scene scene = loadScene(sceneSpec);
   VulkanContext context;
   ShaderCompiler compiler;
   Renderer renderer(context, compiler, scene, resolveMethod(methodSpec, *scene.brdf), 1);
   for (uint32_t p = 0; p < passes; ++p) renderer.runPass(spp);
   const std::vector<float> rgb = renderer.meanRgb();
+  // As render's PNG: the automatic exposure of this image's object pixels.
+  const DisplayTransform transform = resolveDisplay(display, rgb, scene.gbuffer.objectMask());
   std::vector<unsigned char> bytes(rgb.size());
-  for (std::size_t i = 0; i < rgb.size(); ++i) bytes[i] = toDisplayByte(rgb[i], display);
+  for (std::size_t i = 0; i < rgb.size(); ++i) bytes[i] = toDisplayByte(rgb[i], transform);
   return bytes;
 }
 
@@ -122,14 +124,14 @@ TEST_CASE("viewer: the scripted screenshot shows the same passes as a headless r
   struct Run {
     std::string args;
     MethodSpec method;
-    DisplayTransform display;
+    DisplaySettings display;
   };
   std::vector<Run> runs;
-  runs.push_back({"", MethodSpec{}, DisplayTransform{}});
+  runs.push_back({"", MethodSpec{}, DisplaySettings{}});  // the default: automatic exposure, ACES
   MethodSpec hierSobol;
   hierSobol.method = "env-hier", hierSobol.sequence = "sobol";
-  runs.push_back({"--method env-hier --seq sobol --exposure 1.5 --tonemap aces", hierSobol,
-                  DisplayTransform{.exposureEV = 1.5, .tonemap = Tonemap::Aces}});
+  runs.push_back({"--method env-hier --seq sobol --auto-exposure off --exposure 1.5 --tonemap reinhard", hierSobol,
+                  DisplaySettings{.autoExposure = false, .exposureEV = 1.5, .tonemap = Tonemap::Reinhard}});
   for (const Run& run : runs) {
     CAPTURE(run.args);
     const uint32_t frames = 6, spp = 4;

@@ -178,6 +178,29 @@ void addSampleFlags(ArgParser& p, RenderSpec& s) {
           [&](const std::string& v) { s.seed = parseUint("--seed", v, 0, 0xffffffffu); });
 }
 
+void addDisplayFlags(ArgParser& p, DisplaySettings& display) {
+  p.value("--exposure", "EV",
+          "exposure in stops: added to the automatic exposure, or the whole exposure with --auto-exposure off "
+          "(default 0)",
+          [&](const std::string& v) { display.exposureEV = parseDouble("--exposure", v, -64, 64); });
+  p.value("--auto-exposure", "on|off",
+          "on (default): expose the object's log-average luminance to middle grey (0.18)",
+          [&](const std::string& v) {
+            if (v != "on" && v != "off") throw Error("--auto-exposure " + v + ": expected on or off");
+            display.autoExposure = v == "on";
+          });
+  p.value("--tonemap", "CURVE", "aces (default, filmic), reinhard or clamp", [&](const std::string& v) {
+    for (std::size_t i = 0; i < std::size(kTonemapNames); ++i)
+      if (v == kTonemapNames[i]) {
+        display.tonemap = Tonemap(i);
+        return;
+      }
+    throw Error("--tonemap " + v + ": expected aces, reinhard or clamp");
+  });
+  p.value("--gamma", "G", "display gamma instead of the sRGB curve (1 to 3)",
+          [&](const std::string& v) { display.gamma = parseDouble("--gamma", v, 1, 3); });
+}
+
 void addRunFlags(ArgParser& p, RenderSpec& s) {
   addSampleFlags(p, s);
   p.value("--passes", "N", "number of passes (default 32)",
@@ -186,8 +209,7 @@ void addRunFlags(ArgParser& p, RenderSpec& s) {
           [&](const std::string& v) { s.timeBudgetSeconds = parseDouble("--time", v, 1e-3, 1e7); });
   p.value("--out", "FILE", "output image: .exr (linear float) or .png (tonemapped)",
           [&](const std::string& v) { s.out = v; });
-  p.value("--exposure", "EV", "exposure for .png output (default 0)",
-          [&](const std::string& v) { s.exposure = parseDouble("--exposure", v, -64, 64); });
+  addDisplayFlags(p, s.display);
   p.toggle("--reference", "also compute the ground truth and report the error against it",
            [&] { s.reference = true; });
   p.value("--reference-file", "FILE",

@@ -1,6 +1,7 @@
 // The shared flags of DESIGN §8, parsed once into one RenderSpec for every subcommand that renders.
 #pragma once
 
+#include "engine/io/image_write.h"
 #include "engine/render/scene.h"
 
 #include <cstdint>
@@ -20,7 +21,7 @@ struct RenderSpec {
   std::optional<double> timeBudgetSeconds;  // --time: run passes until this much wall time has passed
   uint32_t seed = 1;
   std::string out;
-  double exposure = 0.0;
+  DisplaySettings display;  // .png output
   bool reference = false;
   std::filesystem::path referenceFile;  // --reference-file: a ground truth written by `iblx reference`
   bool json = false;
@@ -60,7 +61,9 @@ void addParamFlag(ArgParser& parser, std::vector<std::pair<std::string, std::str
 void addMethodFlags(ArgParser& parser, RenderSpec& spec);
 // --spp and --seed: which samples a pass draws.
 void addSampleFlags(ArgParser& parser, RenderSpec& spec);
-// addSampleFlags plus --passes, --time, --out, --exposure, --reference, --reference-file and --json.
+// --exposure, --auto-exposure, --tonemap and --gamma: how radiance becomes display bytes.
+void addDisplayFlags(ArgParser& p, DisplaySettings& display);
+// addSampleFlags plus --passes, --time, --out, the display flags, --reference, --reference-file and --json.
 void addRunFlags(ArgParser& parser, RenderSpec& spec);
 void addDeviceFlags(ArgParser& parser, RenderSpec& spec);
 // --list-methods: the registry, and the parameters of a --brdf file.

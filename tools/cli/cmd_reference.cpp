@@ -28,7 +28,7 @@ int cmdReference(const Args& args) {
   options.progress = [](double f) { progressLine("reference " + std::to_string(int(100 * f)) + "%"); };
   const ReferenceImage ref = computeReference(context, compiler, scene, options);
   endProgressLine();
-  writeImage(spec.out, ref.width, ref.height, ref.rgb, 0.0);
+  writeImage(spec.out, ref.width, ref.height, ref.rgb);
   std::printf("reference of %dx%d (env %dx%d, fine quadrature %d) in %.2f s on %s; wrote %s\n", ref.width,
               ref.height, scene.env.width, scene.env.height, ref.fineSubdivisions, ref.seconds,
               context.deviceName().c_str(), spec.out.c_str());

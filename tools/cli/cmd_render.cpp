@@ -110,7 +110,8 @@ int cmdRender(const Args& args) {
     referenceSeconds = ref.seconds;
     error = compareToReference(scene.gbuffer, rgb, ref.rgb);
   }
-  writeImage(spec.out, scene.gbuffer.width, scene.gbuffer.height, rgb, spec.exposure);
+  writeImage(spec.out, scene.gbuffer.width, scene.gbuffer.height, rgb,
+             resolveDisplay(spec.display, rgb, scene.gbuffer.objectMask()));
 
   const double samples = double(scene.gbuffer.objectPixelCount()) * double(renderer.samplesPerPixel());
   const double totalWall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

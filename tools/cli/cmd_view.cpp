@@ -21,22 +21,7 @@ int cmdView(const Args& args) {
                [&](const std::string& v) { spec.samplesPerPass = parseUint("--spp", v, 1, 4096); });
   parser.value("--seed", "N", "seed of the sample sequences (default 1)",
                [&](const std::string& v) { spec.seed = parseUint("--seed", v, 0, 0xffffffffu); });
-  parser.value("--exposure", "EV", "display exposure in stops (default 0)", [&](const std::string& v) {
-    options.display.exposureEV = parseDouble("--exposure", v, -30, 30);
-  });
-  parser.value("--tonemap", "CURVE", "clamp (default, as render's PNG), reinhard or aces",
-               [&](const std::string& v) {
-                 if (v == "clamp")
-                   options.display.tonemap = Tonemap::Clamp;
-                 else if (v == "reinhard")
-                   options.display.tonemap = Tonemap::Reinhard;
-                 else if (v == "aces")
-                   options.display.tonemap = Tonemap::Aces;
-                 else
-                   throw Error("--tonemap " + v + ": expected clamp, reinhard or aces");
-               });
-  parser.value("--gamma", "G", "display gamma instead of the sRGB curve (1 to 3)",
-               [&](const std::string& v) { options.display.gamma = parseDouble("--gamma", v, 1, 3); });
+  addDisplayFlags(parser, options.display);
   parser.toggle("--no-background", "show the background in grey instead of the environment",
                 [&] { options.background = false; });
   parser.value("--frames", "N", "scripted mode: render N frames (one pass each), then exit",

@@ -423,6 +423,9 @@ class ViewerApp {
   void updateCanvas(std::span<const float> rgb) {
     const GBuffer& g = active_.scene ? active_.scene->gbuffer : scene_->gbuffer;
     canvas_.assign(std::size_t(g.width) * g.height * 4, 0);
+    // The same transform as render's PNG of the same image: the automatic exposure reads the object pixels.
+    const DisplayTransform display = resolveDisplay(options_.display, rgb, g.objectMask());
+    shownExposureEV_ = display.exposureEV;
     for (std::size_t p = 0; p < std::size_t(g.width) * g.height; ++p) {
       std::uint8_t* out = &canvas_[4 * p];
       out[3] = 255;
@@ -431,9 +434,9 @@ class ViewerApp {
         out[0] = out[1] = out[2] = kWindowGrey;
         continue;
       }
-      out[2] = toDisplayByte(rgb[3 * p + 0], options_.display);  // BGRA
-      out[1] = toDisplayByte(rgb[3 * p + 1], options_.display);
-      out[0] = toDisplayByte(rgb[3 * p + 2], options_.display);
+      out[2] = toDisplayByte(rgb[3 * p + 0], display);  // BGRA
+      out[1] = toDisplayByte(rgb[3 * p + 1], display);
+      out[0] = toDisplayByte(rgb[3 * p + 2], display);
     }
   }
 
@@ -601,12 +604,16 @@ class ViewerApp {
     }
 
     if (ImGui::CollapsingHeader("display", ImGuiTreeNodeFlags_DefaultOpen)) {
+      ImGui::Checkbox("auto exposure", &options_.display.autoExposure);
+      ImGui::SameLine();
+      ImGui::TextDisabled("(%+.2f EV shown)", shownExposureEV_);
       float exposure = float(options_.display.exposureEV);
-      if (ImGui::SliderFloat("exposure (EV)", &exposure, -10.0f, 10.0f))
+      if (ImGui::SliderFloat(options_.display.autoExposure ? "EV offset" : "exposure (EV)", &exposure,
+                             -10.0f, 10.0f))
         options_.display.exposureEV = exposure;
-      static const char* curves[] = {"clamp", "Reinhard", "ACES (fit)"};
       int curve = int(options_.display.tonemap);
-      if (ImGui::Combo("tonemap", &curve, curves, 3)) options_.display.tonemap = Tonemap(curve);
+      if (ImGui::Combo("tonemap", &curve, kTonemapNames, int(std::size(kTonemapNames))))
+        options_.display.tonemap = Tonemap(curve);
       bool srgb = options_.display.gamma <= 0.0;
       if (ImGui::Checkbox("sRGB curve", &srgb)) options_.display.gamma = srgb ? 0.0 : 2.2;
       if (!srgb) {
@@ -698,6 +705,7 @@ class ViewerApp {
   int overlayCount_ = 256;
   std::vector<float> shown_;  // the mean image on screen (read back after each pass)
   std::vector<std::uint8_t> canvas_;
+  double shownExposureEV_ = 0.0;  // the exposure the last canvas was drawn with (automatic + compensation)
   std::string error_;
   bool rebuild_ = true;
   bool paused_ = false;

@@ -20,7 +20,7 @@ struct ViewerOptions {
   MethodSpec method;
   uint32_t samplesPerPass = 4;
   uint32_t seed = 1;
-  DisplayTransform display;
+  DisplaySettings display;
   bool background = true;
   std::string device;
   bool validation = false;
