@@ -202,22 +202,41 @@ ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double target
   return summary;
 }
 
-std::string formatSummaryTable(const ConvergenceSummary& summary) {
+std::string formatMarkdownTable(const TextTable& table) {
   std::ostringstream s;
-  s << "Equal time: " << formatSeconds(summary.equalTimeSeconds)
-    << " of rendering (the shortest run); target relMSE " << formatNumber(summary.targetRelMse) << ".\n\n";
-  s << "| method | seq | seeds | spp | time | setup | MSE (min–max over seeds) | relMSE | slope vs spp | "
-       "time to target | MSE at equal time | × best | efficiency 1/(MSE·s) |\n";
-  s << "|---|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|\n";
-  for (const auto& r : summary.rows) {
-    s << "| " << r.method << " | " << r.sequence << " | " << r.seeds << " | " << r.spp << " | "
-      << formatSeconds(r.seconds) << " | " << formatSeconds(r.setupSeconds) << " | " << formatNumber(r.mse)
-      << " (" << formatNumber(r.mseLow, "%.2g") << "–" << formatNumber(r.mseHigh, "%.2g") << ") | "
-      << formatNumber(r.relMse) << " | " << formatNumber(r.slopeSpp, "%.2f") << " | "
-      << formatSeconds(r.timeToTarget) << " | " << formatNumber(r.equalTimeMse) << " | "
-      << formatNumber(r.equalTimeRatio, "%.2f") << " | " << formatNumber(r.efficiency) << " |\n";
+  s << "|";
+  for (const auto& h : table.headers) s << " " << h << " |";
+  s << "\n|";
+  for (std::size_t c = 0; c < table.headers.size(); ++c)
+    s << (c < table.rightAligned.size() && table.rightAligned[c] ? "---:|" : "---|");
+  s << "\n";
+  for (const auto& row : table.rows) {
+    s << "|";
+    for (const auto& cell : row) s << " " << cell << " |";
+    s << "\n";
   }
   return s.str();
+}
+
+TextTable summaryTable(const ConvergenceSummary& summary) {
+  TextTable t;
+  t.headers = {"method", "seq", "seeds", "spp", "time", "setup", "MSE (min–max over seeds)", "relMSE",
+               "slope vs spp", "time to target", "MSE at equal time", "× best", "efficiency 1/(MSE·s)"};
+  t.rightAligned = {false, false, true, true, true, true, false, true, true, true, true, true, true};
+  for (const auto& r : summary.rows)
+    t.rows.push_back({r.method, r.sequence, std::to_string(r.seeds), std::to_string(r.spp),
+                      formatSeconds(r.seconds), formatSeconds(r.setupSeconds),
+                      formatNumber(r.mse) + " (" + formatNumber(r.mseLow, "%.2g") + "–" +
+                          formatNumber(r.mseHigh, "%.2g") + ")",
+                      formatNumber(r.relMse), formatNumber(r.slopeSpp, "%.2f"), formatSeconds(r.timeToTarget),
+                      formatNumber(r.equalTimeMse), formatNumber(r.equalTimeRatio, "%.2f"),
+                      formatNumber(r.efficiency)});
+  return t;
+}
+
+std::string formatSummaryTable(const ConvergenceSummary& summary) {
+  return "Equal time: " + formatSeconds(summary.equalTimeSeconds) + " of rendering (the shortest run); target relMSE " +
+         formatNumber(summary.targetRelMse) + ".\n\n" + formatMarkdownTable(summaryTable(summary));
 }
 
 std::string formatSummaryJson(const ConvergenceSummary& summary) {

@@ -86,6 +86,16 @@ struct ConvergenceSummary {
 // Groups runs by (method, sequence). Throws iblx::Error when there is no run with a point.
 ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double targetRelMse);
 
+// A table of text cells, written as Markdown (terminal, docs) or HTML (report pages) from one definition.
+struct TextTable {
+  std::vector<std::string> headers;
+  std::vector<bool> rightAligned;  // per column: numbers
+  std::vector<std::vector<std::string>> rows;
+};
+std::string formatMarkdownTable(const TextTable& table);
+
+// The summary's table: one row per method and sequence.
+TextTable summaryTable(const ConvergenceSummary& summary);
 // The summary as a Markdown table (with the common time and the target), for the terminal and docs.
 std::string formatSummaryTable(const ConvergenceSummary& summary);
 

@@ -10,9 +10,10 @@
 #include "tools/cli/commands.h"
 #include "tools/cli/converge_figures.h"
 #include "tools/cli/measurement.h"
+#include "tools/cli/report_html.h"
 
+#include <algorithm>
 #include <cstdio>
-#include <fstream>
 
 namespace iblx::cli {
 
@@ -104,27 +105,50 @@ int cmdConverge(const Args& args) {
   writeConvergenceCsv(outDir / "converge.csv", result.runs);
   writeExr(outDir / "reference.exr", scene.gbuffer.width, scene.gbuffer.height, reference);
   const ConvergenceSummary summary = summarize(result.runs, targetRelMse);
-  std::vector<std::string> figures;
+  std::vector<std::string> plotFiles, heatMaps, finalImages;
   if (plots) {
-    figures = writeConvergencePlots(outDir, sceneTitle, result.runs);
-    for (auto& f : writeErrorHeatMaps(outDir, scene.gbuffer, result.images, reference)) figures.push_back(f);
+    plotFiles = writeConvergencePlots(outDir, sceneTitle, result.runs);
+    heatMaps = writeErrorHeatMaps(outDir, scene.gbuffer, result.images, reference);
+    finalImages = writeFinalImages(outDir, scene.gbuffer, result.images, reference);
   }
+  const std::size_t figureCount = plotFiles.size() + heatMaps.size() + finalImages.size();
   const std::string table = formatSummaryTable(summary);
-  {
-    AtomicOutput output(outDir / "summary.md");
-    std::ofstream& md = output.stream();
-    md << "# iblx converge: " << sceneTitle << "\n\nDevice: " << context.deviceName()
-       << ". Seeds: " << seeds.size() << ". Budget per run: "
-       << budgetText(budget)
-       << (result.interrupted ? " (interrupted)" : "") << ".\n\n"
-       << table;
-    output.commit();
+  const std::string setting = "Device: " + context.deviceName() + ". Seeds: " + std::to_string(seeds.size()) +
+                              ". Budget per run: " + budgetText(budget) +
+                              (result.interrupted ? " (interrupted)" : "") + ".";
+  writeFileAtomically(outDir / "summary.md", "# iblx converge: " + sceneTitle + "\n\n" + setting + "\n\n" + table);
+
+  HtmlReport report("iblx converge: " + sceneTitle);
+  report.paragraph(setting);
+  report.heading("Summary");
+  report.paragraph("Equal time: the end of the shortest run. × best: MSE at equal time over the best method's. "
+                   "Click a column's header to sort by it.");
+  report.table(summaryTable(summary));
+  if (plots) {
+    std::vector<HtmlReport::Figure> plotFigures, finalFigures, heatFigures;
+    for (const auto& f : plotFiles) plotFigures.push_back({f, outDir / f});
+    finalFigures.push_back({"reference (ground truth)", outDir / finalImages.front()});
+    for (std::size_t i = 0; i < result.images.size(); ++i) {
+      finalFigures.push_back({imageCaption(result.images[i]), outDir / finalImages[i + 1]});
+      heatFigures.push_back({imageCaption(result.images[i]), outDir / heatMaps[i]});
+    }
+    const int imageWidth = std::max(scene.gbuffer.width, 192);
+    report.heading("Error against samples and time");
+    report.figures(plotFigures, 620);
+    report.heading(budget.seconds ? "Final images at equal time" : "Final images at equal samples");
+    report.paragraph("The first seed's image of each method at the end of its run, beside the reference, all "
+                     "under the reference's display transform (automatic exposure, ACES), so brightness compares.");
+    report.figures(finalFigures, imageWidth);
+    report.heading("Per-pixel error");
+    report.paragraph("Relative squared error (x - r)^2 / (r^2 + 0.01) of the same images, on one log scale.");
+    report.figures(heatFigures, 0);
   }
+  report.write(outDir / "report.html");
   if (render.json)
     std::fputs(formatSummaryJson(summary).c_str(), stdout);
   else
-    std::printf("%s\nwrote %s: converge.csv, summary.md, reference.exr and %zu figures\n", table.c_str(),
-                outDir.string().c_str(), figures.size());
+    std::printf("%s\nwrote %s: converge.csv, summary.md, report.html, reference.exr and %zu figures\n",
+                table.c_str(), outDir.string().c_str(), figureCount);
   for (const auto& row : summary.rows)
     if (row.nonFiniteSamples || !row.finite)
       warn(row.method + "/" + row.sequence + ": " + nonFiniteEstimatesMessage(row.nonFiniteSamples, render.scene.brdf));

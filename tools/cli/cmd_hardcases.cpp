@@ -7,7 +7,9 @@
 #include "engine/core/log.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
+#include "tools/cli/converge_figures.h"
 #include "tools/cli/measurement.h"
+#include "tools/cli/report_html.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -36,7 +38,7 @@ int cmdHardCases(const Args& args) {
   addDeviceFlags(parser, render);
   parser.value("--alpha", "A", "family-wise false-alarm rate of the z-tests (default 1e-3)",
                [&](const std::string& v) { familyAlpha = parseDouble("--alpha", v, 1e-12, 0.5); });
-  parser.value("--out-dir", "DIR", "also write one CSV per case and hardcases.md there",
+  parser.value("--out-dir", "DIR", "also write one CSV per case, hardcases.md, report.html and the final images there",
                [&](const std::string& v) { outDir = v; });
   parser.toggle("--json", "one JSON object per case and method instead of the tables",
                 [&] { render.json = true; });
@@ -57,6 +59,10 @@ int cmdHardCases(const Args& args) {
   VulkanContext context({render.device, render.validation ? Validation::On : Validation::Auto});
   ShaderCompiler compiler;
   std::ostringstream markdown;
+  HtmlReport report("iblx hardcases on " + context.deviceName());
+  report.paragraph("Each case renders with every method; a method passes when its image is finite, no estimate was "
+                   "NaN or Inf, and its z-test of the mean signed error stays inside the bound. Rows are ranked "
+                   "by MSE at equal time; click a column's header to sort by it.");
   int failures = 0;
   InterruptGuard interrupt;
   for (const auto& name : caseNames) {
@@ -73,8 +79,9 @@ int cmdHardCases(const Args& args) {
         return true;
       });
     ConvergenceResult result;
+    std::vector<float> reference;
     try {
-      const std::vector<float> reference = obtainReference(context, compiler, scene, &hardCase, spec);
+      reference = obtainReference(context, compiler, scene, &hardCase, spec);
       result = runConvergence(context, compiler, scene, reference, methods, seedList(spec), budget,
                               showProgress, &interrupt.flag());
     } catch (const DeviceLimitError& e) {
@@ -83,6 +90,8 @@ int cmdHardCases(const Args& args) {
           "### " + name + "\n\nSkipped on " + context.deviceName() + ": " + e.what() + "\n";
       std::printf("%s\n", note.c_str());
       markdown << note << "\n";
+      report.heading(name);
+      report.paragraph(std::string("Skipped on ") + context.deviceName() + ": " + e.what());
       continue;
     }
     endProgressLine();
@@ -95,25 +104,25 @@ int cmdHardCases(const Args& args) {
     std::stable_sort(rank.begin(), rank.end(), [&](auto a, auto b) {
       return summary.rows[a].equalTimeRatio < summary.rows[b].equalTimeRatio;
     });
-    std::ostringstream table;
-    table << "### " << name << "\n\n"
-          << hardCase.description << ". Env " << scene.env.width << "x" << scene.env.height << ", "
+    std::ostringstream intro;
+    intro << hardCase.description << ". Env " << scene.env.width << "x" << scene.env.height << ", "
           << scene.gbuffer.width << "x" << scene.gbuffer.height << " px, " << summary.rows.front().spp
           << " spp, |z| bound " << std::to_string(zBound).substr(0, 4)
           << (hardCase.zTested ? "" : " (not judged: rare tail events this budget has not sampled)")
-          << "." << (excluded.empty() ? "" : " Not run: " + excluded + " (" + hardCase.exclusionReason + ").")
-          << "\n\n"
-          << "| rank | method | seq | relMSE | MSE × best at equal time | max |z| | NaN/Inf | check |\n"
-          << "|---:|---|---|---:|---:|---:|---:|---|\n";
+          << "." << (excluded.empty() ? "" : " Not run: " + excluded + " (" + hardCase.exclusionReason + ").");
+    TextTable table;
+    table.headers = {"rank", "method", "seq", "relMSE", "MSE × best at equal time", "max |z|", "NaN/Inf", "check"};
+    table.rightAligned = {true, false, false, true, true, true, true, false};
     for (std::size_t position = 0; position < rank.size(); ++position) {
       const auto& r = summary.rows[rank[position]];
       const bool ok = r.finite && r.nonFiniteSamples == 0 && (!hardCase.zTested || r.maxAbsZ < zBound);
       failures += !ok;
-      char line[512];
-      std::snprintf(line, sizeof line, "| %zu | %s | %s | %.3g | %.2f | %.2f | %u | %s |\n", position + 1,
-                    r.method.c_str(), r.sequence.c_str(), r.relMse, r.equalTimeRatio, r.maxAbsZ,
-                    r.nonFiniteSamples, ok ? "pass" : "FAIL");
-      table << line;
+      char relMse[32], ratio[32], z[32];
+      std::snprintf(relMse, sizeof relMse, "%.3g", r.relMse);
+      std::snprintf(ratio, sizeof ratio, "%.2f", r.equalTimeRatio);
+      std::snprintf(z, sizeof z, "%.2f", r.maxAbsZ);
+      table.rows.push_back({std::to_string(position + 1), r.method, r.sequence, relMse, ratio, z,
+                            std::to_string(r.nonFiniteSamples), ok ? "pass" : "FAIL"});
       if (render.json)
         std::printf(
             "{\"case\": \"%s\", \"rank\": %zu, \"method\": \"%s\", \"sequence\": \"%s\", \"spp\": %llu, "
@@ -124,11 +133,24 @@ int cmdHardCases(const Args& args) {
             r.nonFiniteSamples, r.finite ? "true" : "false", ok ? "true" : "false");
     }
     for (const auto& skipped : result.skipped)
-      table << "| — | " << skipped.method << " | " << skipped.sequence << " | skipped: " << skipped.reason
-            << " | | | | |\n";
-    if (!render.json) std::printf("%s\n", table.str().c_str());
+      table.rows.push_back({"—", skipped.method, skipped.sequence, "skipped: " + skipped.reason, "", "", "", ""});
+    const std::string text = "### " + name + "\n\n" + intro.str() + "\n\n" + formatMarkdownTable(table);
+    if (!render.json) std::printf("%s\n", text.c_str());
     std::fflush(stdout);
-    markdown << table.str() << "\n";
+    markdown << text << "\n";
+    report.heading(name);
+    report.paragraph(intro.str());
+    report.table(table);
+    if (!outDir.empty()) {
+      // The final images under the reference's display transform, in images/ beside the report.
+      const std::filesystem::path imageDir = outDir / "images" / name;
+      std::filesystem::create_directories(imageDir);
+      const std::vector<std::string> files = writeFinalImages(imageDir, scene.gbuffer, result.images, reference);
+      std::vector<HtmlReport::Figure> figures = {{"reference", imageDir / files.front()}};
+      for (std::size_t i = 0; i < result.images.size(); ++i)
+        figures.push_back({imageCaption(result.images[i]), imageDir / files[i + 1]});
+      report.figures(figures, std::max(scene.gbuffer.width, 128));
+    }
     if (result.interrupted) {
       warn("interrupted: the remaining cases were not run");
       break;
@@ -137,6 +159,7 @@ int cmdHardCases(const Args& args) {
   if (!outDir.empty()) {
     writeFileAtomically(outDir / "hardcases.md",
                         "# iblx hardcases on " + context.deviceName() + "\n\n" + markdown.str());
+    report.write(outDir / "report.html");
   }
   if (failures) {
     std::fprintf(stderr, "iblx hardcases: %d method(s) failed a check\n", failures);

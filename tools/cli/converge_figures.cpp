@@ -2,6 +2,7 @@
 #include "tools/cli/converge_figures.h"
 
 #include "engine/analysis/plot.h"
+#include "engine/io/image_write.h"
 #include "engine/render/metrics.h"
 
 #include <algorithm>
@@ -101,6 +102,29 @@ std::vector<std::string> writeConvergencePlots(const std::filesystem::path& dir,
   return written;
 }
 
+std::string imageCaption(const ConvergenceImage& image) {
+  char text[256];
+  std::snprintf(text, sizeof text, "%s/%s at %llu spp, %.2f s", image.method.c_str(), image.sequence.c_str(),
+                static_cast<unsigned long long>(image.point.spp), image.point.wallSeconds);
+  return text;
+}
+
+std::vector<std::string> writeFinalImages(const std::filesystem::path& dir, const GBuffer& gbuffer,
+                                          std::span<const ConvergenceImage> images,
+                                          std::span<const float> reference) {
+  const DisplayTransform display = resolveDisplay(DisplaySettings{}, reference, gbuffer.objectMask());
+  std::vector<std::string> written = {"reference.png"};
+  writePng(dir / written.front(), gbuffer.width, gbuffer.height, reference, display);
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "final-%02zu-", i + 1);
+    const std::string file = name + slug(images[i].method + "-" + images[i].sequence) + ".png";
+    writePng(dir / file, gbuffer.width, gbuffer.height, images[i].rgb, display);
+    written.push_back(file);
+  }
+  return written;
+}
+
 std::vector<std::string> writeErrorHeatMaps(const std::filesystem::path& dir, const GBuffer& gbuffer,
                                             std::span<const ConvergenceImage> images,
                                             std::span<const float> reference) {
@@ -122,11 +146,7 @@ std::vector<std::string> writeErrorHeatMaps(const std::filesystem::path& dir, co
   for (std::size_t i = 0; i < images.size(); ++i) {
     const auto& image = images[i];
     HeatMap map;
-    char title[256];
-    std::snprintf(title, sizeof title, "%s/%s at %llu spp, %.2f s", image.method.c_str(),
-                  image.sequence.c_str(), static_cast<unsigned long long>(image.point.spp),
-                  image.point.wallSeconds);
-    map.title = title;
+    map.title = imageCaption(image);
     map.width = gbuffer.width;
     map.height = gbuffer.height;
     map.values = errors[i];

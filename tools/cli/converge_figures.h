@@ -24,4 +24,14 @@ std::vector<std::string> writeErrorHeatMaps(const std::filesystem::path& dir, co
                                             std::span<const ConvergenceImage> images,
                                             std::span<const float> reference);
 
+// The reference and each method's final image (first seed) as PNGs under one display transform, the
+// reference's (automatic exposure, ACES), so that their brightness compares: reference.png and
+// final-NN-<method>-<sequence>.png. Returns the file names written, the reference first.
+std::vector<std::string> writeFinalImages(const std::filesystem::path& dir, const GBuffer& gbuffer,
+                                          std::span<const ConvergenceImage> images,
+                                          std::span<const float> reference);
+
+// The captions of writeFinalImages' and writeErrorHeatMaps' images: "method/sequence at N spp, T s".
+std::string imageCaption(const ConvergenceImage& image);
+
 }  // namespace iblx::cli
