@@ -15,10 +15,14 @@
 namespace iblx {
 namespace {
 
+// Every character isspace() knows, as tokens() splits on: a line of form feeds is blank, not a line with no
+// tokens.
+constexpr const char* kSpace = " \t\r\n\f\v";
+
 std::string trim(std::string_view s) {
-  const auto first = s.find_first_not_of(" \t\r\n");
+  const auto first = s.find_first_not_of(kSpace);
   if (first == std::string_view::npos) return {};
-  const auto last = s.find_last_not_of(" \t\r\n");
+  const auto last = s.find_last_not_of(kSpace);
   return std::string(s.substr(first, last - first + 1));
 }
 

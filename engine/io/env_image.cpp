@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <limits>
 #include <new>
 #include <span>
@@ -257,8 +258,55 @@ EnvImage readExrLuminanceChroma(const fs::path& path) {
   return image;
 }
 
+// OpenEXR allocates each header attribute at the size the file claims before reading it, so a few hundred
+// bytes can claim gigabytes. The attributes (name\0 type\0 int32 size, value; an empty name ends a header;
+// multi-part files hold several headers, ended by an empty one) are walked here first, and a size larger than
+// what remains of the file is refused. OpenEXR file layout: openexr.com, "OpenEXR File Layout".
+void checkExrAttributeSizes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::uint64_t size = fs::file_size(path);
+  unsigned char version[8];
+  // Not an EXR (magic 76 2f 31 01) or too short: left to OpenEXR, which says so itself.
+  if (!in.read(reinterpret_cast<char*>(version), 8) || version[0] != 0x76 || version[1] != 0x2f ||
+      version[2] != 0x31 || version[3] != 0x01)
+    return;
+  const bool multipart = (version[5] & 0x10) != 0;
+  const auto readName = [&](std::string& name) {
+    name.clear();
+    for (char c; in.get(c);) {
+      if (c == '\0') return true;
+      if (name.size() >= 255) return false;  // names are at most 255 bytes (long-name flag)
+      name += c;
+    }
+    return false;
+  };
+  for (int headers = 0; headers < 1024; ++headers) {
+    std::string name, type;
+    int attributes = 0;
+    for (;; ++attributes) {
+      if (!readName(name)) return;  // truncated: left to OpenEXR's own message
+      if (name.empty()) break;      // end of this header
+      if (!readName(type)) return;
+      unsigned char bytes[4];
+      if (!in.read(reinterpret_cast<char*>(bytes), 4)) return;
+      const std::int32_t length = std::int32_t(std::uint32_t(bytes[0]) | std::uint32_t(bytes[1]) << 8 |
+                                               std::uint32_t(bytes[2]) << 16 | std::uint32_t(bytes[3]) << 24);
+      const std::uint64_t position = std::uint64_t(in.tellg());
+      if (length < 0 || std::uint64_t(length) > size - std::min(size, position))
+        throw Error("corrupt or truncated EXR file " + path.string() + ": header attribute " +
+                    (std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; })
+                         ? "'" + name + "'"
+                         : std::string("#") + std::to_string(attributes + 1)) +
+                    " claims " + std::to_string(length) + " bytes, more than the file holds");
+      in.seekg(length, std::ios::cur);
+    }
+    if (!multipart || attributes == 0) return;
+  }
+}
+
 EnvImage readExrChannels(const fs::path& path) {
   const std::string file = path.string();
+  checkExrAttributeSizes(path);
   Imf::InputFile input(file.c_str());
   const Imf::Header& header = input.header();
   const Imf::ChannelList& channels = header.channels();

@@ -6,14 +6,12 @@
 #include "engine/core/hash.h"
 #include "engine/core/log.h"
 #include "engine/io/env_image.h"
-#include "engine/io/image_write.h"
+#include "engine/io/reference_cache.h"
 
 #include "engine/render/kernel_assembly.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/sphere_mapping.h"
 #include "engine/vk/compute_kernel.h"
-
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -142,8 +140,11 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
 std::uint64_t referenceKey(const Scene& scene, const ReferenceOptions& options) {
   // Bump when the reference's algorithm changes, so stale cached images are not reused.
   constexpr std::string_view kAlgorithmVersion = "iblx-reference-1";
+  // Bump when the cache file's layout changes (2: the EXR is sealed with a checksum,
+  // engine/io/reference_cache.h), so entries of the old layout are not found rather than reported as damaged.
+  constexpr std::string_view kCacheLayout = "cache-layout-2";
   ContentHash hash;
-  hash.add(kAlgorithmVersion);
+  hash.add(kAlgorithmVersion).add(kCacheLayout);
   const int sizes[] = {scene.env.width,           scene.env.height,           scene.gbuffer.width,
                        scene.gbuffer.height,      options.coarseSubdivisions, options.maxFineSubdivisions,
                        int(options.allowMidpoint)};
@@ -163,27 +164,25 @@ ReferenceImage cachedReference(const VulkanContext& context, ShaderCompiler& com
   if (fromCache) *fromCache = false;
   if (cacheDir.empty()) return computeReference(context, compiler, scene, options);
   const auto path = cacheDir / "references" / (hexKey(referenceKey(scene, options)) + ".exr");
+  const int width = scene.gbuffer.width, height = scene.gbuffer.height;
   std::error_code ec;
   if (std::filesystem::exists(path, ec)) {
+    // Validated like any input (engine/io/reference_cache.h): a torn, damaged, mis-sized or non-finite entry
+    // would poison every error measured against it, so it is reported and computed again.
     try {
-      EnvImage image = loadRgbImage(path);
-      if (image.width == scene.gbuffer.width && image.height == scene.gbuffer.height) {
-        if (fromCache) *fromCache = true;
-        return {image.width, image.height, std::move(image.rgb), 0.0, 0};
-      }
+      std::vector<float> rgb = readReferenceCacheFile(path, width, height);
+      if (fromCache) *fromCache = true;
+      return {width, height, std::move(rgb), 0.0, 0};
     } catch (const Error& e) {
-      warn("ignoring the cached reference " + path.string() + ": " + e.what());
+      warn("ignoring the cached ground truth " + std::string(e.what()) + "; computing it again");
     }
   }
   ReferenceImage reference = computeReference(context, compiler, scene, options);
   try {
-    std::filesystem::create_directories(path.parent_path());
-    // Written under a temporary name and renamed, so a concurrent reader never sees half a file.
-    const auto temporary = path.string() + ".tmp" + std::to_string(::getpid());
-    writeExr(temporary, reference.width, reference.height, reference.rgb);
-    std::filesystem::rename(temporary, path);
+    // Sealed and written under a temporary name, then renamed: a concurrent reader never sees half a file.
+    writeReferenceCacheFile(path, reference.width, reference.height, reference.rgb);
   } catch (const std::exception& e) {
-    warn("cannot store the reference in the cache " + cacheDir.string() + ": " + e.what());
+    warn("cannot store the ground truth in the cache " + cacheDir.string() + ": " + e.what());
   }
   return reference;
 }

@@ -25,11 +25,20 @@ struct ReferenceOptions {
   std::function<void(double fraction)> progress;
 };
 
+// A ground truth's own expected error over the object pixels, in the units of ErrorMetrics (engine/render/
+// metrics.h): 0 for the convolution, estimated for a Monte Carlo reference (engine/render/mc_reference.h).
+// An error measured against a noisy reference exceeds the true one by this much on average.
+struct ReferenceNoise {
+  double mse = 0.0;
+  double relMse = 0.0;
+};
+
 struct ReferenceImage {
   int width = 0, height = 0;
   std::vector<float> rgb;  // width*height*3; background pixels hold the environment seen
   double seconds = 0.0;
   int fineSubdivisions = 0;
+  ReferenceNoise noise;
 };
 
 ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
@@ -40,8 +49,10 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
 // size, the quadrature options) and of the reference algorithm's version.
 std::uint64_t referenceKey(const Scene& scene, const ReferenceOptions& options = {});
 
-// computeReference through an on-disk cache: `cacheDir`/references/<key>.exr is read when present (seconds
-// = 0, fromCache set), else the reference is computed and stored there (a cache that cannot be written only
+// computeReference through an on-disk cache: `cacheDir`/references/<key>.exr (a sealed EXR,
+// engine/io/reference_cache.h) is read when present and valid (seconds = 0, fromCache set); an entry that is
+// torn, damaged, of another size or holds NaN/Inf is reported in a one-line warning naming it and replaced.
+// Otherwise the reference is computed and stored there atomically (a cache that cannot be written only
 // warns). An empty cacheDir computes without caching.
 ReferenceImage cachedReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                const std::filesystem::path& cacheDir, const ReferenceOptions& options = {},

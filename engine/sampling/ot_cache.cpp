@@ -9,20 +9,18 @@
 //   i32 iterations, i32 coarseIterations, f64 seconds, f64 l2, f64 l1, f64 linf, i32 foldedQuads,
 //   i32 negativeAreaQuads, u32 converged (0 or 1)
 //   f64[2 (n+1)^2] vertices (x, y), f64[n^2] density, f64[n^2] psi
-//   u64      FNV-1a of every byte before it (a torn or bit-flipped file is ignored)
+//   u64      FNV-1a of every byte before it (the seal of engine/core/cache_file.h: a torn or bit-flipped file
+//            is ignored)
 #include "engine/sampling/ot_cache.h"
 
 #include "engine/core/cache_dir.h"
+#include "engine/core/cache_file.h"
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
 #include "engine/core/log.h"
 
-#include <unistd.h>
-
-#include <atomic>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -93,7 +91,7 @@ class ByteWriter {
 
 class ByteReader {
  public:
-  explicit ByteReader(const std::vector<char>& bytes) : bytes_(bytes) {}
+  explicit ByteReader(std::span<const unsigned char> bytes) : bytes_(bytes) {}
   template <typename T>
   T get() {
     T value;
@@ -107,7 +105,7 @@ class ByteReader {
   }
 
  private:
-  const std::vector<char>& bytes_;
+  std::span<const unsigned char> bytes_;
   std::size_t at_ = 0;
 };
 
@@ -117,29 +115,33 @@ bool allFinite(std::span<const double> values) {
   return true;
 }
 
-// The map stored at `path` for `key` and n, or the reason it cannot be used (Error).
-OtMap readEntry(const std::filesystem::path& path, std::uint64_t key, int n) {
-  const std::size_t expected = kHeaderBytes + payloadBytes(n) + 8;
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) throw Error("cannot read its size");
-  if (size != expected)
-    throw Error("size " + std::to_string(size) + " bytes, expected " + std::to_string(expected));
-  std::ifstream in(path, std::ios::binary);
-  std::vector<char> bytes(expected);
-  if (!in.read(bytes.data(), std::streamsize(expected))) throw Error("truncated");
-  std::uint64_t stored = 0;
-  std::memcpy(&stored, bytes.data() + expected - 8, 8);
-  if (stored != ContentHash().addBytes(bytes.data(), expected - 8).value()) throw Error("checksum mismatch");
+// The largest grid a cache file may hold (the otmap command's limit is 1024): bounds what a header can claim.
+constexpr int kMaxCachedN = 4096;
 
+std::size_t entryBytes(int n) { return kHeaderBytes + payloadBytes(n) + 8; }
+
+// The map in a cache file's payload (seal removed), or the reason it cannot be used (Error, without the file
+// name). key and n: what the entry must have been written for (unset: taken from the header, as the fuzz
+// harness reads any entry).
+OtMap decodeEntry(std::span<const unsigned char> bytes, std::optional<std::uint64_t> expectedKey,
+                  std::optional<int> expectedN) {
   ByteReader reader(bytes);
   char magic[8];
   reader.getBytes(magic, 8);
   if (std::memcmp(magic, kMagic, 8) != 0) throw Error("not an iblx OT map file");
   if (const auto version = reader.get<std::uint32_t>(); version != kFormatVersion)
     throw Error("format version " + std::to_string(version) + ", expected " + std::to_string(kFormatVersion));
-  if (reader.get<std::uint32_t>() != std::uint32_t(n)) throw Error("grid size mismatch");
-  if (reader.get<std::uint64_t>() != key) throw Error("key mismatch");
+  const auto storedN = reader.get<std::uint32_t>();
+  if (storedN < 1 || storedN > std::uint32_t(kMaxCachedN))
+    throw Error("grid size " + std::to_string(storedN) + " out of range [1, " + std::to_string(kMaxCachedN) +
+                "]");
+  const int n = int(storedN);
+  if (expectedN && n != *expectedN) throw Error("grid size mismatch");
+  if (bytes.size() + 8 != entryBytes(n))
+    throw Error("size " + std::to_string(bytes.size() + 8) + " bytes, expected " +
+                std::to_string(entryBytes(n)));
+  if (const auto key = reader.get<std::uint64_t>(); expectedKey && key != *expectedKey)
+    throw Error("key mismatch");
   OtMap map;
   map.n = n;
   map.iterations = reader.get<std::int32_t>();
@@ -157,6 +159,9 @@ OtMap readEntry(const std::filesystem::path& path, std::uint64_t key, int n) {
     throw Error("bad statistics");
   const double stats[] = {map.seconds, map.l2, map.l1, map.linf};
   if (!allFinite(stats)) throw Error("non-finite statistics");
+  // Times and error norms are never negative.
+  for (double s : stats)
+    if (s < 0.0) throw Error("negative statistics");
   map.converged = converged == 1;
   map.vertices.resize(std::size_t(n + 1) * std::size_t(n + 1));
   reader.getBytes(map.vertices.data(), map.vertices.size() * sizeof(glm::dvec2));
@@ -168,15 +173,28 @@ OtMap readEntry(const std::filesystem::path& path, std::uint64_t key, int n) {
   if (!allFinite(std::span(&map.vertices.front().x, 2 * map.vertices.size())) || !allFinite(map.density) ||
       !allFinite(map.psi))
     throw Error("non-finite values");
+  // The solved-for density is floored and normalised to mean 1: every cell is positive.
+  for (double d : map.density)
+    if (!(d > 0.0)) throw Error("a density value that is not positive");
   return map;
+}
+
+OtMap readEntry(const std::filesystem::path& path, std::optional<std::uint64_t> key, std::optional<int> n) {
+  const std::vector<unsigned char> sealed = readSealedCacheFile(path, entryBytes(n ? *n : kMaxCachedN));
+  try {
+    return decodeEntry(sealed, key, n);
+  } catch (const Error& e) {
+    throw Error(path.string() + ": " + e.what());
+  }
 }
 
 void writeEntry(const std::filesystem::path& path, std::uint64_t key, const OtMap& map) {
   const std::size_t cells = std::size_t(map.n) * std::size_t(map.n);
-  if (map.n < 1 || map.vertices.size() != std::size_t(map.n + 1) * std::size_t(map.n + 1) ||
-      map.density.size() != cells || map.psi.size() != cells)
+  if (map.n < 1 || map.n > kMaxCachedN ||
+      map.vertices.size() != std::size_t(map.n + 1) * std::size_t(map.n + 1) || map.density.size() != cells ||
+      map.psi.size() != cells)
     throw Error("the map's arrays do not match its size");
-  ByteWriter writer(kHeaderBytes + payloadBytes(map.n) + 8);
+  ByteWriter writer(kHeaderBytes + payloadBytes(map.n));
   writer.putBytes(kMagic, 8);
   writer.put<std::uint32_t>(kFormatVersion);
   writer.put<std::uint32_t>(std::uint32_t(map.n));
@@ -194,31 +212,10 @@ void writeEntry(const std::filesystem::path& path, std::uint64_t key, const OtMa
   writer.putBytes(map.density.data(), map.density.size() * 8);
   writer.putBytes(map.psi.data(), map.psi.size() * 8);
   IBLX_ASSERT(writer.written() == kHeaderBytes + payloadBytes(map.n));
-  writer.put<std::uint64_t>(ContentHash().addBytes(writer.bytes().data(), writer.written()).value());
   const std::vector<char>& bytes = writer.bytes();
-
-  std::filesystem::create_directories(path.parent_path());
-  // A name unique to this process and call, then an atomic rename: a concurrent reader never sees a torn
-  // file.
-  static std::atomic<std::uint64_t> counter{0};
-  const std::filesystem::path temporary =
-      path.string() + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(temporary, ec);
-      throw Error("cannot write " + temporary.string());
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::filesystem::remove(temporary, ec);
-    throw Error("cannot rename to " + path.string());
-  }
+  // Sealed, under a name unique to this process and call, then renamed: a concurrent reader never sees a
+  // torn file, and a damaged one fails the seal.
+  writeSealedCacheFile(path, std::span(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()));
 }
 
 }  // namespace
@@ -262,6 +259,11 @@ std::filesystem::path otMapCachePath(const std::filesystem::path& cacheDir, std:
   return cacheDir / "otmaps" / (hexKey(key) + ".otmap");
 }
 
+OtMap readOtMapCacheFile(const std::filesystem::path& path, std::optional<std::uint64_t> key,
+                         std::optional<int> n) {
+  return readEntry(path, key, n);
+}
+
 OtMap solveOtMapCached(std::span<const double> density, int n, const OtSolverOptions& options,
                        const std::filesystem::path& cacheDir, bool* fromCache) {
   if (fromCache) *fromCache = false;
@@ -276,8 +278,8 @@ OtMap solveOtMapCached(std::span<const double> density, int n, const OtSolverOpt
       OtMap map = readEntry(path, key, n);
       if (fromCache) *fromCache = true;
       return map;
-    } catch (const std::exception& e) {
-      warn("ignoring the cached OT map " + path.string() + " (" + e.what() + "); solving again");
+    } catch (const Error& e) {
+      warn("ignoring the cached OT map " + std::string(e.what()) + "; solving it again");
     }
   }
   OtMap map = solveOtMap(density, n, options);

@@ -4,14 +4,15 @@
 // Entries live in the shared cache directory (engine/core/cache_dir.h) as `cacheDir`/otmaps/<key>.otmap, the
 // key being a 64-bit FNV-1a hash (engine/core/hash.h) of the cache format version, the density's bytes, n and
 // every option that changes the result (not `threads` or `progress`). A file that is missing, truncated,
-// corrupt or written for another key is ignored and the map is solved again; a cache that cannot be written
-// only warns.
+// corrupt or written for another key is ignored with a one-line warning naming it, and the map is solved
+// again and stored; a cache that cannot be written only warns.
 #pragma once
 
 #include "engine/sampling/ot_solver.h"
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 
 namespace iblx {
@@ -21,6 +22,13 @@ std::uint64_t otMapCacheKey(std::span<const double> density, int n, const OtSolv
 
 // Where the entry of `key` lives under `cacheDir`.
 std::filesystem::path otMapCachePath(const std::filesystem::path& cacheDir, std::uint64_t key);
+
+// Reads and validates one cache file: the seal (engine/core/cache_file.h), the header, the exact size, the
+// statistics and every value (finite; density positive). key and n, when given, must match the header's.
+// Throws Error("PATH: PROBLEM"). solveOtMapCached reads entries this way; the fuzz harness drives it
+// directly.
+OtMap readOtMapCacheFile(const std::filesystem::path& path, std::optional<std::uint64_t> key = {},
+                         std::optional<int> n = {});
 
 // solveOtMap through the cache: the stored map (with the statistics of the solve that produced it, including
 // its `seconds`) when `cacheDir`/otmaps holds a valid entry (fromCache set), else a new solve, stored there

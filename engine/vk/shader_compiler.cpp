@@ -2,24 +2,21 @@
 #include "engine/vk/shader_compiler.h"
 
 #include "engine/core/cache_dir.h"
+#include "engine/core/cache_file.h"
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
+#include "engine/core/large_stack.h"
 #include "engine/core/log.h"
 #include "engine/vk/embedded_shaders.h"
+#include "engine/vk/glsl_messages.h"
 
 #include <glslang/Public/ResourceLimits.h>
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
 
 #include <atomic>
-#include <cstdlib>
-#include <cstring>
-#include <random>
-#include <unistd.h>
-#include <fstream>
 #include <memory>
 #include <mutex>
-#include <sstream>
 
 namespace iblx {
 namespace {
@@ -70,68 +67,60 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& prelude, const 
       cacheDir_.empty() ? std::filesystem::path() : cacheDir_ / "spirv" / (hexKey(hash.value()) + ".spv");
 
   if (!cacheFile.empty()) {
-    std::ifstream in(cacheFile, std::ios::binary);
-    if (in) {
-      // Layout: SPIR-V words, then the 64-bit content hash of those words (a torn or foreign file is
-      // ignored).
-      std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
-      if (bytes.size() > 8 && (bytes.size() - 8) % 4 == 0) {
-        std::vector<uint32_t> words((bytes.size() - 8) / 4);
-        std::memcpy(words.data(), bytes.data(), bytes.size() - 8);
-        uint64_t stored = 0;
-        std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
-        if (words[0] == 0x07230203u &&
-            stored == ContentHash().add(std::span<const uint32_t>(words)).value()) {
-          ++cacheHits_;
-          return words;
-        }
+    std::error_code ec;
+    if (std::filesystem::exists(cacheFile, ec)) {
+      // A sealed entry (engine/core/cache_file.h) whose words are checked as SPIR-V: a torn, damaged or
+      // foreign file is reported and compiled again, never handed to the driver.
+      try {
+        std::vector<uint32_t> words = readSpirvCacheFile(cacheFile);
+        ++cacheHits_;
+        return words;
+      } catch (const Error& e) {
+        warn("ignoring the cached SPIR-V " + std::string(e.what()) + "; compiling it again");
       }
     }
   }
 
   ++compilations_;
-  glslang::TShader shader(EShLangCompute);
-  const char* strings[] = {prelude.c_str()};
-  const std::string preludeName = "<" + debugName + " prelude>";
-  const char* names[] = {preludeName.c_str()};
-  shader.setStringsWithLengthsAndNames(strings, nullptr, names, 1);
-  shader.setEnvInput(glslang::EShSourceGlsl, EShLangCompute, glslang::EShClientVulkan, 100);
-  shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
-  shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
-  const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
-  EmbeddedIncluder includer(sources_);
-  if (!shader.parse(GetDefaultResources(), 460, false, messages, includer))
-    throw Error("GLSL compile error in " + debugName + ":\n" + shader.getInfoLog());
-  glslang::TProgram program;
-  program.addShader(&shader);
-  if (!program.link(messages)) throw Error("GLSL link error in " + debugName + ":\n" + program.getInfoLog());
-
   std::vector<uint32_t> spirv;
-  glslang::SpvOptions options;
-  options.disableOptimizer = false;
-  options.optimizeSize = false;
-  glslang::GlslangToSpv(*program.getIntermediate(EShLangCompute), spirv, &options);
+  // glslang recurses per operator and nesting level; on a thread with a 256 MiB stack (reserved, touched only
+  // as used) a pathological .brdf that passed the parser's limits still cannot overflow the process's stack.
+  runWithStack(std::size_t(256) << 20, [&] {
+    glslang::TShader shader(EShLangCompute);
+    const char* strings[] = {prelude.c_str()};
+    // glslang writes this name into #line directives around includes, where a quote, backslash or control
+    // character (from a file name) would end the string early.
+    std::string preludeName = "<" + debugName + " prelude>";
+    for (char& c : preludeName)
+      if (c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20) c = '?';
+    const char* names[] = {preludeName.c_str()};
+    shader.setStringsWithLengthsAndNames(strings, nullptr, names, 1);
+    shader.setEnvInput(glslang::EShSourceGlsl, EShLangCompute, glslang::EShClientVulkan, 100);
+    shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
+    shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
+    const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
+    EmbeddedIncluder includer(sources_);
+    if (!shader.parse(GetDefaultResources(), 460, false, messages, includer))
+      throw Error(formatGlslLog(shader.getInfoLog(), debugName));
+    glslang::TProgram program;
+    program.addShader(&shader);
+    if (!program.link(messages)) throw Error(formatGlslLog(program.getInfoLog(), debugName + " (link)"));
+    glslang::SpvOptions options;
+    options.disableOptimizer = false;
+    options.optimizeSize = false;
+    glslang::GlslangToSpv(*program.getIntermediate(EShLangCompute), spirv, &options);
+  });
 
   if (!cacheFile.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(cacheFile.parent_path(), ec);
-    // A name unique to this process and call, then an atomic rename: concurrent compilers never see a torn
-    // file.
-    static std::atomic<uint64_t> counter{0};
-    const auto temp = cacheFile.string() + ".tmp." + std::to_string(::getpid()) + "." +
-                      std::to_string(counter++) + "." + std::to_string(std::random_device{}());
-    std::ofstream out(temp, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(spirv.data()), std::streamsize(spirv.size() * 4));
-    const uint64_t check = ContentHash().add(std::span<const uint32_t>(spirv)).value();
-    out.write(reinterpret_cast<const char*>(&check), sizeof check);
-    out.close();
-    if (out) std::filesystem::rename(temp, cacheFile, ec);
-    if (!out || ec) {
-      std::filesystem::remove(temp, ec);
-      static bool warned = false;
-      if (!warned)
-        warn("cannot write the SPIR-V cache in " + cacheDir_.string() + "; shaders will be recompiled");
-      warned = true;
+    // Sealed, under a temporary name unique to this process and call, then renamed: concurrent compilers
+    // never see a torn file.
+    try {
+      writeSpirvCacheFile(cacheFile, spirv);
+    } catch (const Error& e) {
+      static std::atomic<bool> warned{false};
+      if (!warned.exchange(true))
+        warn(std::string(e.what()) + "; the SPIR-V cache in " + cacheDir_.string() +
+             " is not written, shaders will be recompiled");
     }
   }
   return spirv;

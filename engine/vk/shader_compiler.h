@@ -1,5 +1,7 @@
 // Run-time GLSL -> SPIR-V compilation with glslang, resolving #include against the embedded shaders/ tree,
 // with an on-disk SPIR-V cache keyed by the hash of the prelude, every shader source and the glslang version.
+// Cache entries are sealed and written atomically (engine/core/cache_file.h); a damaged one is reported in a
+// one-line warning naming it and compiled again.
 //
 //   ShaderCompiler compiler;
 //   auto spirv = compiler.compile("#version 460\n...#include \"integrate.comp\"\n", "integrate");

@@ -211,3 +211,13 @@ TEST_CASE("brdf file: limits on a file that is a program, checked before compili
   CHECK(contains(errorMessage([&] { readBrdfFile(big); }), "big.brdf: the file is 256 KiB (262145 bytes), more than the 256 KiB"));
   CHECK(contains(errorMessage([&] { readBrdfFile("/dev/zero"); }), "/dev/zero: it is a device"));
 }
+
+TEST_CASE("brdf file: lines of form feeds or vertical tabs are blank (they once read past an empty token list)") {
+  CHECK(contains(parseError("\n\f\n#\x03"), "bad.brdf:1: empty file"));
+  const BrdfFile f = parseBrdfText("\v\f\nanalytic\n::begin parameters\n\f\v\nfloat n 1 2 1.5\n::end parameters\n"
+                                   "::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return vec3(n); }\n"
+                                   "::end shader\n",
+                                   "ff.brdf");
+  CHECK(f.params.size() == 1);
+  CHECK(contains(parseError("bparam\f\n"), "'bparam' must be followed by the path"));
+}

@@ -612,3 +612,17 @@ TEST_CASE("loadEnvImage: a large EXR is read in stripes, every row in its place"
   writeExr(path, width, height, rgb);
   CHECK(bitwiseEqual(loadEnvImage(path).rgb, rgb));
 }
+
+TEST_CASE("loadEnvImage: an EXR header attribute claiming more than the file holds is refused before it is read") {
+  ScratchDir dir;
+  // Magic, version 2 (single part), then one attribute "comments" of type "string" claiming 2^31 - 1 bytes:
+  // OpenEXR alone allocates that much before finding the file short.
+  std::vector<unsigned char> bytes = {0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0};
+  for (const char* text : {"comments", "string"}) bytes.insert(bytes.end(), text, text + std::strlen(text) + 1);
+  bytes.insert(bytes.end(), {0xff, 0xff, 0xff, 0x7f, 'a', 'b', 'c', 0});
+  const auto path = dir.file("claims.exr");
+  writeBytes(path, bytes);
+  const std::string message = errorMessage([&] { loadEnvImage(path); });
+  checkErrorNamesFile(path, message);
+  CHECK(contains(message, "header attribute 'comments' claims 2147483647 bytes, more than the file holds"));
+}

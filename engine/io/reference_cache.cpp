@@ -1,0 +1,63 @@
+// Sealed ground-truth cache files (engine/io/reference_cache.h).
+#include "engine/io/reference_cache.h"
+
+#include "engine/core/cache_file.h"
+#include "engine/core/error.h"
+#include "engine/core/file_io.h"
+#include "engine/io/env_image.h"
+#include "engine/io/image_write.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace iblx {
+
+namespace {
+
+// The first non-finite value's pixel as "(x, y)", or an empty string.
+std::string firstNonFinitePixel(std::span<const float> rgb, int width) {
+  for (std::size_t i = 0; i < rgb.size(); ++i)
+    if (!std::isfinite(rgb[i])) {
+      const std::size_t pixel = i / 3;
+      char text[96];
+      std::snprintf(text, sizeof text, "%s at pixel (%zu, %zu)", std::isnan(rgb[i]) ? "NaN" : "Inf",
+                    pixel % std::size_t(width), pixel / std::size_t(width));
+      return text;
+    }
+  return {};
+}
+
+}  // namespace
+
+std::vector<float> readReferenceCacheFile(const std::filesystem::path& path, int width, int height) {
+  const std::string file = path.string();
+  if (width <= 0 || height <= 0) throw Error(file + ": no ground truth for an empty image");
+  // An uncompressed float RGB image plus OpenEXR's headers and offset tables bounds a valid entry's size.
+  const std::uint64_t maxBytes = 3 * 4 * std::uint64_t(width) * std::uint64_t(height) +
+                                 16 * std::uint64_t(height) + (std::uint64_t(1) << 16);
+  // The seal first: OpenEXR then reads a file known to be whole, as this process's writer left it.
+  readSealedCacheFile(path, maxBytes);
+  EnvImage image = loadRgbImage(path);
+  if (image.width != width || image.height != height)
+    throw Error(file + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                ", expected " + std::to_string(width) + "x" + std::to_string(height));
+  if (const std::string bad = firstNonFinitePixel(image.rgb, width); !bad.empty())
+    throw Error(file + ": " + bad);
+  return std::move(image.rgb);
+}
+
+void writeReferenceCacheFile(const std::filesystem::path& path, int width, int height,
+                             std::span<const float> rgb) {
+  if (const std::string bad = width > 0 ? firstNonFinitePixel(rgb, width) : ""; !bad.empty())
+    throw Error("not caching " + path.string() + ": the ground truth holds " + bad);
+  std::error_code ec;
+  std::filesystem::create_directories(path.parent_path(), ec);
+  if (ec) throw Error("cannot write " + path.string() + ": " + ec.message());
+  AtomicOutput output(path);
+  writeExr(output.temporaryPath(), width, height, rgb);
+  appendCacheSeal(output.temporaryPath());
+  output.commit();
+}
+
+}  // namespace iblx
