@@ -23,7 +23,7 @@ ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& c
                                  std::span<const float> reference, std::span<const ResolvedMethod> methods,
                                  std::span<const std::uint32_t> seeds, const ConvergenceBudget& budget,
                                  const std::function<void(const ConvergenceProgress&)>& progress,
-                                 const std::atomic<bool>* stop) {
+                                 const std::atomic<bool>* stop, const ReferenceNoise& noise) {
   const std::vector<std::uint64_t> schedule =
       sppSchedule(budget.firstSpp, budget.maxSpp, budget.pointsPerOctave);
   ConvergenceResult result;
@@ -56,8 +56,8 @@ ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& c
         }
         point.spp = renderer.samplesPerPixel();
         const ErrorMetrics e = compareToReference(scene.gbuffer, renderer.meanRgb(), reference);
-        point.mse = e.mse;
-        point.relMse = e.relMse;
+        point.mse = e.mse - noise.mse;
+        point.relMse = e.relMse - noise.relMse;
         run.points.push_back(point);
         if (progress) progress({result.runs.size(), runs, name + "/" + sequence, seed, point});
         if (budget.seconds && point.wallSeconds >= *budget.seconds) break;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "engine/analysis/convergence.h"
+#include "engine/render/reference.h"
 #include "engine/render/scene.h"
 #include "engine/vk/shader_compiler.h"
 
@@ -51,12 +52,14 @@ struct ConvergenceResult {
 // Every method with every seed, each from an empty accumulation to the end of the budget, recording error
 // against `reference` (object pixels) at the budget's schedule. A method whose tables exceed the device's
 // limits (DeviceLimitError) is listed in `skipped` and the others go on. `stop` (e.g. set by Ctrl-C) ends the
-// measurement after the current point; what was recorded is kept.
+// measurement after the current point; what was recorded is kept. `noise`, the reference's own expected error
+// (a Monte Carlo reference), is subtracted from every MSE and relMSE recorded, so that they estimate the error
+// against the truth; an error below the reference's resolution then reads <= 0 (not drawn on log axes).
 ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                  std::span<const float> reference, std::span<const ResolvedMethod> methods,
                                  std::span<const std::uint32_t> seeds, const ConvergenceBudget& budget,
                                  const std::function<void(const ConvergenceProgress&)>& progress = {},
-                                 const std::atomic<bool>* stop = nullptr);
+                                 const std::atomic<bool>* stop = nullptr, const ReferenceNoise& noise = {});
 
 // The methods of the registry that apply to `brdf`, with their default options: what `converge` and
 // `hardcases` run when no --method is given.

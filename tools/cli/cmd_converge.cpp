@@ -44,6 +44,7 @@ int cmdConverge(const Args& args) {
                "a scene of the hard-case suite instead of --env/--brdf/... (see `iblx hardcases --list`)",
                [&](const std::string& v) { caseName = findHardCase(v).name; });
   addMeasurementFlags(parser, spec);
+  addReferenceFlags(parser, spec);
   addDeviceFlags(parser, render);
   parser.value("--target-relmse", "X", "the error whose time to reach is reported (default 1e-3)",
                [&](const std::string& v) { targetRelMse = parseDouble("--target-relmse", v, 1e-12, 1e6); });
@@ -74,7 +75,8 @@ int cmdConverge(const Args& args) {
   const std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene.brdf);
   const std::vector<std::uint32_t> seeds = seedList(spec);
   ShaderCompiler compiler;
-  const std::vector<float> reference = obtainReference(context, compiler, scene, hardCase, spec);
+  const ObtainedReference obtained = obtainReference(context, compiler, scene, hardCase, spec);
+  const std::vector<float>& reference = obtained.rgb;
   // Created once the inputs have been checked (nothing is written for bad input), before the long part.
   std::error_code ec;
   std::filesystem::create_directories(outDir, ec);
@@ -91,7 +93,7 @@ int cmdConverge(const Args& args) {
   {
     InterruptGuard interrupt;
     result = runConvergence(context, compiler, scene, reference, methods, seeds, budget, showProgress,
-                            &interrupt.flag());
+                            &interrupt.flag(), obtained.noise);
   }
   endProgressLine();
   if (result.interrupted)
@@ -107,7 +109,7 @@ int cmdConverge(const Args& args) {
   const ConvergenceSummary summary = summarize(result.runs, targetRelMse);
   std::vector<std::string> plotFiles, heatMaps, finalImages;
   if (plots) {
-    plotFiles = writeConvergencePlots(outDir, sceneTitle, result.runs);
+    plotFiles = writeConvergencePlots(outDir, sceneTitle, result.runs, obtained.noise);
     heatMaps = writeErrorHeatMaps(outDir, scene.gbuffer, result.images, reference);
     finalImages = writeFinalImages(outDir, scene.gbuffer, result.images, reference);
   }
@@ -115,7 +117,8 @@ int cmdConverge(const Args& args) {
   const std::string table = formatSummaryTable(summary);
   const std::string setting = "Device: " + context.deviceName() + ". Seeds: " + std::to_string(seeds.size()) +
                               ". Budget per run: " + budgetText(budget) +
-                              (result.interrupted ? " (interrupted)" : "") + ".";
+                              (result.interrupted ? " (interrupted)" : "") + ". Reference: " +
+                              obtained.description + ".";
   writeFileAtomically(outDir / "summary.md", "# iblx converge: " + sceneTitle + "\n\n" + setting + "\n\n" + table);
 
   HtmlReport report("iblx converge: " + sceneTitle);

@@ -81,7 +81,7 @@ int cmdHardCases(const Args& args) {
     ConvergenceResult result;
     std::vector<float> reference;
     try {
-      reference = obtainReference(context, compiler, scene, &hardCase, spec);
+      reference = obtainReference(context, compiler, scene, &hardCase, spec).rgb;
       result = runConvergence(context, compiler, scene, reference, methods, seedList(spec), budget,
                               showProgress, &interrupt.flag());
     } catch (const DeviceLimitError& e) {

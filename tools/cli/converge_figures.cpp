@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 
 namespace iblx::cli {
@@ -57,7 +58,8 @@ std::string slug(const std::string& text) {
 
 std::vector<std::string> writeConvergencePlots(const std::filesystem::path& dir,
                                                const std::string& sceneTitle,
-                                               std::span<const ConvergenceRun> runs) {
+                                               std::span<const ConvergenceRun> runs,
+                                               const ReferenceNoise& noise) {
   // Groups in first-seen order; a method keeps its colour across sequences, later sequences are dashed.
   std::vector<std::pair<std::string, std::string>> order;
   std::map<std::pair<std::string, std::string>, std::vector<const ConvergenceRun*>> groups;
@@ -92,6 +94,21 @@ std::vector<std::string> writeConvergencePlots(const std::filesystem::path& dir,
         s.color = paletteColor(methodIndex);
         s.dashed = key.second != sequences.front();
         plot.series.push_back(std::move(s));
+      }
+      if (const double floor = relative ? noise.relMse : noise.mse; floor > 0.0) {
+        double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+        for (const auto& s : plot.series)
+          for (double x : s.x)
+            if (x > 0.0 && std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
+        if (hi > 0.0) {
+          PlotSeries s;
+          s.label = "reference noise";
+          s.x = {lo, hi};
+          s.y = {floor, floor};
+          s.color = {150, 150, 150};
+          s.dashed = true;
+          plot.series.push_back(std::move(s));
+        }
       }
       const std::string name =
           std::string(relative ? "relmse" : "mse") + (timeAxis ? "_vs_time.png" : "_vs_spp.png");

@@ -13,10 +13,12 @@
 namespace iblx::cli {
 
 // Writes mse_vs_spp.png, mse_vs_time.png, relmse_vs_spp.png and relmse_vs_time.png into `dir`; returns the
-// file names written.
+// file names written. A reference with noise (Monte Carlo) adds its level as a grey dashed floor: errors near
+// it are not resolved.
 std::vector<std::string> writeConvergencePlots(const std::filesystem::path& dir,
                                                const std::string& sceneTitle,
-                                               std::span<const ConvergenceRun> runs);
+                                               std::span<const ConvergenceRun> runs,
+                                               const ReferenceNoise& noise = {});
 
 // One heat map per final image, heat-NN-<method>-<sequence>.png, of the per-pixel relative squared error on a
 // log scale shared by all of them; returns the file names written.

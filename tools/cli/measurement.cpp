@@ -91,32 +91,65 @@ std::vector<std::uint32_t> seedList(const MeasurementSpec& spec) {
   return seeds;
 }
 
-std::vector<float> obtainReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
-                                   const HardCase* hardCase, const MeasurementSpec& spec) {
+void addReferenceFlags(ArgParser& p, MeasurementSpec& s) {
+  p.value("--reference", "exact|mc",
+          "exact (default): the convolution; mc: the mean of two runs of --reference-method, with its own error "
+          "estimated from their difference and subtracted from every error",
+          [&](const std::string& v) {
+            if (v != "exact" && v != "mc") throw Error("--reference " + v + ": expected exact or mc");
+            s.monteCarloReference = v == "mc";
+          });
+  p.value("--reference-time", "S", "--reference mc: seconds of rendering for both runs together (default 20)",
+          [&](const std::string& v) { s.mc.seconds = parseDouble("--reference-time", v, 0.01, 1e6); });
+  p.value("--reference-method", "NAME[:OPTION]...",
+          "--reference mc: the method, as --method (default mis, with the sobol sequence)", [&](const std::string& v) {
+            const std::string sequence = s.mc.method.sequence;
+            s.mc.method = parseMethodVariant(v);
+            s.mc.method.sequence = sequence;
+          });
+}
+
+ObtainedReference obtainReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                                  const HardCase* hardCase, const MeasurementSpec& spec) {
   if (!spec.referenceFile.empty())
-    return readReferenceFile(spec.referenceFile, scene.gbuffer.width, scene.gbuffer.height, "the scene's");
+    return {readReferenceFile(spec.referenceFile, scene.gbuffer.width, scene.gbuffer.height, "the scene's"), {},
+            "read from " + spec.referenceFile.string()};
   if (hardCase && hardCase->exactReference) {
     std::fprintf(stderr, "reference: closed form of hard case %s\n", hardCase->name.c_str());
-    return hardCase->exactReference(scene);
+    return {hardCase->exactReference(scene), {}, "closed form of hard case " + hardCase->name};
   }
   // Ctrl-C abandons the ground truth between dispatches (exit 130); nothing partial is cached or written.
   InterruptGuard interrupt;
-  ReferenceOptions options;
-  options.progress = [&interrupt](double f) {
+  const auto progress = [&interrupt](double f) {
     if (interrupt.flag().load())
       throw Interrupted("the ground truth was " + std::to_string(int(100 * f)) + "% done; nothing was written");
     progressLine("reference " + std::to_string(int(100 * f)) + "%");
   };
+  const std::filesystem::path cacheDir = spec.noCache ? std::filesystem::path() : defaultCacheDir();
   bool fromCache = false;
-  const ReferenceImage ref =
-      cachedReference(context, compiler, scene, spec.noCache ? std::filesystem::path() : defaultCacheDir(),
-                      options, &fromCache);
+  ReferenceImage ref;
+  std::string kind = "the exact convolution";
+  if (spec.monteCarloReference) {
+    McReferenceOptions options = spec.mc;
+    options.progress = progress;
+    ref = cachedMcReference(context, compiler, scene, cacheDir, options, &fromCache);
+    char text[200];
+    std::snprintf(text, sizeof text, "Monte Carlo: 2 runs of %s, %g s in all; its own MSE %.3g, relMSE %.3g "
+                  "(subtracted from every error)",
+                  resolveMethod(options.method, *scene.brdf).label().c_str(), options.seconds, ref.noise.mse,
+                  ref.noise.relMse);
+    kind = text;
+  } else {
+    ReferenceOptions options;
+    options.progress = progress;
+    ref = cachedReference(context, compiler, scene, cacheDir, options, &fromCache);
+  }
   endProgressLine();
   if (fromCache)
-    std::fprintf(stderr, "reference: from the cache (%s)\n", defaultCacheDir().string().c_str());
+    std::fprintf(stderr, "reference: %s, from the cache (%s)\n", kind.c_str(), defaultCacheDir().string().c_str());
   else
-    std::fprintf(stderr, "reference: computed in %.2f s\n", ref.seconds);
-  return ref.rgb;
+    std::fprintf(stderr, "reference: %s, computed in %.2f s\n", kind.c_str(), ref.seconds);
+  return {std::move(ref.rgb), ref.noise, kind};
 }
 
 InterruptGuard::InterruptGuard() {

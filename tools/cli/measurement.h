@@ -5,6 +5,7 @@
 
 #include "engine/render/convergence_runner.h"
 #include "engine/render/hard_cases.h"
+#include "engine/render/mc_reference.h"
 #include "tools/cli/cli_options.h"
 
 #include <atomic>
@@ -25,6 +26,8 @@ struct MeasurementSpec {
   std::uint64_t defaultMaxSpp = 1024;   // without --max-spp and --time
   std::filesystem::path referenceFile;
   bool noCache = false;
+  bool monteCarloReference = false;  // --reference mc
+  McReferenceOptions mc;             // --reference-time, --reference-method
   // The budget with --max-spp's default: defaultMaxSpp, or unlimited with --time.
   ConvergenceBudget finalBudget() const;
 };
@@ -37,10 +40,19 @@ void addMeasurementFlags(ArgParser& parser, MeasurementSpec& spec);
 std::vector<ResolvedMethod> resolveMethods(const MeasurementSpec& spec, const BrdfInfo& brdf);
 std::vector<std::uint32_t> seedList(const MeasurementSpec& spec);
 
-// The ground truth of `scene`: --reference-file, else the hard case's closed form, else the convolution
-// through the on-disk cache (unless --no-cache). Prints where it came from.
-std::vector<float> obtainReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
-                                   const HardCase* hardCase, const MeasurementSpec& spec);
+// --reference exact|mc, --reference-time and --reference-method (converge).
+void addReferenceFlags(ArgParser& parser, MeasurementSpec& spec);
+
+struct ObtainedReference {
+  std::vector<float> rgb;
+  ReferenceNoise noise;     // 0 unless Monte Carlo
+  std::string description;  // where it came from, for reports
+};
+// The ground truth of `scene`: --reference-file, else the hard case's closed form, else the convolution (or
+// with --reference mc the Monte Carlo reference) through the on-disk cache (unless --no-cache). Prints where it
+// came from.
+ObtainedReference obtainReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                                  const HardCase* hardCase, const MeasurementSpec& spec);
 
 // While alive, Ctrl-C sets flag() instead of ending the process (a second Ctrl-C ends it).
 class InterruptGuard {
