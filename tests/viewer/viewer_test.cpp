@@ -274,3 +274,71 @@ TEST_CASE("sample overlay: the lobe on the disc peaks at the mirror direction, a
                                    .epsilon(1e-4));
   CHECK(at(0, 0) == -1.0);  // outside the disc
 }
+
+namespace {
+
+std::vector<float> headlessRgb(const SceneSpec& sceneSpec, const MethodSpec& methodSpec, uint32_t passes,
+                               uint32_t spp) {
+  const Scene scene = loadScene(sceneSpec);
+  VulkanContext context;
+  ShaderCompiler compiler;
+  Renderer renderer(context, compiler, scene, resolveMethod(methodSpec, *scene.brdf), 1);
+  for (uint32_t p = 0; p < passes; ++p) renderer.runPass(spp);
+  return renderer.meanRgb();
+}
+
+// "...: N passes" on the line that starts with `prefix`.
+uint32_t passesOn(const std::string& out, const std::string& prefix) {
+  const std::size_t line = prefix.empty() ? 0 : out.find("\n" + prefix);
+  REQUIRE_MESSAGE(line != std::string::npos, out);
+  const std::size_t end = out.find('\n', line + 1);
+  const std::string text = out.substr(line, end - line);
+  const std::size_t at = text.rfind(": ", text.find(" passes"));
+  REQUIRE_MESSAGE(at != std::string::npos, text);
+  return uint32_t(std::stoul(text.substr(at + 2)));
+}
+
+}  // namespace
+
+TEST_CASE("viewer: compare mode renders A and B in turn and shows each where it belongs") {
+  SceneSpec scene;
+  scene.width = scene.height = 64;
+  const Scene loaded = loadScene(scene);
+  MethodSpec a, b;
+  b.method = "env-hier", b.sequence = "sobol";
+  for (const std::string view : {"split", "side"}) {
+    CAPTURE(view);
+    const fs::path shotPath = fs::temp_directory_path() / ("iblx_viewer_test_compare_" + view + ".png");
+    fs::remove(shotPath);
+    const std::string out = runCapturing(viewCommand(
+        "--size 64x64 --spp 4 --compare env-hier --compare-seq sobol --compare-view " + view +
+        " --frames 12 --screenshot " + shotPath.string()));
+    const uint32_t passesA = passesOn(out, "mis"), passesB = passesOn(out, "B: ");
+    CHECK(passesA + passesB == 12);  // one pass per frame
+    CHECK(passesA >= 2);             // both ran: equal time, not one after the other
+    CHECK(passesB >= 2);
+    const Png shot = loadPng(shotPath);
+    const std::vector<float> rgbA = headlessRgb(scene, a, passesA, 4), rgbB = headlessRgb(scene, b, passesB, 4);
+    // One display transform for both: A's, as for a single view.
+    const DisplayTransform display = resolveDisplay(DisplaySettings{}, rgbA, loaded.gbuffer.objectMask());
+    int worstA = 0, worstB = 0;
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x) {
+        const std::size_t p = std::size_t(y) * 64 + x;
+        if (loaded.gbuffer.pixels[p].normal.w == 0.0f) continue;
+        // split: A left of the divider at column 32 (drawn white), B right of it; side: A | B.
+        const bool isA = view == "split" ? x < 31 : true;
+        const bool isB = view == "split" ? x > 32 : true;
+        for (int c = 0; c < 3; ++c) {
+          if (isA)
+            worstA = std::max(worstA, std::abs(int(shot.at(x, y)[c]) - int(toDisplayByte(rgbA[3 * p + c], display))));
+          const int bx = view == "side" ? x + 64 : x;
+          if (isB)
+            worstB = std::max(worstB, std::abs(int(shot.at(bx, y)[c]) - int(toDisplayByte(rgbB[3 * p + c], display))));
+        }
+      }
+    CHECK(worstA <= 1);
+    CHECK(worstB <= 1);
+    if (view == "split") CHECK(shot.at(32, 32)[0] == 255);  // the divider
+  }
+}

@@ -1,6 +1,7 @@
 // `iblx view`: the desktop viewer's flags (the scene, method and display flags of `iblx render`, plus the
 // scripted mode used by CI under Xvfb); the viewer itself is tools/viewer/.
 #include "engine/core/error.h"
+#include "engine/render/convergence_runner.h"
 #include "engine/render/methods.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
@@ -50,8 +51,31 @@ int cmdView(const Args& args) {
   parser.value(
       "--overlay-count", "N", "samples shown by the overlay (16-4096, default 256)",
       [&](const std::string& v) { options.overlayCount = parseUint("--overlay-count", v, 16, 4096); });
+  std::string compareSequence;
+  parser.value("--compare", "METHOD[:OPTION]...",
+               "compare mode: also render this method (words as converge --method), in turn at equal time",
+               [&](const std::string& v) { options.compare = parseMethodVariant(v); });
+  parser.value("--compare-seq", "NAME", "compare mode: B's sequence (default: the same as --seq)",
+               [&](const std::string& v) {
+                 (void)findSequence(v);
+                 compareSequence = v;
+               });
+  parser.value("--compare-view", "split|side|flip",
+               "compare mode: split (default: A left, B right of a divider), side (A | B, error maps below "
+               "with --reference) or flip",
+               [&](const std::string& v) {
+                 for (std::size_t i = 0; i < std::size(viewer::kCompareViewNames); ++i)
+                   if (v == viewer::kCompareViewNames[i]) {
+                     options.compareView = viewer::CompareView(i);
+                     return;
+                   }
+                 throw Error("--compare-view " + v + ": expected split, side or flip");
+               });
   addDeviceFlags(parser, spec);
   if (parser.parseOrShowHelp(args)) return 0;
+  if (!compareSequence.empty() && !options.compare)
+    throw Error("--compare-seq " + compareSequence + ": needs --compare METHOD");
+  if (options.compare) options.compare->sequence = compareSequence.empty() ? spec.method.sequence : compareSequence;
   if (spec.listMethods) {
     printRegistry(spec);
     return 0;

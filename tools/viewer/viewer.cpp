@@ -12,6 +12,7 @@
 #include "engine/render/reference.h"
 #include "engine/render/renderer.h"
 #include "tools/viewer/background_job.h"
+#include "tools/viewer/compare_view.h"
 #include "tools/viewer/convergence_plot.h"
 #include "tools/viewer/file_browser.h"
 #include "tools/viewer/sample_overlay.h"
@@ -83,7 +84,7 @@ class ViewerApp {
   }
   ~ViewerApp() {
     for (JobBase* job : std::initializer_list<JobBase*>{referenceJob_.get(), recordJob_.get(),
-                                                        buildJob_.get(), loadJob_.get()})
+                                                        buildJob_.get(), compareBuildJob_.get(), loadJob_.get()})
       if (job) job->cancel();
   }
 
@@ -98,20 +99,27 @@ class ViewerApp {
     // to look at, then they wait.
     constexpr uint32_t kPassesWhileComputing = 16;
     const bool computing = referenceJob_ != nullptr;
-    if (active_.renderer && !paused_ && !(computing && passes_ >= kPassesWhileComputing)) {
+    // Compare mode: one pass per frame for whichever of A and B has rendered for less time (equal time).
+    const bool runB = comparing() && compare_.renderer && compareWallSeconds_ < wallSeconds_;
+    if (runB && !paused_ && !(computing && comparePasses_ >= kPassesWhileComputing)) {
+      compareWallSeconds_ += compare_.renderer->runPass(options_.samplesPerPass).wallSeconds;
+      ++comparePasses_;
+      shownB_ = compare_.renderer->meanRgb();
+      if (!computing) recordError(shownB_, compare_, compareWallSeconds_, compareCurve_);
+    } else if (!runB && active_.renderer && !paused_ && !(computing && passes_ >= kPassesWhileComputing)) {
       const PassTiming t = active_.renderer->runPass(options_.samplesPerPass);
       wallSeconds_ += t.wallSeconds;
       ++passes_;
       // Read back only after a pass: paused or waiting, the image has not changed.
       shown_ = active_.renderer->meanRgb();
-      if (!computing) recordError(shown_);
+      if (!computing && !curves_.empty()) recordError(shown_, active_, wallSeconds_, curves_.back());
     } else if (!active_.renderer || active_.renderer->samplesPerPixel() == 0) {
       shown_.clear();  // restarted, or nothing built yet
     }
+    if (!compare_.renderer || compare_.renderer->samplesPerPixel() == 0) shownB_.clear();
     updateCanvas(shown_);
     drawPanel();
-    const GBuffer& g = active_.scene ? active_.scene->gbuffer : scene_->gbuffer;
-    return window_.endFrame(canvas_, g.width, g.height, readback);
+    return window_.endFrame(canvas_, canvasWidth_, canvasHeight_, readback);
   }
 
   // Scripted mode: finishes the renderer build (and the ground truth with --reference) before any frame, so
@@ -120,6 +128,7 @@ class ViewerApp {
     if (withReference) startReference();
     startBuild();
     if (buildJob_) buildJob_->wait();
+    if (compareBuildJob_) compareBuildJob_->wait();
     if (referenceJob_) referenceJob_->wait();
     pollJobs();
     if (withReference && !reference_) throw Error("ground truth: " + error_);
@@ -129,7 +138,9 @@ class ViewerApp {
     if (!error_.empty()) throw Error(error_);
   }
 
-  uint32_t passes() const { return passes_; }
+  uint32_t passes() const { return passes_ + comparePasses_; }  // A's and B's: one per frame
+  uint32_t comparePasses() const { return comparePasses_; }
+  const ActiveRenderer& compareActive() const { return compare_; }
   bool wantsScreenshot() const { return screenshotRequested_; }
   void clearScreenshotRequest() { screenshotRequested_ = false; }
   void requestScreenshot() { screenshotRequested_ = true; }
@@ -141,6 +152,7 @@ class ViewerApp {
   // Mouse orbit and wheel zoom over the image (not over the panel).
   void handleMouse() {
     const ImGuiIO& io = ImGui::GetIO();
+    if (comparing() && !io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F, false)) flipShowB_ = !flipShowB_;
     if (io.WantCaptureMouse) return;
     // A click without a drag (or a right click) on the image picks the overlay's pixel.
     const bool click =
@@ -149,6 +161,16 @@ class ViewerApp {
     if (click && overlayOn_) {
       const int x = int(io.MousePos.x), y = int(io.MousePos.y);
       if (x >= 0 && y >= 0 && x < scene_->gbuffer.width && y < scene_->gbuffer.height) startRecording(x, y);
+    }
+    // Split view: a drag that starts on the divider moves it instead of the camera.
+    if (comparing() && options_.compareView == CompareView::Split) {
+      const double dividerX = divider_ * scene_->gbuffer.width;
+      if (ImGui::IsMouseClicked(ImGuiMouseButton_Left))
+        draggingDivider_ = std::abs(io.MousePos.x - dividerX) < 6.0 && io.MousePos.y < scene_->gbuffer.height;
+      if (draggingDivider_ && ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
+        divider_ = std::clamp(double(io.MousePos.x) / scene_->gbuffer.width, 0.0, 1.0);
+        return;
+      }
     }
     if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
       CameraSpec& camera = options_.scene.camera;
@@ -223,12 +245,18 @@ class ViewerApp {
           scene_->env, options_.scene, LoadedBrdf{scene_->brdf, scene_->measured, scene_->brdfFile}));
       // The running renderer takes the new G-buffer when it renders this scene's environment and BRDF and no
       // rebuild is pending: no tables, no compile, so orbiting stays smooth. Otherwise a rebuild.
-      const bool current = active_.renderer && !buildJob_ && !rebuild_ && active_.generation == generation_;
+      bool current = active_.renderer && !buildJob_ && !rebuild_ && active_.generation == generation_;
       dropReference();
+      if (current && comparing() && !(compare_.renderer && !compareBuildJob_)) current = false;
       if (current) {
         active_.renderer->setView(*next);  // scenes are not changed once made, so both may share this one
         active_.scene = next;
         active_.generation = generation_;
+        if (comparing()) {
+          compare_.renderer->setView(*next);
+          compare_.scene = next;
+          compare_.generation = generation_;
+        }
       }
       scene_ = std::move(next);
       if (!current) {
@@ -249,6 +277,7 @@ class ViewerApp {
     retired_.retire(referenceJob_);
     reference_.reset();
     curves_.clear();
+    compareCurve_ = {};
   }
   void sceneChanged() {
     dropReference();
@@ -299,14 +328,22 @@ class ViewerApp {
     return scene;
   }
 
+  bool comparing() const { return options_.compare.has_value(); }
+
   void startBuild() {
     rebuild_ = false;
     std::shared_ptr<const Scene> scene = snapshotScene();
-    const MethodSpec spec = options_.method;
+    buildJob_ = makeBuildJob(scene, options_.method);
+    retired_.retire(compareBuildJob_);
+    if (comparing()) compareBuildJob_ = makeBuildJob(scene, *options_.compare);
+  }
+
+  std::unique_ptr<BackgroundJob<ActiveRenderer>> makeBuildJob(const std::shared_ptr<const Scene>& scene,
+                                                              const MethodSpec& spec) {
     const uint32_t seed = options_.seed;
     const uint64_t generation = generation_;
     const VulkanContext& context = window_.context();
-    buildJob_ = std::make_unique<BackgroundJob<ActiveRenderer>>(
+    return std::make_unique<BackgroundJob<ActiveRenderer>>(
         "building the method (tables, shaders)", [scene, spec, seed, generation, &context](const auto&) {
           ActiveRenderer next;
           next.scene = scene, next.method = resolveMethod(spec, *scene->brdf), next.generation = generation;
@@ -360,6 +397,21 @@ class ViewerApp {
       }
       buildJob_.reset();
     }
+    if (compareBuildJob_ && compareBuildJob_->done()) {
+      if (auto& result = compareBuildJob_->result()) {
+        try {
+          result->renderer->setParams(params_);
+          if (!rebuild_) result->generation = generation_;
+          compare_ = std::move(*result);
+        } catch (const std::exception& e) {
+          if (!rebuild_) error_ = e.what();
+        }
+        startCurve();
+      } else if (compareBuildJob_->error() != "cancelled") {
+        error_ = "compare: " + compareBuildJob_->error();
+      }
+      compareBuildJob_.reset();
+    }
     if (loadJob_ && loadJob_->done()) {
       if (auto& result = loadJob_->result()) {
         options_.scene = result->spec;
@@ -390,17 +442,20 @@ class ViewerApp {
     }
   }
 
-  void restartCounters() { passes_ = 0, wallSeconds_ = 0.0; }
+  void restartCounters() { passes_ = comparePasses_ = 0, wallSeconds_ = compareWallSeconds_ = 0.0; }
 
-  // Restarts accumulation; the current curve restarts too (the earlier methods' curves stay).
+  // Restarts accumulation (of B too); the current curve restarts too (the earlier methods' curves stay).
   void restart() {
     if (active_.renderer) active_.renderer->restart(options_.seed);
+    if (compare_.renderer) compare_.renderer->restart(options_.seed);
     startCurve();
   }
 
   // Also restarts the counters: a curve covers passes from the first.
   void startCurve() {
     restartCounters();
+    compareCurve_ = {};
+    if (reference_ && compare_.renderer) compareCurve_.label = "B: " + compare_.method.label();
     if (!reference_ || !active_.renderer) return;
     const std::string label = active_.method.label();
     if (!curves_.empty() && curves_.back().label == label) curves_.pop_back();
@@ -409,23 +464,33 @@ class ViewerApp {
     if (curves_.size() > kMaxCurves) curves_.erase(curves_.begin());
   }
 
-  void recordError(std::span<const float> rgb) {
-    if (!reference_ || curves_.empty() || !active_.renderer || active_.generation != referenceGeneration_)
-      return;
-    const ErrorMetrics e = compareToReference(active_.scene->gbuffer, rgb, *reference_);
-    ConvergenceCurve& c = curves_.back();
-    c.spp.push_back(double(active_.renderer->samplesPerPixel()));
-    c.seconds.push_back(wallSeconds_);
+  void recordError(std::span<const float> rgb, const ActiveRenderer& r, double seconds, ConvergenceCurve& c) {
+    if (!reference_ || c.label.empty() || !r.renderer || r.generation != referenceGeneration_) return;
+    const ErrorMetrics e = compareToReference(r.scene->gbuffer, rgb, *reference_);
+    c.spp.push_back(double(r.renderer->samplesPerPixel()));
+    c.seconds.push_back(seconds);
     c.mse.push_back(e.mse);
     c.relMse.push_back(e.relMse);
   }
 
   void updateCanvas(std::span<const float> rgb) {
     const GBuffer& g = active_.scene ? active_.scene->gbuffer : scene_->gbuffer;
-    canvas_.assign(std::size_t(g.width) * g.height * 4, 0);
     // The same transform as render's PNG of the same image: the automatic exposure reads the object pixels.
+    // In compare mode A's transform serves both, so that their brightness compares.
     const DisplayTransform display = resolveDisplay(options_.display, rgb, g.objectMask());
     shownExposureEV_ = display.exposureEV;
+    if (comparing()) {
+      const bool sameScene = compare_.scene && compare_.scene->gbuffer.pixels.size() == g.pixels.size();
+      CompareFrame frame{&g, rgb, sameScene ? std::span<const float>(shownB_) : std::span<const float>(), {},
+                         display, options_.background, options_.compareView, divider_, flipShowB_};
+      if (reference_ && active_.generation == referenceGeneration_) frame.reference = *reference_;
+      CompareCanvas canvas = composeCompare(frame);
+      canvas_ = std::move(canvas.bgra);
+      canvasWidth_ = canvas.width, canvasHeight_ = canvas.height;
+      return;
+    }
+    canvasWidth_ = g.width, canvasHeight_ = g.height;
+    canvas_.assign(std::size_t(g.width) * g.height * 4, 0);
     for (std::size_t p = 0; p < std::size_t(g.width) * g.height; ++p) {
       std::uint8_t* out = &canvas_[4 * p];
       out[3] = 255;
@@ -471,7 +536,7 @@ class ViewerApp {
   }
 
   void drawPanel() {
-    const float x = float(std::max(scene_->gbuffer.width, window_.width() - kPanelWidth));
+    const float x = float(std::max(std::max(canvasWidth_, scene_->gbuffer.width), window_.width() - kPanelWidth));
     ImGui::SetNextWindowPos(ImVec2(std::min(x, float(window_.width() - kPanelWidth)), 0.0f));
     ImGui::SetNextWindowSize(ImVec2(float(kPanelWidth), float(window_.height())));
     ImGui::Begin("iblx", nullptr,
@@ -488,10 +553,17 @@ class ViewerApp {
     // would lie.
     ImGui::Text("%.2f M samples/s (wall, pass by pass)",
                 wallSeconds_ > 0 ? objectPixels * double(spp) / wallSeconds_ * 1e-6 : 0.0);
+    if (comparing()) {
+      const uint64_t sppB = compare_.renderer ? compare_.renderer->samplesPerPixel() : 0;
+      ImGui::Text("B: %s", compare_.renderer ? compare_.method.label().c_str() : "(building)");
+      ImGui::Text("B: pass %u, %llu spp, %.2f s", comparePasses_, static_cast<unsigned long long>(sppB),
+                  compareWallSeconds_);
+    }
     ImGui::Text("device: %s", window_.context().deviceName().c_str());
     if (!error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "%s", error_.c_str());
     jobLine(loadJob_);
     jobLine(buildJob_);
+    jobLine(compareBuildJob_);
     if (referenceJob_) ImGui::TextDisabled("after 16 passes, passes wait for the ground truth (below)");
     ImGui::Checkbox("pause", &paused_);
     ImGui::SameLine();
@@ -539,6 +611,44 @@ class ViewerApp {
       if (ImGui::SliderInt("spp per pass", &perPass, 1, 256))
         options_.samplesPerPass = uint32_t(perPass), restart();
       if (rebuild) rebuild_ = true;
+    }
+
+    if (ImGui::CollapsingHeader("compare", comparing() ? ImGuiTreeNodeFlags_DefaultOpen : 0)) {
+      bool on = comparing();
+      if (ImGui::Checkbox("compare with B (equal time)", &on)) {
+        if (on) {
+          options_.compare = options_.method;
+          options_.compare->sequence = options_.method.sequence == "random" ? "sobol" : "random";
+        } else {
+          options_.compare.reset();
+          retired_.retire(compareBuildJob_);
+          compare_ = ActiveRenderer();
+          shownB_.clear();
+        }
+        rebuild_ = true;
+      }
+      if (comparing()) {
+        MethodSpec& b = *options_.compare;
+        bool rebuild = combo("B method", b.method, methodRegistry());
+        rebuild |= combo("B sequence", b.sequence, sequenceRegistry());
+        if (rebuild) b.envSampler.clear(), b.brdfSampler.clear(), rebuild_ = true;
+        int view = int(options_.compareView);
+        for (int k = 0; k < 3; ++k) {
+          if (k > 0) ImGui::SameLine();
+          ImGui::RadioButton(kCompareViewNames[k], &view, k);
+        }
+        options_.compareView = CompareView(view);
+        if (options_.compareView == CompareView::Split) {
+          float divider = float(divider_);
+          if (ImGui::SliderFloat("divider", &divider, 0.0f, 1.0f)) divider_ = divider;
+          ImGui::TextDisabled("A left, B right; or drag the white line");
+        } else if (options_.compareView == CompareView::Flip) {
+          if (ImGui::Button(flipShowB_ ? "showing B: flip (F)" : "showing A: flip (F)")) flipShowB_ = !flipShowB_;
+        } else {
+          ImGui::TextDisabled(reference_ ? "A | B; below: their error against the ground truth"
+                                         : "A | B; compute the ground truth for their error maps");
+        }
+      }
     }
 
     if (ImGui::CollapsingHeader("material", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -628,7 +738,7 @@ class ViewerApp {
 
   // Below the image: the convergence plot once a ground truth exists.
   void drawConvergenceWindow() {
-    const float top = float(scene_->gbuffer.height) + 4.0f;
+    const float top = float(std::max(canvasHeight_, scene_->gbuffer.height)) + 4.0f;
     ImGui::SetNextWindowPos(ImVec2(0.0f, top));
     ImGui::SetNextWindowSize(
         ImVec2(float(window_.width() - kPanelWidth), std::max(120.0f, float(window_.height()) - top)));
@@ -646,7 +756,13 @@ class ViewerApp {
         }
         jobLine(referenceJob_);
         if (reference_) {
-          drawConvergencePlot(curves_, plot_);
+          if (comparing() && !compareCurve_.spp.empty()) {
+            std::vector<ConvergenceCurve> both = curves_;
+            both.insert(both.end() - (both.empty() ? 0 : 1), compareCurve_);  // A's stays the current (last)
+            drawConvergencePlot(both, plot_);
+          } else {
+            drawConvergencePlot(curves_, plot_);
+          }
           if (curves_.size() > 1 && ImGui::Button("clear earlier curves"))
             curves_.erase(curves_.begin(), curves_.end() - 1);
         }
@@ -705,6 +821,16 @@ class ViewerApp {
   int overlayCount_ = 256;
   std::vector<float> shown_;  // the mean image on screen (read back after each pass)
   std::vector<std::uint8_t> canvas_;
+  int canvasWidth_ = 0, canvasHeight_ = 0;
+  // Compare mode: B, its build, its counters, its image and its curve; the split view's divider.
+  ActiveRenderer compare_;
+  std::unique_ptr<BackgroundJob<ActiveRenderer>> compareBuildJob_;
+  uint32_t comparePasses_ = 0;
+  double compareWallSeconds_ = 0.0;
+  std::vector<float> shownB_;
+  ConvergenceCurve compareCurve_;
+  double divider_ = 0.5;
+  bool draggingDivider_ = false, flipShowB_ = false;
   double shownExposureEV_ = 0.0;  // the exposure the last canvas was drawn with (automatic + compensation)
   std::string error_;
   bool rebuild_ = true;
@@ -730,10 +856,14 @@ int runViewer(const ViewerOptions& options) {
     const LoadedBrdf brdf = loadBrdfArgument(options.scene.brdf);
     (void)resolveParams(*brdf.info, options.scene.params);
     (void)resolveMethod(options.method, *brdf.info);
+    if (options.compare) (void)resolveMethod(*options.compare, *brdf.info);
   }
   // The image at the top left, the convergence plot under it, the panel on the right.
-  const int width = std::max(options.scene.width, 520) + kPanelWidth;
-  const int height = std::max(options.scene.height + 320, 720);
+  const bool sideBySide = options.compare && options.compareView == CompareView::SideBySide;
+  const int canvasWidth = sideBySide ? 2 * options.scene.width : options.scene.width;
+  const int canvasHeight = sideBySide ? 2 * options.scene.height : options.scene.height;
+  const int width = std::max(canvasWidth, 520) + kPanelWidth;
+  const int height = std::max(canvasHeight + 320, 720);
   ViewerWindow window("iblx view", width, height,
                       {options.device, options.validation ? Validation::On : Validation::Auto});
   ViewerApp app(options, window);
@@ -779,12 +909,15 @@ int runViewer(const ViewerOptions& options) {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - loopStart).count();
     std::printf("%s: %u passes, %llu spp, %u frames in %.2f s (%.1f frames/s)", active.method.label().c_str(),
-                app.passes(),
+                app.passes() - app.comparePasses(),
                 static_cast<unsigned long long>(active.renderer ? active.renderer->samplesPerPixel() : 0),
                 frames, seconds, seconds > 0.0 ? frames / seconds : 0.0);
     if (const ConvergenceCurve* curve = app.currentCurve(); curve && !curve->mse.empty())
       std::printf(", MSE %.9g, relMSE %.9g", curve->mse.back(), curve->relMse.back());
     std::printf("\n");
+    if (const ActiveRenderer& b = app.compareActive(); b.renderer)
+      std::printf("B: %s: %u passes, %llu spp\n", b.method.label().c_str(), app.comparePasses(),
+                  static_cast<unsigned long long>(b.renderer->samplesPerPixel()));
     // The scripted mode is what CI runs: a validation error there is a failure, not a line on stderr.
     if (const uint32_t errors = window.context().validationErrorCount(); errors > 0)
       throw Error(std::to_string(errors) + " Vulkan validation error(s) during the scripted run (see above)");

@@ -6,6 +6,7 @@
 
 #include "engine/io/image_write.h"
 #include "engine/render/scene.h"
+#include "tools/viewer/compare_view.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -35,6 +36,10 @@ struct ViewerOptions {
   std::optional<std::pair<int, int>> overlayPixel;
   uint32_t overlayCount = 256;
   std::filesystem::path screenshot;  // also the file name used by F12 and the menu (default iblx-view.png)
+  // Compare mode: a second method B (or the same method with another sequence or setting) rendered in turn
+  // with the first at equal time, shown as compareView.
+  std::optional<MethodSpec> compare;
+  CompareView compareView = CompareView::Split;
 };
 
 // Runs the viewer until its window is closed (or the scripted frames are done). Returns the exit code.
