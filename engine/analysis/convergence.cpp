@@ -220,8 +220,19 @@ std::string formatMarkdownTable(const TextTable& table) {
 
 TextTable summaryTable(const ConvergenceSummary& summary) {
   TextTable t;
-  t.headers = {"method", "seq", "seeds", "spp", "time", "setup", "MSE (min–max over seeds)", "relMSE",
-               "slope vs spp", "time to target", "MSE at equal time", "× best", "efficiency 1/(MSE·s)"};
+  t.headers = {"method",
+               "seq",
+               "seeds",
+               "spp",
+               "time",
+               "setup",
+               "MSE (min–max over seeds)",
+               "relMSE",
+               "slope vs spp",
+               "time to target",
+               "MSE at equal time",
+               "× best",
+               "efficiency 1/(MSE·s)"};
   t.rightAligned = {false, false, true, true, true, true, false, true, true, true, true, true, true};
   for (const auto& r : summary.rows)
     t.rows.push_back({r.method, r.sequence, std::to_string(r.seeds), std::to_string(r.spp),
@@ -235,8 +246,9 @@ TextTable summaryTable(const ConvergenceSummary& summary) {
 }
 
 std::string formatSummaryTable(const ConvergenceSummary& summary) {
-  return "Equal time: " + formatSeconds(summary.equalTimeSeconds) + " of rendering (the shortest run); target relMSE " +
-         formatNumber(summary.targetRelMse) + ".\n\n" + formatMarkdownTable(summaryTable(summary));
+  return "Equal time: " + formatSeconds(summary.equalTimeSeconds) +
+         " of rendering (the shortest run); target relMSE " + formatNumber(summary.targetRelMse) + ".\n\n" +
+         formatMarkdownTable(summaryTable(summary));
 }
 
 std::string formatSummaryJson(const ConvergenceSummary& summary) {

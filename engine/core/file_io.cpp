@@ -38,7 +38,8 @@ std::uint64_t checkInputFile(const fs::path& path) {
   }
   if (S_ISDIR(info.st_mode)) throwCannotOpen(path, "it is a directory");
   if (S_ISFIFO(info.st_mode)) throwCannotOpen(path, "it is a FIFO, not a regular file");
-  if (S_ISCHR(info.st_mode) || S_ISBLK(info.st_mode)) throwCannotOpen(path, "it is a device, not a regular file");
+  if (S_ISCHR(info.st_mode) || S_ISBLK(info.st_mode))
+    throwCannotOpen(path, "it is a device, not a regular file");
   if (!S_ISREG(info.st_mode)) throwCannotOpen(path, "it is not a regular file");
   if (::access(path.c_str(), R_OK) != 0) throwCannotOpen(path, std::strerror(errno));
   return std::uint64_t(info.st_size);
@@ -48,7 +49,8 @@ std::vector<unsigned char> readInputFile(const fs::path& path, std::uint64_t max
   const std::uint64_t size = checkInputFile(path);
   if (size > maxBytes) {
     // Exact bytes too: just over a limit, both round to the same figure.
-    const std::string sizeText = size < 1024 ? formatBytes(size) : formatBytes(size) + " (" + std::to_string(size) + " bytes)";
+    const std::string sizeText =
+        size < 1024 ? formatBytes(size) : formatBytes(size) + " (" + std::to_string(size) + " bytes)";
     throw Error(path.string() + ": the file is " + sizeText + ", more than the " + formatBytes(maxBytes) +
                 " this kind of file may have");
   }
@@ -123,7 +125,8 @@ std::ofstream& AtomicOutput::stream() {
     opened_ = true;
     errno = 0;
     stream_.open(temporary_, std::ios::binary | std::ios::trunc);
-    if (!stream_) throw Error("cannot write " + path_.string() + ": " + systemReason(errno, "cannot create the file"));
+    if (!stream_)
+      throw Error("cannot write " + path_.string() + ": " + systemReason(errno, "cannot create the file"));
   }
   return stream_;
 }

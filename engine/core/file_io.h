@@ -1,6 +1,6 @@
-// Input files that cannot stall or flood iblx, and outputs that are either written whole or reported as failed:
-// inputs must be regular files and are read within a bound; outputs go to a temporary name in the same
-// directory, are checked on write and on close, and are renamed into place.
+// Input files that cannot stall or flood iblx, and outputs that are either written whole or reported as
+// failed: inputs must be regular files and are read within a bound; outputs go to a temporary name in the
+// same directory, are checked on write and on close, and are renamed into place.
 #pragma once
 
 #include <cstdint>

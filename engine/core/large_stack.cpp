@@ -1,4 +1,5 @@
-// A thread with a chosen stack size (engine/core/large_stack.h). std::thread cannot set one, so POSIX threads.
+// A thread with a chosen stack size (engine/core/large_stack.h). std::thread cannot set one, so POSIX
+// threads.
 #include "engine/core/large_stack.h"
 
 #include "engine/core/error.h"

@@ -54,7 +54,8 @@ void checkIndices(const std::filesystem::path& path, int number, std::istringstr
         char* stop = nullptr;
         const long long value = std::strtoll(index.c_str(), &stop, 10);
         if (stop == index.c_str() + index.size() &&
-            (errno == ERANGE || value > std::numeric_limits<int>::max() || value < -std::numeric_limits<int>::max()))
+            (errno == ERANGE || value > std::numeric_limits<int>::max() ||
+             value < -std::numeric_limits<int>::max()))
           throw Error(prefix(path, number) + "index " + index + " is out of range");
       }
       begin = end + 1;
@@ -203,7 +204,8 @@ void writeObj(const std::filesystem::path& path, const TriMesh& mesh, const std:
   for (const auto& p : mesh.positions) f << "v " << p.x << " " << p.y << " " << p.z << "\n";
   for (const auto& n : mesh.normals) f << "vn " << n.x << " " << n.y << " " << n.z << "\n";
   for (const auto& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) f << (k == 0 ? "f " : " ") << t[k] + 1 << "//" << t[k] + 1 << (k == 2 ? "\n" : "");
+    for (int k = 0; k < 3; ++k)
+      f << (k == 0 ? "f " : " ") << t[k] + 1 << "//" << t[k] + 1 << (k == 2 ? "\n" : "");
   output.commit();
 }
 

@@ -43,8 +43,8 @@ struct BrdfFile {
   std::filesystem::path bparamSource;
 };
 
-// Limits on a file that is a program handed to the GPU compiler, checked before it is compiled: BRDF Explorer's
-// own files are under 20 KiB, with under 20 parameters and short expressions.
+// Limits on a file that is a program handed to the GPU compiler, checked before it is compiled: BRDF
+// Explorer's own files are under 20 KiB, with under 20 parameters and short expressions.
 inline constexpr std::uint64_t kMaxBrdfFileBytes = 256 * 1024;
 inline constexpr std::size_t kMaxBrdfParams = 256;
 inline constexpr std::size_t kMaxBrdfStatementOperators = 2000;  // operators between two ';', '{' or '}'

@@ -293,11 +293,13 @@ void checkExrAttributeSizes(const fs::path& path) {
                                                std::uint32_t(bytes[2]) << 16 | std::uint32_t(bytes[3]) << 24);
       const std::uint64_t position = std::uint64_t(in.tellg());
       if (length < 0 || std::uint64_t(length) > size - std::min(size, position))
-        throw Error("corrupt or truncated EXR file " + path.string() + ": header attribute " +
-                    (std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; })
-                         ? "'" + name + "'"
-                         : std::string("#") + std::to_string(attributes + 1)) +
-                    " claims " + std::to_string(length) + " bytes, more than the file holds");
+        throw Error(
+            "corrupt or truncated EXR file " + path.string() + ": header attribute " +
+            (std::all_of(name.begin(), name.end(),
+                         [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; })
+                 ? "'" + name + "'"
+                 : std::string("#") + std::to_string(attributes + 1)) +
+            " claims " + std::to_string(length) + " bytes, more than the file holds");
       in.seekg(length, std::ios::cur);
     }
     if (!multipart || attributes == 0) return;

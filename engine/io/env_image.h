@@ -31,9 +31,9 @@ struct SanitizeReport {
 SanitizeReport sanitize(EnvImage& image);
 
 // The largest radiance an environment map may hold. The GPU keeps running means of squared estimates in float
-// (DESIGN §6): with values up to 1e15, a pass of 4096 squared estimates stays 1e5 below float's 3.4e38 even for
-// estimator weights of 100, while real maps, a physically scaled sun included (about 1.6e9 cd/m^2), stay far
-// below it.
+// (DESIGN §6): with values up to 1e15, a pass of 4096 squared estimates stays 1e5 below float's 3.4e38 even
+// for estimator weights of 100, while real maps, a physically scaled sun included (about 1.6e9 cd/m^2), stay
+// far below it.
 inline constexpr double kMaxEnvRadiance = 1e15;
 
 // Loads a .exr (OpenEXR; half or float; RGB, RGBA or Y) or .hdr (Radiance RGBE) lat-long map and sanitizes

@@ -99,7 +99,8 @@ double autoExposureEV(std::span<const float> rgb, std::span<const std::uint8_t> 
   std::size_t count = 0;
   for (std::size_t p = 0; 3 * p + 2 < rgb.size(); ++p) {
     if (!objectMask.empty() && (p >= objectMask.size() || objectMask[p] == 0)) continue;
-    const double y = 0.2126 * double(rgb[3 * p]) + 0.7152 * double(rgb[3 * p + 1]) + 0.0722 * double(rgb[3 * p + 2]);
+    const double y =
+        0.2126 * double(rgb[3 * p]) + 0.7152 * double(rgb[3 * p + 1]) + 0.0722 * double(rgb[3 * p + 2]);
     if (!(y > 0.0) || !std::isfinite(y)) continue;
     sumLog += std::log(y);
     ++count;
@@ -112,7 +113,8 @@ double autoExposureEV(std::span<const float> rgb, std::span<const std::uint8_t> 
 DisplayTransform resolveDisplay(const DisplaySettings& settings, std::span<const float> rgb,
                                 std::span<const std::uint8_t> objectMask) {
   const double automatic = settings.autoExposure ? autoExposureEV(rgb, objectMask) : 0.0;
-  return {.exposureEV = automatic + settings.exposureEV, .tonemap = settings.tonemap, .gamma = settings.gamma};
+  return {
+      .exposureEV = automatic + settings.exposureEV, .tonemap = settings.tonemap, .gamma = settings.gamma};
 }
 
 void writePng(const fs::path& path, int width, int height, std::span<const float> rgb, double exposureEV) {

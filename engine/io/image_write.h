@@ -65,7 +65,8 @@ struct DisplaySettings {
 // The exposure that maps the log-average luminance of the object's pixels to middle grey 0.18: the "key" of
 // Reinhard et al. 2002 (eq. 1, a = 0.18), log2(0.18 / exp(mean log Y)), Y Rec. 709 luminance. Pixels of zero
 // luminance and background pixels (objectMask[p] == 0; an empty mask takes every pixel) are left out, so a
-// black half or the sky behind the object does not pull the key. 0 when no pixel is lit; clamped to [-32, 32].
+// black half or the sky behind the object does not pull the key. 0 when no pixel is lit; clamped to [-32,
+// 32].
 double autoExposureEV(std::span<const float> rgb, std::span<const std::uint8_t> objectMask);
 // The transform for one image under the given settings.
 DisplayTransform resolveDisplay(const DisplaySettings& settings, std::span<const float> rgb,

@@ -31,8 +31,8 @@ constexpr int kHeaderDims[3] = {kMerlThetaHBins, kMerlThetaDBins, kMerlPhiDBins}
 constexpr std::size_t kHeaderBytes = 12;
 // Doubles per read or write: 512 KiB of bytes, so the 35 MB body is never held twice.
 constexpr std::size_t kChunkDoubles = std::size_t(1) << 16;
-// The largest reflectance a bin may hold, for the same float headroom as kMaxEnvRadiance (engine/io/env_image.h):
-// measured materials stay below about 1e4 1/sr.
+// The largest reflectance a bin may hold, for the same float headroom as kMaxEnvRadiance
+// (engine/io/env_image.h): measured materials stay below about 1e4 1/sr.
 constexpr double kMaxMerlValue = 1e15;
 
 std::string formatValue(double v) {

@@ -53,8 +53,8 @@ struct ConvergenceResult {
 // against `reference` (object pixels) at the budget's schedule. A method whose tables exceed the device's
 // limits (DeviceLimitError) is listed in `skipped` and the others go on. `stop` (e.g. set by Ctrl-C) ends the
 // measurement after the current point; what was recorded is kept. `noise`, the reference's own expected error
-// (a Monte Carlo reference), is subtracted from every MSE and relMSE recorded, so that they estimate the error
-// against the truth; an error below the reference's resolution then reads <= 0 (not drawn on log axes).
+// (a Monte Carlo reference), is subtracted from every MSE and relMSE recorded, so that they estimate the
+// error against the truth; an error below the reference's resolution then reads <= 0 (not drawn on log axes).
 ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                  std::span<const float> reference, std::span<const ResolvedMethod> methods,
                                  std::span<const std::uint32_t> seeds, const ConvergenceBudget& budget,

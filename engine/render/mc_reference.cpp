@@ -38,7 +38,8 @@ std::uint64_t halfKey(const Scene& scene, const ResolvedMethod& method, double s
 
 ReferenceImage combine(const Scene& scene, const std::vector<float>& a, const std::vector<float>& b,
                        double seconds) {
-  ReferenceImage image{scene.gbuffer.width, scene.gbuffer.height, std::vector<float>(a.size()), seconds, 0, {}};
+  ReferenceImage image{
+      scene.gbuffer.width, scene.gbuffer.height, std::vector<float>(a.size()), seconds, 0, {}};
   for (std::size_t i = 0; i < a.size(); ++i) image.rgb[i] = 0.5f * (a[i] + b[i]);
   image.noise = referenceNoise(scene.gbuffer, a, b);
   return image;
@@ -73,8 +74,10 @@ ReferenceImage computeMcReference(const VulkanContext& context, ShaderCompiler& 
     if (!options.progress) return {};
     return [&options, offset](double f) { options.progress(offset + 0.5 * f); };
   };
-  const std::vector<float> a = renderHalf(context, compiler, scene, method, options.seedA, half, progressOf(0.0));
-  const std::vector<float> b = renderHalf(context, compiler, scene, method, options.seedB, half, progressOf(0.5));
+  const std::vector<float> a =
+      renderHalf(context, compiler, scene, method, options.seedA, half, progressOf(0.0));
+  const std::vector<float> b =
+      renderHalf(context, compiler, scene, method, options.seedB, half, progressOf(0.5));
   return combine(scene, a, b,
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
@@ -113,8 +116,9 @@ ReferenceImage cachedMcReference(const VulkanContext& context, ShaderCompiler& c
     }
   }
   if (fromCache) *fromCache = allCached;
-  return combine(scene, halves[0], halves[1],
-                 allCached ? 0.0 : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return combine(
+      scene, halves[0], halves[1],
+      allCached ? 0.0 : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 }  // namespace iblx

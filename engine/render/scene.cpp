@@ -238,10 +238,11 @@ void checkImageFitsDevice(const VulkanContext& context, int width, int height) {
   const std::uint64_t bytesPerPixel = std::max(sizeof(gpu::GPixel), sizeof(gpu::AccumPixel));
   if (pixels * bytesPerPixel <= largest) return;
   const int side = int(std::sqrt(double(largest / bytesPerPixel)));
-  throw DeviceLimitError("--size " + std::to_string(width) + "x" + std::to_string(height) + ": the G-buffer needs " +
-                         formatBytes(pixels * sizeof(gpu::GPixel)) + ", more than this device's largest storage " +
-                         "buffer (" + formatBytes(largest) + "); images up to about " + std::to_string(side) + "x" +
-                         std::to_string(side) + " pixels fit");
+  throw DeviceLimitError("--size " + std::to_string(width) + "x" + std::to_string(height) +
+                         ": the G-buffer needs " + formatBytes(pixels * sizeof(gpu::GPixel)) +
+                         ", more than this device's largest storage " + "buffer (" + formatBytes(largest) +
+                         "); images up to about " + std::to_string(side) + "x" + std::to_string(side) +
+                         " pixels fit");
 }
 
 SceneGpu uploadScene(const VulkanContext& context, const Scene& scene) {

@@ -132,8 +132,8 @@ struct SceneGpu {
 };
 SceneGpu uploadScene(const VulkanContext& context, const Scene& scene);
 
-// Throws DeviceLimitError naming the image size when the per-pixel buffers of a width x height image exceed the
-// device's largest storage buffer; checked before the scene (its G-buffer) is built.
+// Throws DeviceLimitError naming the image size when the per-pixel buffers of a width x height image exceed
+// the device's largest storage buffer; checked before the scene (its G-buffer) is built.
 void checkImageFitsDevice(const VulkanContext& context, int width, int height);
 // A technique's (or a BRDF's) tables as buffers, in binding order, each viewed with its element width.
 std::vector<Buffer> uploadTables(const VulkanContext& context, const TechniqueData& data);

@@ -118,7 +118,9 @@ bool allFinite(std::span<const double> values) {
 // The largest grid a cache file may hold (the otmap command's limit is 1024): bounds what a header can claim.
 constexpr int kMaxCachedN = 4096;
 
-std::size_t entryBytes(int n) { return kHeaderBytes + payloadBytes(n) + 8; }
+std::size_t entryBytes(int n) {
+  return kHeaderBytes + payloadBytes(n) + 8;
+}
 
 // The map in a cache file's payload (seal removed), or the reason it cannot be used (Error, without the file
 // name). key and n: what the entry must have been written for (unset: taken from the header, as the fuzz

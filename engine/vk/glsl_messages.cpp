@@ -13,7 +13,8 @@ std::string formatGlslLog(const std::string& infoLog, const std::string& context
     if (line.rfind("ERROR: ", 0) != 0) continue;
     line.erase(0, 7);
     // glslang's summary ("2 compilation errors.  No code generated.") names no file.
-    if (line.find("compilation error") != std::string::npos || line.find("No code generated") != std::string::npos)
+    if (line.find("compilation error") != std::string::npos ||
+        line.find("No code generated") != std::string::npos)
       continue;
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
     errors.push_back(line);
@@ -27,7 +28,8 @@ std::string formatGlslLog(const std::string& infoLog, const std::string& context
   }
   std::string message = errors.front() + " (GLSL compile error in " + context + ")";
   if (errors.size() > 1)
-    message += "; " + std::to_string(errors.size() - 1) + (errors.size() == 2 ? " more error" : " more errors");
+    message +=
+        "; " + std::to_string(errors.size() - 1) + (errors.size() == 2 ? " more error" : " more errors");
   return message;
 }
 

@@ -42,8 +42,7 @@ std::vector<Bytes> glslSeeds() {
 
 std::vector<FuzzTarget> glslFuzzTargets() {
   // A compilation costs about as much as twenty file reads.
-  return {
-      {"glsl", "GLSL compute shader through glslang (ShaderCompiler::compile)", runGlsl, glslSeeds, 4.0}};
+  return {{"glsl", "GLSL compute shader through glslang (ShaderCompiler::compile)", runGlsl, glslSeeds, 4.0}};
 }
 
 }  // namespace iblx::fuzz

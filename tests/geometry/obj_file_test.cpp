@@ -174,10 +174,12 @@ TEST_CASE("obj: a face index beyond int is out of range, not wrapped") {
   // 4294967299 = 2^32 + 3: tinyobjloader alone reads it as vertex 3 and the mesh renders.
   for (const char* index : {"4294967299", "-4294967299", "2147483648", "99999999999999999999999"}) {
     CAPTURE(index);
-    const auto path = writeText(dir, "wrap.obj", std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 ") + index + "\n");
-    CHECK(contains(errorMessage([&] { readObj(path); }), "wrap.obj:4: index " + std::string(index) +
-                                                             " is out of range"));
+    const auto path =
+        writeText(dir, "wrap.obj", std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 ") + index + "\n");
+    CHECK(contains(errorMessage([&] { readObj(path); }),
+                   "wrap.obj:4: index " + std::string(index) + " is out of range"));
   }
-  const auto normals = writeText(dir, "n.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//4294967297 2//1 3//1\n");
+  const auto normals =
+      writeText(dir, "n.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//4294967297 2//1 3//1\n");
   CHECK(contains(errorMessage([&] { readObj(normals); }), "n.obj:5: index 4294967297 is out of range"));
 }

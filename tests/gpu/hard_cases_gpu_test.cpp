@@ -136,7 +136,8 @@ TEST_CASE("the reference cache: a second request reads the stored image; another
   std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("the Monte Carlo reference: its noise estimate is its error against the exact one; cached per half") {
+TEST_CASE(
+    "the Monte Carlo reference: its noise estimate is its error against the exact one; cached per half") {
   const auto dir = std::filesystem::temp_directory_path() / ("iblx-mcref-" + std::to_string(::getpid()));
   const Scene scene = sceneWith(sunOverSky(32, 16, 1e3, 2, 10, 4), "ggx", {{"roughness", "0.3"}}, 16);
   const ReferenceImage exact = computeReference(gpuContext(), gpuCompiler(), scene);
@@ -154,7 +155,8 @@ TEST_CASE("the Monte Carlo reference: its noise estimate is its error against th
   CHECK(error.mse < 3.0 * mc.noise.mse);
   CHECK(std::abs(error.meanSignedError) < 4.0 * std::sqrt(mc.noise.mse / double(3 * error.pixels)) + 1e-6);
   // The second request reads both halves from the cache: the same image and noise.
-  const ReferenceImage again = cachedMcReference(gpuContext(), gpuCompiler(), scene, dir, options, &fromCache);
+  const ReferenceImage again =
+      cachedMcReference(gpuContext(), gpuCompiler(), scene, dir, options, &fromCache);
   CHECK(fromCache);
   CHECK(again.rgb == mc.rgb);
   CHECK(again.noise.mse == mc.noise.mse);

@@ -196,28 +196,33 @@ TEST_CASE("brdf file: limits on a file that is a program, checked before compili
   CHECK_NOTHROW(parseBrdfText(shader(twoSums + ";\n  return vec3(b);"), "ok.brdf"));
   // Operators in comments are not counted.
   CHECK_NOTHROW(parseBrdfText(shader("  // " + std::string(5000, '+') + "\n  return vec3(1.0);"), "ok.brdf"));
-  CHECK(contains(parseError(shader("  return vec3" + std::string(100, '(') + "1.0" + std::string(100, ')') + ";")),
-                 "bad.brdf:4: brackets nested deeper than 64 levels"));
+  CHECK(contains(
+      parseError(shader("  return vec3" + std::string(100, '(') + "1.0" + std::string(100, ')') + ";")),
+      "bad.brdf:4: brackets nested deeper than 64 levels"));
 
   // 500 000 parameters took minutes (a quadratic duplicate check): the 257th is refused at once.
   std::string params = "analytic\n::begin parameters\n";
   for (int i = 0; i < 300; ++i) params += "float p" + std::to_string(i) + " 0 1 0.5\n";
   params += "::end parameters\n";
-  CHECK(contains(parseError(params + shader("  return vec3(p0);")), "bad.brdf:259: more than 256 parameters"));
+  CHECK(
+      contains(parseError(params + shader("  return vec3(p0);")), "bad.brdf:259: more than 256 parameters"));
 
   // A 10 MB file is refused by its size, before it is read.
   const auto big = dir.file("big.brdf");
   writeBytes(big, std::vector<unsigned char>(kMaxBrdfFileBytes + 1, ' '));
-  CHECK(contains(errorMessage([&] { readBrdfFile(big); }), "big.brdf: the file is 256 KiB (262145 bytes), more than the 256 KiB"));
+  CHECK(contains(errorMessage([&] { readBrdfFile(big); }),
+                 "big.brdf: the file is 256 KiB (262145 bytes), more than the 256 KiB"));
   CHECK(contains(errorMessage([&] { readBrdfFile("/dev/zero"); }), "/dev/zero: it is a device"));
 }
 
-TEST_CASE("brdf file: lines of form feeds or vertical tabs are blank (they once read past an empty token list)") {
+TEST_CASE(
+    "brdf file: lines of form feeds or vertical tabs are blank (they once read past an empty token list)") {
   CHECK(contains(parseError("\n\f\n#\x03"), "bad.brdf:1: empty file"));
-  const BrdfFile f = parseBrdfText("\v\f\nanalytic\n::begin parameters\n\f\v\nfloat n 1 2 1.5\n::end parameters\n"
-                                   "::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return vec3(n); }\n"
-                                   "::end shader\n",
-                                   "ff.brdf");
+  const BrdfFile f = parseBrdfText(
+      "\v\f\nanalytic\n::begin parameters\n\f\v\nfloat n 1 2 1.5\n::end parameters\n"
+      "::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return vec3(n); }\n"
+      "::end shader\n",
+      "ff.brdf");
   CHECK(f.params.size() == 1);
   CHECK(contains(parseError("bparam\f\n"), "'bparam' must be followed by the path"));
 }

@@ -273,8 +273,9 @@ std::vector<float> hdrPattern(int width, int height) {
       for (int c = 0; c < 3; ++c) {
         const std::size_t i = 3 * (std::size_t(y) * std::size_t(width) + std::size_t(x)) + std::size_t(c);
         // Exponents from -8 to 40: wide, and below loadEnvImage's limit of 1e15 (2^49.8).
-        rgb[i] = x >= width / 2 ? 0.75f
-                                : float(std::exp2(-8.0 + std::fmod(0.37 * (x + 3 * y + 5 * c), 48.0) - 0.9 * c));
+        rgb[i] = x >= width / 2
+                     ? 0.75f
+                     : float(std::exp2(-8.0 + std::fmod(0.37 * (x + 3 * y + 5 * c), 48.0) - 0.9 * c));
       }
   rgb[3] = rgb[4] = rgb[5] = 0.0f;
   return rgb;
@@ -591,7 +592,8 @@ TEST_CASE("loadEnvImage: hostile maps: values beyond the limit, FIFOs, CR header
   SUBCASE("an image over the memory budget is refused before its pixels are allocated") {
     const auto exr = dir.file("big.exr"), hdr = dir.file("big.hdr");
     writeExr(exr, 256, 128, std::vector<float>(3 * 256 * 128, 1.0f));
-    REQUIRE(stbi_write_hdr(hdr.string().c_str(), 256, 128, 3, std::vector<float>(3 * 256 * 128, 1.0f).data()));
+    REQUIRE(
+        stbi_write_hdr(hdr.string().c_str(), 256, 128, 3, std::vector<float>(3 * 256 * 128, 1.0f).data()));
     ::setenv("IBLX_MEMORY_BUDGET_GIB", "0.0001", 1);  // 105 KiB; the image needs 384 KiB
     const std::string exrMessage = errorMessage([&] { loadEnvImage(exr); });
     const std::string hdrMessage = errorMessage([&] { loadEnvImage(hdr); });
@@ -613,12 +615,14 @@ TEST_CASE("loadEnvImage: a large EXR is read in stripes, every row in its place"
   CHECK(bitwiseEqual(loadEnvImage(path).rgb, rgb));
 }
 
-TEST_CASE("loadEnvImage: an EXR header attribute claiming more than the file holds is refused before it is read") {
+TEST_CASE(
+    "loadEnvImage: an EXR header attribute claiming more than the file holds is refused before it is read") {
   ScratchDir dir;
   // Magic, version 2 (single part), then one attribute "comments" of type "string" claiming 2^31 - 1 bytes:
   // OpenEXR alone allocates that much before finding the file short.
   std::vector<unsigned char> bytes = {0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0};
-  for (const char* text : {"comments", "string"}) bytes.insert(bytes.end(), text, text + std::strlen(text) + 1);
+  for (const char* text : {"comments", "string"})
+    bytes.insert(bytes.end(), text, text + std::strlen(text) + 1);
   bytes.insert(bytes.end(), {0xff, 0xff, 0xff, 0x7f, 'a', 'b', 'c', 0});
   const auto path = dir.file("claims.exr");
   writeBytes(path, bytes);

@@ -20,7 +20,9 @@ namespace {
 
 using test::ScratchDir;
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 template <class F>
 std::string errorMessage(F&& f) {
@@ -32,8 +34,8 @@ std::string errorMessage(F&& f) {
   return "(no error)";
 }
 
-// Writes past `bytes` fail with EFBIG (SIGXFSZ ignored) until the guard dies: what a full device looks like to
-// a writer.
+// Writes past `bytes` fail with EFBIG (SIGXFSZ ignored) until the guard dies: what a full device looks like
+// to a writer.
 class FileSizeLimit {
  public:
   explicit FileSizeLimit(rlim_t bytes) {
@@ -104,7 +106,8 @@ TEST_CASE("memory budget: sizes are checked against it, and IBLX_MEMORY_BUDGET_G
   ::unsetenv("IBLX_MEMORY_BUDGET_GIB");
 }
 
-TEST_CASE("AtomicOutput: the file appears whole on commit, never partly, and an old file survives a failure") {
+TEST_CASE(
+    "AtomicOutput: the file appears whole on commit, never partly, and an old file survives a failure") {
   ScratchDir dir;
   const auto path = dir.file("out.txt");
   {
@@ -121,7 +124,7 @@ TEST_CASE("AtomicOutput: the file appears whole on commit, never partly, and an 
   } catch (const std::runtime_error&) {
   }
   CHECK(test::readBytes(path).size() == 5);  // the old file is kept
-  CHECK(entriesIn(dir.file("")) == 1);        // and no temporary is left behind
+  CHECK(entriesIn(dir.file("")) == 1);       // and no temporary is left behind
   CHECK(contains(errorMessage([&] { writeFileAtomically(dir.file("no/such/dir.txt"), "x"); }),
                  "cannot write " + dir.file("no/such/dir.txt").string()));
 }
@@ -134,7 +137,8 @@ TEST_CASE("writers on a full device: each throws naming the file, and leaves no 
              merl = dir.file("m.binary");
   CHECK(contains(errorMessage([&] { writePng(png, 64, 64, rgb, 0.0); }), "cannot write " + png.string()));
   CHECK(contains(errorMessage([&] { writeExr(exr, 64, 64, rgb); }), exr.string()));
-  std::vector<ParamDecl> params(200, ParamDecl{.name = "a_rather_long_parameter_name", .type = ParamType::Float});
+  std::vector<ParamDecl> params(200,
+                                ParamDecl{.name = "a_rather_long_parameter_name", .type = ParamType::Float});
   CHECK(contains(errorMessage([&] { writeBparam(bparam, "/x.brdf", params, {}); }), bparam.string()));
   CHECK(contains(errorMessage([&] { writeMerl(merl, std::vector<double>(3 * kMerlBins, 0.5)); }),
                  merl.string()));

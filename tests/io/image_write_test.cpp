@@ -209,20 +209,23 @@ TEST_CASE("display: the automatic exposure keys the object's log-average luminan
   CHECK(autoExposureEV(twoGreys, {}) == doctest::Approx(0.0).epsilon(1e-6));
   CHECK(autoExposureEV(std::vector<float>(6, 0.09f), {}) == doctest::Approx(1.0).epsilon(1e-6));
   // Rec. 709 weights: pure green of 0.18 / 0.7152 has Y = 0.18.
-  CHECK(autoExposureEV(std::vector<float>{0.0f, 0.18f / 0.7152f, 0.0f}, {}) == doctest::Approx(0.0).epsilon(1e-6));
+  CHECK(autoExposureEV(std::vector<float>{0.0f, 0.18f / 0.7152f, 0.0f}, {}) ==
+        doctest::Approx(0.0).epsilon(1e-6));
   // Background pixels (mask 0), black and non-finite pixels are left out.
-  const std::vector<float> mixed = {0.09f, 0.09f, 0.09f, 1000.0f, 1000.0f, 1000.0f, 0.0f, 0.0f, 0.0f,
-                                    std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f};
+  const std::vector<float> mixed = {0.09f,   0.09f, 0.09f, 1000.0f, 1000.0f,
+                                    1000.0f, 0.0f,  0.0f,  0.0f,    std::numeric_limits<float>::quiet_NaN(),
+                                    0.0f,    0.0f};
   const std::vector<std::uint8_t> mask = {1, 0, 1, 1};
   CHECK(autoExposureEV(mixed, mask) == doctest::Approx(1.0).epsilon(1e-6));
-  CHECK(autoExposureEV(std::vector<float>(6, 0.0f), {}) == 0.0);  // nothing lit: no change
+  CHECK(autoExposureEV(std::vector<float>(6, 0.0f), {}) == 0.0);     // nothing lit: no change
   CHECK(autoExposureEV(std::vector<float>(3, 1e-30f), {}) == 32.0);  // clamped
 
   const DisplaySettings automatic{.exposureEV = -0.5};
   const DisplayTransform resolved = resolveDisplay(automatic, std::vector<float>(6, 0.09f), {});
   CHECK(resolved.exposureEV == doctest::Approx(0.5).epsilon(1e-6));  // +1 automatic, -0.5 compensation
   CHECK(resolved.tonemap == Tonemap::Aces);                          // the default curve
-  const DisplaySettings manual{.autoExposure = false, .exposureEV = 2.0, .tonemap = Tonemap::Clamp, .gamma = 2.2};
+  const DisplaySettings manual{
+      .autoExposure = false, .exposureEV = 2.0, .tonemap = Tonemap::Clamp, .gamma = 2.2};
   const DisplayTransform fixed = resolveDisplay(manual, std::vector<float>(6, 0.09f), {});
   CHECK(fixed.exposureEV == 2.0);
   CHECK(fixed.gamma == 2.2);

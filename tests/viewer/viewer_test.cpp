@@ -130,7 +130,8 @@ TEST_CASE("viewer: the scripted screenshot shows the same passes as a headless r
   runs.push_back({"", MethodSpec{}, DisplaySettings{}});  // the default: automatic exposure, ACES
   MethodSpec hierSobol;
   hierSobol.method = "env-hier", hierSobol.sequence = "sobol";
-  runs.push_back({"--method env-hier --seq sobol --auto-exposure off --exposure 1.5 --tonemap reinhard", hierSobol,
+  runs.push_back({"--method env-hier --seq sobol --auto-exposure off --exposure 1.5 --tonemap reinhard",
+                  hierSobol,
                   DisplaySettings{.autoExposure = false, .exposureEV = 1.5, .tonemap = Tonemap::Reinhard}});
   for (const Run& run : runs) {
     CAPTURE(run.args);
@@ -310,15 +311,16 @@ TEST_CASE("viewer: compare mode renders A and B in turn and shows each where it 
     CAPTURE(view);
     const fs::path shotPath = fs::temp_directory_path() / ("iblx_viewer_test_compare_" + view + ".png");
     fs::remove(shotPath);
-    const std::string out = runCapturing(viewCommand(
-        "--size 64x64 --spp 4 --compare env-hier --compare-seq sobol --compare-view " + view +
-        " --frames 12 --screenshot " + shotPath.string()));
+    const std::string out = runCapturing(
+        viewCommand("--size 64x64 --spp 4 --compare env-hier --compare-seq sobol --compare-view " + view +
+                    " --frames 12 --screenshot " + shotPath.string()));
     const uint32_t passesA = passesOn(out, "mis"), passesB = passesOn(out, "B: ");
     CHECK(passesA + passesB == 12);  // one pass per frame
     CHECK(passesA >= 2);             // both ran: equal time, not one after the other
     CHECK(passesB >= 2);
     const Png shot = loadPng(shotPath);
-    const std::vector<float> rgbA = headlessRgb(scene, a, passesA, 4), rgbB = headlessRgb(scene, b, passesB, 4);
+    const std::vector<float> rgbA = headlessRgb(scene, a, passesA, 4),
+                             rgbB = headlessRgb(scene, b, passesB, 4);
     // One display transform for both: A's, as for a single view.
     const DisplayTransform display = resolveDisplay(DisplaySettings{}, rgbA, loaded.gbuffer.objectMask());
     int worstA = 0, worstB = 0;
@@ -331,10 +333,12 @@ TEST_CASE("viewer: compare mode renders A and B in turn and shows each where it 
         const bool isB = view == "split" ? x > 32 : true;
         for (int c = 0; c < 3; ++c) {
           if (isA)
-            worstA = std::max(worstA, std::abs(int(shot.at(x, y)[c]) - int(toDisplayByte(rgbA[3 * p + c], display))));
+            worstA = std::max(worstA,
+                              std::abs(int(shot.at(x, y)[c]) - int(toDisplayByte(rgbA[3 * p + c], display))));
           const int bx = view == "side" ? x + 64 : x;
           if (isB)
-            worstB = std::max(worstB, std::abs(int(shot.at(bx, y)[c]) - int(toDisplayByte(rgbB[3 * p + c], display))));
+            worstB = std::max(
+                worstB, std::abs(int(shot.at(bx, y)[c]) - int(toDisplayByte(rgbB[3 * p + c], display))));
         }
       }
     CHECK(worstA <= 1);

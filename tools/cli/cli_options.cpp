@@ -179,10 +179,11 @@ void addSampleFlags(ArgParser& p, RenderSpec& s) {
 }
 
 void addDisplayFlags(ArgParser& p, DisplaySettings& display) {
-  p.value("--exposure", "EV",
-          "exposure in stops: added to the automatic exposure, or the whole exposure with --auto-exposure off "
-          "(default 0)",
-          [&](const std::string& v) { display.exposureEV = parseDouble("--exposure", v, -64, 64); });
+  p.value(
+      "--exposure", "EV",
+      "exposure in stops: added to the automatic exposure, or the whole exposure with --auto-exposure off "
+      "(default 0)",
+      [&](const std::string& v) { display.exposureEV = parseDouble("--exposure", v, -64, 64); });
   p.value("--auto-exposure", "on|off",
           "on (default): expose the object's log-average luminance to middle grey (0.18)",
           [&](const std::string& v) {

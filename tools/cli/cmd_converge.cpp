@@ -117,15 +117,17 @@ int cmdConverge(const Args& args) {
   const std::string table = formatSummaryTable(summary);
   const std::string setting = "Device: " + context.deviceName() + ". Seeds: " + std::to_string(seeds.size()) +
                               ". Budget per run: " + budgetText(budget) +
-                              (result.interrupted ? " (interrupted)" : "") + ". Reference: " +
-                              obtained.description + ".";
-  writeFileAtomically(outDir / "summary.md", "# iblx converge: " + sceneTitle + "\n\n" + setting + "\n\n" + table);
+                              (result.interrupted ? " (interrupted)" : "") +
+                              ". Reference: " + obtained.description + ".";
+  writeFileAtomically(outDir / "summary.md",
+                      "# iblx converge: " + sceneTitle + "\n\n" + setting + "\n\n" + table);
 
   HtmlReport report("iblx converge: " + sceneTitle);
   report.paragraph(setting);
   report.heading("Summary");
-  report.paragraph("Equal time: the end of the shortest run. × best: MSE at equal time over the best method's. "
-                   "Click a column's header to sort by it.");
+  report.paragraph(
+      "Equal time: the end of the shortest run. × best: MSE at equal time over the best method's. "
+      "Click a column's header to sort by it.");
   report.table(summaryTable(summary));
   if (plots) {
     std::vector<HtmlReport::Figure> plotFigures, finalFigures, heatFigures;
@@ -139,8 +141,9 @@ int cmdConverge(const Args& args) {
     report.heading("Error against samples and time");
     report.figures(plotFigures, 620);
     report.heading(budget.seconds ? "Final images at equal time" : "Final images at equal samples");
-    report.paragraph("The first seed's image of each method at the end of its run, beside the reference, all "
-                     "under the reference's display transform (automatic exposure, ACES), so brightness compares.");
+    report.paragraph(
+        "The first seed's image of each method at the end of its run, beside the reference, all "
+        "under the reference's display transform (automatic exposure, ACES), so brightness compares.");
     report.figures(finalFigures, imageWidth);
     report.heading("Per-pixel error");
     report.paragraph("Relative squared error (x - r)^2 / (r^2 + 0.01) of the same images, on one log scale.");
@@ -154,7 +157,8 @@ int cmdConverge(const Args& args) {
                 table.c_str(), outDir.string().c_str(), figureCount);
   for (const auto& row : summary.rows)
     if (row.nonFiniteSamples || !row.finite)
-      warn(row.method + "/" + row.sequence + ": " + nonFiniteEstimatesMessage(row.nonFiniteSamples, render.scene.brdf));
+      warn(row.method + "/" + row.sequence + ": " +
+           nonFiniteEstimatesMessage(row.nonFiniteSamples, render.scene.brdf));
   return result.interrupted ? 130 : 0;
 }
 

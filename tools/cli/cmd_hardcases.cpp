@@ -38,7 +38,8 @@ int cmdHardCases(const Args& args) {
   addDeviceFlags(parser, render);
   parser.value("--alpha", "A", "family-wise false-alarm rate of the z-tests (default 1e-3)",
                [&](const std::string& v) { familyAlpha = parseDouble("--alpha", v, 1e-12, 0.5); });
-  parser.value("--out-dir", "DIR", "also write one CSV per case, hardcases.md, report.html and the final images there",
+  parser.value("--out-dir", "DIR",
+               "also write one CSV per case, hardcases.md, report.html and the final images there",
                [&](const std::string& v) { outDir = v; });
   parser.toggle("--json", "one JSON object per case and method instead of the tables",
                 [&] { render.json = true; });
@@ -60,9 +61,10 @@ int cmdHardCases(const Args& args) {
   ShaderCompiler compiler;
   std::ostringstream markdown;
   HtmlReport report("iblx hardcases on " + context.deviceName());
-  report.paragraph("Each case renders with every method; a method passes when its image is finite, no estimate was "
-                   "NaN or Inf, and its z-test of the mean signed error stays inside the bound. Rows are ranked "
-                   "by MSE at equal time; click a column's header to sort by it.");
+  report.paragraph(
+      "Each case renders with every method; a method passes when its image is finite, no estimate was "
+      "NaN or Inf, and its z-test of the mean signed error stays inside the bound. Rows are ranked "
+      "by MSE at equal time; click a column's header to sort by it.");
   int failures = 0;
   InterruptGuard interrupt;
   for (const auto& name : caseNames) {
@@ -108,10 +110,11 @@ int cmdHardCases(const Args& args) {
     intro << hardCase.description << ". Env " << scene.env.width << "x" << scene.env.height << ", "
           << scene.gbuffer.width << "x" << scene.gbuffer.height << " px, " << summary.rows.front().spp
           << " spp, |z| bound " << std::to_string(zBound).substr(0, 4)
-          << (hardCase.zTested ? "" : " (not judged: rare tail events this budget has not sampled)")
-          << "." << (excluded.empty() ? "" : " Not run: " + excluded + " (" + hardCase.exclusionReason + ").");
+          << (hardCase.zTested ? "" : " (not judged: rare tail events this budget has not sampled)") << "."
+          << (excluded.empty() ? "" : " Not run: " + excluded + " (" + hardCase.exclusionReason + ").");
     TextTable table;
-    table.headers = {"rank", "method", "seq", "relMSE", "MSE × best at equal time", "max |z|", "NaN/Inf", "check"};
+    table.headers = {"rank",    "method",  "seq",  "relMSE", "MSE × best at equal time",
+                     "max |z|", "NaN/Inf", "check"};
     table.rightAligned = {true, false, false, true, true, true, true, false};
     for (std::size_t position = 0; position < rank.size(); ++position) {
       const auto& r = summary.rows[rank[position]];
@@ -133,7 +136,8 @@ int cmdHardCases(const Args& args) {
             r.nonFiniteSamples, r.finite ? "true" : "false", ok ? "true" : "false");
     }
     for (const auto& skipped : result.skipped)
-      table.rows.push_back({"—", skipped.method, skipped.sequence, "skipped: " + skipped.reason, "", "", "", ""});
+      table.rows.push_back(
+          {"—", skipped.method, skipped.sequence, "skipped: " + skipped.reason, "", "", "", ""});
     const std::string text = "### " + name + "\n\n" + intro.str() + "\n\n" + formatMarkdownTable(table);
     if (!render.json) std::printf("%s\n", text.c_str());
     std::fflush(stdout);
@@ -145,7 +149,8 @@ int cmdHardCases(const Args& args) {
       // The final images under the reference's display transform, in images/ beside the report.
       const std::filesystem::path imageDir = outDir / "images" / name;
       std::filesystem::create_directories(imageDir);
-      const std::vector<std::string> files = writeFinalImages(imageDir, scene.gbuffer, result.images, reference);
+      const std::vector<std::string> files =
+          writeFinalImages(imageDir, scene.gbuffer, result.images, reference);
       std::vector<HtmlReport::Figure> figures = {{"reference", imageDir / files.front()}};
       for (std::size_t i = 0; i < result.images.size(); ++i)
         figures.push_back({imageCaption(result.images[i]), imageDir / files[i + 1]});

@@ -92,8 +92,7 @@ int cmdRender(const Args& args) {
   if (interrupted)
     warn("interrupted after " + std::to_string(passes) + " passes: writing the image accumulated so far");
   const auto rgb = renderer.meanRgb();
-  if (const uint32_t bad = renderer.nonFiniteSamples())
-    warn(nonFiniteEstimatesMessage(bad, spec.scene.brdf));
+  if (const uint32_t bad = renderer.nonFiniteSamples()) warn(nonFiniteEstimatesMessage(bad, spec.scene.brdf));
 
   std::optional<ErrorMetrics> error;
   double referenceSeconds = 0.0;
@@ -102,7 +101,8 @@ int cmdRender(const Args& args) {
   } else if (spec.reference && !interrupted) {
     ReferenceOptions options;
     options.progress = [&interrupt](double f) {
-      if (interrupt.flag().load()) throw Interrupted("the ground truth was not finished; nothing was written");
+      if (interrupt.flag().load())
+        throw Interrupted("the ground truth was not finished; nothing was written");
       progressLine("reference " + std::to_string(int(100 * f)) + "%");
     };
     const ReferenceImage ref = computeReference(context, compiler, scene, options);

@@ -138,8 +138,7 @@ int cmdSamples(const Args& args) {
     csv.flush();
     if (!csv) throw Error("standard output: write failed");
   }
-  if (const uint32_t bad = recorder.nonFiniteSamples())
-    warn(nonFiniteEstimatesMessage(bad, spec.scene.brdf));
+  if (const uint32_t bad = recorder.nonFiniteSamples()) warn(nonFiniteEstimatesMessage(bad, spec.scene.brdf));
 
   // The records' mean and the integrator's own running mean of the pixel agree to float rounding: a check
   // the user sees on every run.

@@ -75,7 +75,8 @@ int cmdView(const Args& args) {
   if (parser.parseOrShowHelp(args)) return 0;
   if (!compareSequence.empty() && !options.compare)
     throw Error("--compare-seq " + compareSequence + ": needs --compare METHOD");
-  if (options.compare) options.compare->sequence = compareSequence.empty() ? spec.method.sequence : compareSequence;
+  if (options.compare)
+    options.compare->sequence = compareSequence.empty() ? spec.method.sequence : compareSequence;
   if (spec.listMethods) {
     printRegistry(spec);
     return 0;

@@ -92,17 +92,19 @@ std::vector<std::uint32_t> seedList(const MeasurementSpec& spec) {
 }
 
 void addReferenceFlags(ArgParser& p, MeasurementSpec& s) {
-  p.value("--reference", "exact|mc",
-          "exact (default): the convolution; mc: the mean of two runs of --reference-method, with its own error "
-          "estimated from their difference and subtracted from every error",
-          [&](const std::string& v) {
-            if (v != "exact" && v != "mc") throw Error("--reference " + v + ": expected exact or mc");
-            s.monteCarloReference = v == "mc";
-          });
+  p.value(
+      "--reference", "exact|mc",
+      "exact (default): the convolution; mc: the mean of two runs of --reference-method, with its own error "
+      "estimated from their difference and subtracted from every error",
+      [&](const std::string& v) {
+        if (v != "exact" && v != "mc") throw Error("--reference " + v + ": expected exact or mc");
+        s.monteCarloReference = v == "mc";
+      });
   p.value("--reference-time", "S", "--reference mc: seconds of rendering for both runs together (default 20)",
           [&](const std::string& v) { s.mc.seconds = parseDouble("--reference-time", v, 0.01, 1e6); });
   p.value("--reference-method", "NAME[:OPTION]...",
-          "--reference mc: the method, as --method (default mis, with the sobol sequence)", [&](const std::string& v) {
+          "--reference mc: the method, as --method (default mis, with the sobol sequence)",
+          [&](const std::string& v) {
             const std::string sequence = s.mc.method.sequence;
             s.mc.method = parseMethodVariant(v);
             s.mc.method.sequence = sequence;
@@ -112,7 +114,8 @@ void addReferenceFlags(ArgParser& p, MeasurementSpec& s) {
 ObtainedReference obtainReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                   const HardCase* hardCase, const MeasurementSpec& spec) {
   if (!spec.referenceFile.empty())
-    return {readReferenceFile(spec.referenceFile, scene.gbuffer.width, scene.gbuffer.height, "the scene's"), {},
+    return {readReferenceFile(spec.referenceFile, scene.gbuffer.width, scene.gbuffer.height, "the scene's"),
+            {},
             "read from " + spec.referenceFile.string()};
   if (hardCase && hardCase->exactReference) {
     std::fprintf(stderr, "reference: closed form of hard case %s\n", hardCase->name.c_str());
@@ -122,7 +125,8 @@ ObtainedReference obtainReference(const VulkanContext& context, ShaderCompiler& 
   InterruptGuard interrupt;
   const auto progress = [&interrupt](double f) {
     if (interrupt.flag().load())
-      throw Interrupted("the ground truth was " + std::to_string(int(100 * f)) + "% done; nothing was written");
+      throw Interrupted("the ground truth was " + std::to_string(int(100 * f)) +
+                        "% done; nothing was written");
     progressLine("reference " + std::to_string(int(100 * f)) + "%");
   };
   const std::filesystem::path cacheDir = spec.noCache ? std::filesystem::path() : defaultCacheDir();
@@ -134,7 +138,8 @@ ObtainedReference obtainReference(const VulkanContext& context, ShaderCompiler& 
     options.progress = progress;
     ref = cachedMcReference(context, compiler, scene, cacheDir, options, &fromCache);
     char text[200];
-    std::snprintf(text, sizeof text, "Monte Carlo: 2 runs of %s, %g s in all; its own MSE %.3g, relMSE %.3g "
+    std::snprintf(text, sizeof text,
+                  "Monte Carlo: 2 runs of %s, %g s in all; its own MSE %.3g, relMSE %.3g "
                   "(subtracted from every error)",
                   resolveMethod(options.method, *scene.brdf).label().c_str(), options.seconds, ref.noise.mse,
                   ref.noise.relMse);
@@ -146,7 +151,8 @@ ObtainedReference obtainReference(const VulkanContext& context, ShaderCompiler& 
   }
   endProgressLine();
   if (fromCache)
-    std::fprintf(stderr, "reference: %s, from the cache (%s)\n", kind.c_str(), defaultCacheDir().string().c_str());
+    std::fprintf(stderr, "reference: %s, from the cache (%s)\n", kind.c_str(),
+                 defaultCacheDir().string().c_str());
   else
     std::fprintf(stderr, "reference: %s, computed in %.2f s\n", kind.c_str(), ref.seconds);
   return {std::move(ref.rgb), ref.noise, kind};

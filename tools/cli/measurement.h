@@ -49,8 +49,8 @@ struct ObtainedReference {
   std::string description;  // where it came from, for reports
 };
 // The ground truth of `scene`: --reference-file, else the hard case's closed form, else the convolution (or
-// with --reference mc the Monte Carlo reference) through the on-disk cache (unless --no-cache). Prints where it
-// came from.
+// with --reference mc the Monte Carlo reference) through the on-disk cache (unless --no-cache). Prints where
+// it came from.
 ObtainedReference obtainReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                   const HardCase* hardCase, const MeasurementSpec& spec);
 

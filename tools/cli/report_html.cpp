@@ -81,11 +81,20 @@ std::string htmlEscape(const std::string& text) {
   std::string out;
   for (const char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -101,7 +110,9 @@ void HtmlReport::heading(const std::string& text, int level) {
   blocks_.push_back(std::move(block));
 }
 
-void HtmlReport::paragraph(const std::string& text) { blocks_.push_back("<p>" + htmlEscape(text) + "</p>"); }
+void HtmlReport::paragraph(const std::string& text) {
+  blocks_.push_back("<p>" + htmlEscape(text) + "</p>");
+}
 
 void HtmlReport::table(const TextTable& table) {
   std::ostringstream s;
@@ -135,10 +146,11 @@ void HtmlReport::figures(const std::vector<Figure>& figures, int displayWidth) {
 }
 
 void HtmlReport::write(const std::filesystem::path& path) const {
-  std::string page = "<!DOCTYPE html>\n<html lang=\"en\" data-status=\"loading\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
-                     htmlEscape(title_) + "</title>\n<script>" + kErrorScript + "</script>\n<style>" + kStyle +
-                     "</style>\n</head>\n<body>\n<h1>" +
-                     htmlEscape(title_) + "</h1>\n";
+  std::string page =
+      "<!DOCTYPE html>\n<html lang=\"en\" data-status=\"loading\">\n<head>\n<meta "
+      "charset=\"utf-8\">\n<title>" +
+      htmlEscape(title_) + "</title>\n<script>" + kErrorScript + "</script>\n<style>" + kStyle +
+      "</style>\n</head>\n<body>\n<h1>" + htmlEscape(title_) + "</h1>\n";
   std::size_t image = 0;
   for (const std::string& block : blocks_) {
     for (const char c : block) {

@@ -18,8 +18,8 @@ class HtmlReport {
   void paragraph(const std::string& text);
   // Clicking a header sorts the rows by that column (numerically where the cells start with a number).
   void table(const TextTable& table);
-  // A wrapping row of captioned PNG files (read from disk when the page is written), drawn displayWidth pixels
-  // wide (0: their own size); small images are scaled up without smoothing, so pixels stay pixels.
+  // A wrapping row of captioned PNG files (read from disk when the page is written), drawn displayWidth
+  // pixels wide (0: their own size); small images are scaled up without smoothing, so pixels stay pixels.
   struct Figure {
     std::string caption;
     std::filesystem::path png;
@@ -31,7 +31,7 @@ class HtmlReport {
 
  private:
   std::string title_;
-  std::vector<std::string> blocks_;   // HTML, with one placeholder per figure
+  std::vector<std::string> blocks_;  // HTML, with one placeholder per figure
   std::vector<std::filesystem::path> images_;
 };
 

@@ -12,13 +12,14 @@ namespace iblx::viewer {
 namespace {
 
 // One image's pixel (x, y) written at (x0 + x, y0 + y) of the canvas, through the display transform.
-void drawImage(CompareCanvas& canvas, int x0, int y0, const CompareFrame& f, std::span<const float> rgb, int xBegin,
-               int xEnd) {
+void drawImage(CompareCanvas& canvas, int x0, int y0, const CompareFrame& f, std::span<const float> rgb,
+               int xBegin, int xEnd) {
   const GBuffer& g = *f.gbuffer;
   for (int y = 0; y < g.height; ++y)
     for (int x = xBegin; x < xEnd; ++x) {
       const std::size_t p = std::size_t(y) * std::size_t(g.width) + std::size_t(x);
-      std::uint8_t* out = &canvas.bgra[4 * (std::size_t(y0 + y) * std::size_t(canvas.width) + std::size_t(x0 + x))];
+      std::uint8_t* out =
+          &canvas.bgra[4 * (std::size_t(y0 + y) * std::size_t(canvas.width) + std::size_t(x0 + x))];
       out[3] = 255;
       const bool object = g.pixels[p].normal.w != 0.0f;
       if (rgb.empty() || (!object && !f.background)) {
@@ -33,12 +34,14 @@ void drawImage(CompareCanvas& canvas, int x0, int y0, const CompareFrame& f, std
 
 void drawError(CompareCanvas& canvas, int x0, int y0, const GBuffer& g, std::span<const float> rgb,
                std::span<const float> reference, double high) {
-  const std::vector<double> error = rgb.empty() ? std::vector<double>() : relativeSquaredErrorPerPixel(g, rgb, reference);
+  const std::vector<double> error =
+      rgb.empty() ? std::vector<double>() : relativeSquaredErrorPerPixel(g, rgb, reference);
   const double logLow = std::log10(high * 1e-4), logHigh = std::log10(high);
   for (int y = 0; y < g.height; ++y)
     for (int x = 0; x < g.width; ++x) {
       const std::size_t p = std::size_t(y) * std::size_t(g.width) + std::size_t(x);
-      std::uint8_t* out = &canvas.bgra[4 * (std::size_t(y0 + y) * std::size_t(canvas.width) + std::size_t(x0 + x))];
+      std::uint8_t* out =
+          &canvas.bgra[4 * (std::size_t(y0 + y) * std::size_t(canvas.width) + std::size_t(x0 + x))];
       out[3] = 255;
       if (error.empty() || g.pixels[p].normal.w == 0.0f || !std::isfinite(error[p])) {
         out[0] = out[1] = out[2] = kWindowGrey;
@@ -52,8 +55,8 @@ void drawError(CompareCanvas& canvas, int x0, int y0, const GBuffer& g, std::spa
 
 }  // namespace
 
-std::optional<double> sharedErrorHigh(const GBuffer& gbuffer, std::span<const float> a, std::span<const float> b,
-                                      std::span<const float> reference) {
+std::optional<double> sharedErrorHigh(const GBuffer& gbuffer, std::span<const float> a,
+                                      std::span<const float> b, std::span<const float> reference) {
   std::vector<double> all;
   for (std::span<const float> image : {a, b}) {
     if (image.empty()) continue;
@@ -80,7 +83,8 @@ CompareCanvas composeCompare(const CompareFrame& f) {
       drawImage(canvas, 0, 0, f, f.b, split, g.width);
       if (split > 0 && split < g.width)
         for (int y = 0; y < g.height; ++y) {
-          std::uint8_t* out = &canvas.bgra[4 * (std::size_t(y) * std::size_t(canvas.width) + std::size_t(split))];
+          std::uint8_t* out =
+              &canvas.bgra[4 * (std::size_t(y) * std::size_t(canvas.width) + std::size_t(split))];
           out[0] = out[1] = out[2] = out[3] = 255;
         }
       break;

@@ -18,13 +18,13 @@ inline constexpr const char* kCompareViewNames[] = {"split", "side", "flip"};
 
 struct CompareFrame {
   const GBuffer* gbuffer = nullptr;
-  std::span<const float> a, b;          // width*height*3 each; empty: not rendered yet (drawn grey)
-  std::span<const float> reference;     // empty: none (no error row)
-  DisplayTransform display;             // one transform for both, so that brightness compares
-  bool background = true;               // the environment around the object, else the window's grey
+  std::span<const float> a, b;       // width*height*3 each; empty: not rendered yet (drawn grey)
+  std::span<const float> reference;  // empty: none (no error row)
+  DisplayTransform display;          // one transform for both, so that brightness compares
+  bool background = true;            // the environment around the object, else the window's grey
   CompareView view = CompareView::Split;
-  double divider = 0.5;                 // Split: the fraction of the width that shows A
-  bool showB = false;                   // Flip: which one
+  double divider = 0.5;  // Split: the fraction of the width that shows A
+  bool showB = false;    // Flip: which one
 };
 
 struct CompareCanvas {
@@ -39,7 +39,7 @@ struct CompareCanvas {
 CompareCanvas composeCompare(const CompareFrame& frame);
 
 // The shared error scale of SideBySide: [high * 1e-4, high]; std::nullopt when no pixel has an error.
-std::optional<double> sharedErrorHigh(const GBuffer& gbuffer, std::span<const float> a, std::span<const float> b,
-                                      std::span<const float> reference);
+std::optional<double> sharedErrorHigh(const GBuffer& gbuffer, std::span<const float> a,
+                                      std::span<const float> b, std::span<const float> reference);
 
 }  // namespace iblx::viewer

@@ -83,8 +83,8 @@ class ViewerApp {
     }
   }
   ~ViewerApp() {
-    for (JobBase* job : std::initializer_list<JobBase*>{referenceJob_.get(), recordJob_.get(),
-                                                        buildJob_.get(), compareBuildJob_.get(), loadJob_.get()})
+    for (JobBase* job : std::initializer_list<JobBase*>{
+             referenceJob_.get(), recordJob_.get(), buildJob_.get(), compareBuildJob_.get(), loadJob_.get()})
       if (job) job->cancel();
   }
 
@@ -152,7 +152,8 @@ class ViewerApp {
   // Mouse orbit and wheel zoom over the image (not over the panel).
   void handleMouse() {
     const ImGuiIO& io = ImGui::GetIO();
-    if (comparing() && !io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F, false)) flipShowB_ = !flipShowB_;
+    if (comparing() && !io.WantCaptureKeyboard && ImGui::IsKeyPressed(GLFW_KEY_F, false))
+      flipShowB_ = !flipShowB_;
     if (io.WantCaptureMouse) return;
     // A click without a drag (or a right click) on the image picks the overlay's pixel.
     const bool click =
@@ -481,8 +482,15 @@ class ViewerApp {
     shownExposureEV_ = display.exposureEV;
     if (comparing()) {
       const bool sameScene = compare_.scene && compare_.scene->gbuffer.pixels.size() == g.pixels.size();
-      CompareFrame frame{&g, rgb, sameScene ? std::span<const float>(shownB_) : std::span<const float>(), {},
-                         display, options_.background, options_.compareView, divider_, flipShowB_};
+      CompareFrame frame{&g,
+                         rgb,
+                         sameScene ? std::span<const float>(shownB_) : std::span<const float>(),
+                         {},
+                         display,
+                         options_.background,
+                         options_.compareView,
+                         divider_,
+                         flipShowB_};
       if (reference_ && active_.generation == referenceGeneration_) frame.reference = *reference_;
       CompareCanvas canvas = composeCompare(frame);
       canvas_ = std::move(canvas.bgra);
@@ -536,7 +544,8 @@ class ViewerApp {
   }
 
   void drawPanel() {
-    const float x = float(std::max(std::max(canvasWidth_, scene_->gbuffer.width), window_.width() - kPanelWidth));
+    const float x =
+        float(std::max(std::max(canvasWidth_, scene_->gbuffer.width), window_.width() - kPanelWidth));
     ImGui::SetNextWindowPos(ImVec2(std::min(x, float(window_.width() - kPanelWidth)), 0.0f));
     ImGui::SetNextWindowSize(ImVec2(float(kPanelWidth), float(window_.height())));
     ImGui::Begin("iblx", nullptr,
@@ -643,7 +652,8 @@ class ViewerApp {
           if (ImGui::SliderFloat("divider", &divider, 0.0f, 1.0f)) divider_ = divider;
           ImGui::TextDisabled("A left, B right; or drag the white line");
         } else if (options_.compareView == CompareView::Flip) {
-          if (ImGui::Button(flipShowB_ ? "showing B: flip (F)" : "showing A: flip (F)")) flipShowB_ = !flipShowB_;
+          if (ImGui::Button(flipShowB_ ? "showing B: flip (F)" : "showing A: flip (F)"))
+            flipShowB_ = !flipShowB_;
         } else {
           ImGui::TextDisabled(reference_ ? "A | B; below: their error against the ground truth"
                                          : "A | B; compute the ground truth for their error maps");
@@ -718,8 +728,8 @@ class ViewerApp {
       ImGui::SameLine();
       ImGui::TextDisabled("(%+.2f EV shown)", shownExposureEV_);
       float exposure = float(options_.display.exposureEV);
-      if (ImGui::SliderFloat(options_.display.autoExposure ? "EV offset" : "exposure (EV)", &exposure,
-                             -10.0f, 10.0f))
+      if (ImGui::SliderFloat(options_.display.autoExposure ? "EV offset" : "exposure (EV)", &exposure, -10.0f,
+                             10.0f))
         options_.display.exposureEV = exposure;
       int curve = int(options_.display.tonemap);
       if (ImGui::Combo("tonemap", &curve, kTonemapNames, int(std::size(kTonemapNames))))
