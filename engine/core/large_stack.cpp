@@ -6,7 +6,12 @@
 
 #include <pthread.h>
 
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <exception>
 
 namespace iblx {
@@ -29,7 +34,8 @@ extern "C" void* runJob(void* argument) {
 
 }  // namespace
 
-void runWithStack(std::size_t stackBytes, const std::function<void()>& work) {
+void runWithStack(std::size_t stackBytes, const std::function<void()>& work, double timeoutSeconds,
+                  const std::function<void()>& onTimeout) {
   pthread_attr_t attributes;
   if (pthread_attr_init(&attributes) != 0) throw Error("cannot create a thread (pthread_attr_init failed)");
   pthread_attr_setstacksize(&attributes, stackBytes);
@@ -38,7 +44,21 @@ void runWithStack(std::size_t stackBytes, const std::function<void()>& work) {
   const int created = pthread_create(&thread, &attributes, &runJob, &job);
   pthread_attr_destroy(&attributes);
   if (created != 0) throw Error(std::string("cannot create a thread: ") + std::strerror(created));
-  pthread_join(thread, nullptr);
+  if (timeoutSeconds > 0.0) {
+    timespec deadline{};
+    clock_gettime(CLOCK_REALTIME, &deadline);
+    const double whole = std::floor(timeoutSeconds);
+    deadline.tv_sec += time_t(whole);
+    deadline.tv_nsec += long((timeoutSeconds - whole) * 1e9);
+    if (deadline.tv_nsec >= 1000000000L) deadline.tv_sec += 1, deadline.tv_nsec -= 1000000000L;
+    if (pthread_timedjoin_np(thread, nullptr, &deadline) == ETIMEDOUT) {
+      if (onTimeout) onTimeout();
+      std::fflush(stderr);
+      std::_Exit(4);
+    }
+  } else {
+    pthread_join(thread, nullptr);
+  }
   if (job.error) std::rethrow_exception(job.error);
 }
 

@@ -15,11 +15,24 @@
 #include <glslang/SPIRV/GlslangToSpv.h>
 
 #include <atomic>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <mutex>
 
 namespace iblx {
 namespace {
+
+// How long glslang may take for one kernel: 300 s, or $IBLX_COMPILE_TIMEOUT_S. The .brdf limits keep real
+// compiles far below it (a 256 KiB file of 10 000 constants: 0.6 s).
+double compileTimeoutSeconds() {
+  if (const char* text = std::getenv("IBLX_COMPILE_TIMEOUT_S"); text && *text) {
+    char* end = nullptr;
+    const double seconds = std::strtod(text, &end);
+    if (end && *end == '\0' && seconds > 0.0 && seconds < 1e7) return seconds;
+  }
+  return 300.0;
+}
 
 std::once_flag gGlslangInit;
 
@@ -85,6 +98,7 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& prelude, const 
   std::vector<uint32_t> spirv;
   // glslang recurses per operator and nesting level; on a thread with a 256 MiB stack (reserved, touched only
   // as used) a pathological .brdf that passed the parser's limits still cannot overflow the process's stack.
+  const double timeout = compileTimeoutSeconds();
   runWithStack(std::size_t(256) << 20, [&] {
     glslang::TShader shader(EShLangCompute);
     const char* strings[] = {prelude.c_str()};
@@ -109,7 +123,13 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& prelude, const 
     options.disableOptimizer = false;
     options.optimizeSize = false;
     glslang::GlslangToSpv(*program.getIntermediate(EShLangCompute), spirv, &options);
+  }, timeout, [&] {
+    std::fprintf(stderr,
+                 "iblx: error: compiling %s took more than %.3g s (IBLX_COMPILE_TIMEOUT_S sets the limit); a .brdf "
+                 "too large for the GLSL compiler?\n",
+                 debugName.c_str(), timeout);
   });
+
 
   if (!cacheFile.empty()) {
     // Sealed, under a temporary name unique to this process and call, then renamed: concurrent compilers

@@ -73,6 +73,11 @@ out=$(IBLX_GPU_TIMEOUT_S=3 timeout 60 "$iblx" render --brdf "$tmp/loop.brdf" --s
 status=$?
 [ $status -eq 4 ] && printf '%s' "$out" | grep -q "did not finish a dispatch within 3 s" && [ ! -e "$tmp/loop.png" ] \
   && pass || fail "a never-ending BRDF(): exit $status, $out"
+# A compile past its time budget (here 1 ms, on an empty cache) ends the same way, naming the limit.
+out=$(IBLX_COMPILE_TIMEOUT_S=0.001 IBLX_CACHE_DIR="$tmp/cold-cache" timeout 60 "$iblx" render --size 8x8 --passes 1 --out "$tmp/cold.png" 2>&1 >/dev/null)
+status=$?
+[ $status -eq 4 ] && printf '%s' "$out" | grep -q "took more than 0.001 s (IBLX_COMPILE_TIMEOUT_S" && [ ! -e "$tmp/cold.png" ] \
+  && pass || fail "a compile past IBLX_COMPILE_TIMEOUT_S: exit $status, $out"
 # Paths with a quote, a backslash or a newline compile; a GLSL error's first line names the file and line.
 printf 'analytic\n::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return vec3(0.2); }\n::end shader\n' > "$tmp/q\"uo\\te.brdf"
 cp "$tmp/q\"uo\\te.brdf" "$tmp/new"$'\n'"line.brdf"
