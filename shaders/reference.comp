@@ -58,32 +58,75 @@ void main() {
   precise vec3 compensation = accum[index].meanSquare.rgb;
   uint texelBegin = frame.sampleOffset, texelEnd = frame.samplesPerPass;
   if (texelBegin == 0u) sum = compensation = vec3(0.0);
-  for (uint i = texelBegin; i < texelEnd; ++i) {
-    {
-      ivec2 texel = ivec2(i % frame.envWidth, i / frame.envWidth);
-      vec3 radiance = envTexelRadiance(texel);
-      if (radiance == vec3(0.0)) continue;
-      vec3 centre = texelToDirection(texel, vec2(0.5));
-      float cosCentre = dot(centre, s.n);
-      if (cosCentre <= -horizonBand) continue;  // wholly below the horizon (coherent between neighbouring pixels)
-      int k = dot(centre, mirror) >= fineZoneCos ? fine : coarse;
-      k = cosCentre < horizonBand ? max(k, horizonFine) : k;
-      // A sun holds most of the integral in a few texels, where f cos (a lobe's tail, MERL's piecewise-constant
-      // bins) is not smooth enough for 2x2 points; the reference must be far more accurate there than anywhere.
-      float energy = (radiance.r + radiance.g + radiance.b) / 3.0 * texelSolidAngle(texel);
-      k = energy >= brightEnergy ? max(k, brightFine) : k;
-      // k = 0: the midpoint rule (texels small against every feature of f cos); else Gauss on k x k sub-cells.
-      vec3 integral;
-      if (k == 0) {
-        vec3 wiLocal = toLocal(s, centre);
-        integral = wiLocal.z > 0.0 ? brdfEval(wiLocal, s.woLocal) * (wiLocal.z * texelSolidAngle(texel)) : vec3(0.0);
-      } else {
-        integral = texelIntegral(texel, s, k);
+  // Per row, only the texels whose centre can pass the horizon test below are visited. For a row's centres,
+  // dot(n, d) = n.y cos(theta) + r sin(theta) cos(phi - phiN) with r = |n.xz|, so they lie in one interval of phi
+  // around phiN (widened by two texels against rounding); the exact test still runs on each, so the texels
+  // summed, and their order, are those of a loop over every texel: the result is the same, bit for bit.
+  uint W = frame.envWidth;
+  float r = length(s.n.xz);
+  float phiN = atan(s.n.z, s.n.x);
+  float texelsPerRadian = float(W) / kTwoPi;
+  uint rowFirst = texelBegin / W, rowLast = (texelEnd - 1u) / W;
+  for (uint y = rowFirst; y <= rowLast; ++y) {
+    uint rowStart = max(texelBegin, y * W), rowEnd = min(texelEnd, (y + 1u) * W);
+    vec4 row = tableVec4(envRows, int(y));
+    float a = mix(row.y, row.z, 0.5);
+    float cosTheta = row.w > 0.5 ? 2.0 * a - 1.0 : 1.0 - 2.0 * a;
+    float rs = r * 2.0 * sqrt(max(a * (1.0 - a), 0.0));
+    // Up to two ranges of columns, [x0, x1) then [x2, x3), in increasing order.
+    int x0 = 0, x1 = int(W), x2 = 0, x3 = 0;
+#ifndef REFERENCE_VISIT_EVERY_TEXEL
+    if (rs < 1e-4) {
+      if (s.n.y * cosTheta + rs <= -horizonBand - 1e-5) continue;  // the whole row is below the band
+    } else {
+      float c = (-horizonBand - s.n.y * cosTheta) / rs;
+      if (c >= 1.0 + 1e-3) continue;
+      if (c > -1.0) {
+        float h = acos(min(c, 1.0));
+        float first = (phiN - h) * texelsPerRadian - 2.5, last = (phiN + h) * texelsPerRadian + 1.5;
+        if (last - first < float(W)) {
+          float shift = floor(first / float(W)) * float(W);
+          int f = int(floor(first - shift)), l = int(ceil(last - shift));
+          if (l < int(W)) {
+            x0 = f, x1 = l + 1;
+          } else {
+            x0 = 0, x1 = min(l + 1 - int(W), f), x2 = f, x3 = int(W);  // never a column twice
+          }
+        }
       }
-      precise vec3 term = radiance * integral - compensation;  // Kahan summation
-      precise vec3 next = sum + term;
-      compensation = (next - sum) - term;
-      sum = next;
+    }
+#endif
+    for (int range = 0; range < 2; ++range) {
+      uint begin = y * W + uint(range == 0 ? x0 : x2), end = y * W + uint(range == 0 ? x1 : x3);
+      begin = max(begin, rowStart), end = min(end, rowEnd);
+      for (uint i = begin; i < end; ++i) {
+        {
+          ivec2 texel = ivec2(i % frame.envWidth, i / frame.envWidth);
+          vec3 radiance = envTexelRadiance(texel);
+          if (radiance == vec3(0.0)) continue;
+          vec3 centre = texelToDirection(texel, vec2(0.5));
+          float cosCentre = dot(centre, s.n);
+          if (cosCentre <= -horizonBand) continue;  // wholly below the horizon (coherent between neighbouring pixels)
+          int k = dot(centre, mirror) >= fineZoneCos ? fine : coarse;
+          k = cosCentre < horizonBand ? max(k, horizonFine) : k;
+          // A sun holds most of the integral in a few texels, where f cos (a lobe's tail, MERL's piecewise-constant
+          // bins) is not smooth enough for 2x2 points; the reference must be far more accurate there than anywhere.
+          float energy = (radiance.r + radiance.g + radiance.b) / 3.0 * texelSolidAngle(texel);
+          k = energy >= brightEnergy ? max(k, brightFine) : k;
+          // k = 0: the midpoint rule (texels small against every feature of f cos); else Gauss on k x k sub-cells.
+          vec3 integral;
+          if (k == 0) {
+            vec3 wiLocal = toLocal(s, centre);
+            integral = wiLocal.z > 0.0 ? brdfEval(wiLocal, s.woLocal) * (wiLocal.z * texelSolidAngle(texel)) : vec3(0.0);
+          } else {
+            integral = texelIntegral(texel, s, k);
+          }
+          precise vec3 term = radiance * integral - compensation;  // Kahan summation
+          precise vec3 next = sum + term;
+          compensation = (next - sum) - term;
+          sum = next;
+        }
+      }
     }
   }
   accum[index].mean = vec4(sum, 1.0);

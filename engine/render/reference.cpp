@@ -25,7 +25,9 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
                                 const ReferenceOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   SceneGpu gpu = uploadScene(context, scene);
-  const auto spirv = compileKernel(compiler, referenceParts(scene, gpu), "reference " + scene.brdf->name);
+  KernelParts parts = referenceParts(scene, gpu);
+  if (options.visitEveryTexel) parts.defines.emplace_back("REFERENCE_VISIT_EVERY_TEXEL", "1");
+  const auto spirv = compileKernel(compiler, parts, "reference " + scene.brdf->name);
   const auto brdfSet = gpu.brdfSet();
   ComputeKernel kernel(context, spirv, sceneKernelLayout(0, uint32_t(brdfSet.size() - 1)), "reference");
   kernel.bindBuffers(0, gpu.frameSet());

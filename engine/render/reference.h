@@ -21,6 +21,10 @@ struct ReferenceOptions {
   // (the viewer's frames wait behind each dispatch on a CPU device) at a little more overhead. It only changes
   // the order of float additions, so it is not part of the cache key.
   double maxWorkPerDispatch = 4e8;
+  // Visit every texel of every row instead of only the interval of each row that can be above a pixel's
+  // horizon. The result is the same bit for bit (the exact per-texel test decides either way); the option
+  // exists to check that, and is not part of the cache key.
+  bool visitEveryTexel = false;
   // Called after each dispatch (a run of texels); an exception thrown from it abandons the computation.
   std::function<void(double fraction)> progress;
 };
