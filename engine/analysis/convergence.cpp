@@ -246,9 +246,14 @@ TextTable summaryTable(const ConvergenceSummary& summary) {
 }
 
 std::string formatSummaryTable(const ConvergenceSummary& summary) {
+  const std::string noise =
+      summary.referenceNoiseMse > 0.0
+          ? " Errors are net of the reference's own noise (MSE " + formatNumber(summary.referenceNoiseMse) +
+                ", relMSE " + formatNumber(summary.referenceNoiseRelMse) + "), subtracted."
+          : "";
   return "Equal time: " + formatSeconds(summary.equalTimeSeconds) +
-         " of rendering (the shortest run); target relMSE " + formatNumber(summary.targetRelMse) + ".\n\n" +
-         formatMarkdownTable(summaryTable(summary));
+         " of rendering (the shortest run); target relMSE " + formatNumber(summary.targetRelMse) + "." + noise +
+         "\n\n" + formatMarkdownTable(summaryTable(summary));
 }
 
 std::string formatSummaryJson(const ConvergenceSummary& summary) {
@@ -267,6 +272,8 @@ std::string formatSummaryJson(const ConvergenceSummary& summary) {
       << ", \"equal_time_mse\": " << number(r.equalTimeMse)
       << ", \"equal_time_ratio\": " << number(r.equalTimeRatio)
       << ", \"efficiency\": " << number(r.efficiency) << ", \"max_abs_z\": " << number(r.maxAbsZ)
+      << ", \"reference_noise_mse\": " << number(summary.referenceNoiseMse)
+      << ", \"reference_noise_relmse\": " << number(summary.referenceNoiseRelMse)
       << ", \"non_finite\": " << r.nonFiniteSamples << "}\n";
   return s.str();
 }

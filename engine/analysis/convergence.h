@@ -80,6 +80,8 @@ struct MethodSummary {
 struct ConvergenceSummary {
   double targetRelMse = 0.0;
   double equalTimeSeconds = 0.0;    // the common time: the end of the shortest run
+  // A Monte Carlo reference's own expected MSE and relMSE, already subtracted from every error (0: exact).
+  double referenceNoiseMse = 0.0, referenceNoiseRelMse = 0.0;
   std::vector<MethodSummary> rows;  // in the order the runs first appear
 };
 

@@ -98,6 +98,12 @@ TEST_CASE("summarize: equal-time ratio, slope, efficiency and time to target of 
   const std::string table = formatSummaryTable(s);
   CHECK(table.find("| A | random | 2 | 1024 |") != std::string::npos);
   CHECK(formatSummaryJson(s).find("\"equal_time_ratio\": 2") != std::string::npos);
+  CHECK(table.find("reference's own noise") == std::string::npos);  // an exact reference: nothing to say
+  ConvergenceSummary noisy = s;
+  noisy.referenceNoiseMse = 2e-6, noisy.referenceNoiseRelMse = 3e-7;
+  CHECK(formatSummaryTable(noisy).find("net of the reference's own noise (MSE 2e-06, relMSE 3e-07)") !=
+        std::string::npos);
+  CHECK(formatSummaryJson(noisy).find("\"reference_noise_mse\": 2e-06") != std::string::npos);
   CHECK_THROWS_AS(summarize(std::vector<ConvergenceRun>{{"empty", "random", 1}}, 1e-3), Error);
 }
 

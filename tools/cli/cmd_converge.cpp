@@ -106,7 +106,9 @@ int cmdConverge(const Args& args) {
 
   writeConvergenceCsv(outDir / "converge.csv", result.runs);
   writeExr(outDir / "reference.exr", scene.gbuffer.width, scene.gbuffer.height, reference);
-  const ConvergenceSummary summary = summarize(result.runs, targetRelMse);
+  ConvergenceSummary summary = summarize(result.runs, targetRelMse);
+  summary.referenceNoiseMse = obtained.noise.mse;
+  summary.referenceNoiseRelMse = obtained.noise.relMse;
   std::vector<std::string> plotFiles, heatMaps, finalImages;
   if (plots) {
     plotFiles = writeConvergencePlots(outDir, sceneTitle, result.runs, obtained.noise);
