@@ -1,6 +1,7 @@
 // Bounded inputs and atomic outputs (engine/core/file_io.h).
 #include "engine/core/file_io.h"
 
+#include "engine/core/environment.h"
 #include "engine/core/error.h"
 
 #include <sys/stat.h>
@@ -70,13 +71,8 @@ std::string readInputText(const fs::path& path, std::uint64_t maxBytes) {
 }
 
 std::uint64_t memoryBudgetBytes() {
-  constexpr std::uint64_t kGiB = 1ull << 30;
-  if (const char* text = std::getenv("IBLX_MEMORY_BUDGET_GIB"); text && *text) {
-    char* end = nullptr;
-    const double gib = std::strtod(text, &end);
-    if (end && *end == '\0' && std::isfinite(gib) && gib > 0.0 && gib < 1e6) return std::uint64_t(gib * kGiB);
-  }
-  return 4 * kGiB;
+  constexpr double kGiB = double(1ull << 30);
+  return std::uint64_t(environmentNumber("IBLX_MEMORY_BUDGET_GIB", 4.0, 1e6) * kGiB);
 }
 
 std::string formatBytes(std::uint64_t bytes) {

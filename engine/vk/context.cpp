@@ -2,6 +2,7 @@
 // queue.
 #include "engine/vk/context.h"
 
+#include "engine/core/environment.h"
 #include "engine/core/error.h"
 
 #include <algorithm>
@@ -209,14 +210,7 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
       device_, vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer, queueFamily_));
 }
 
-double gpuTimeoutSeconds() {
-  if (const char* text = std::getenv("IBLX_GPU_TIMEOUT_S"); text && *text) {
-    char* end = nullptr;
-    const double seconds = std::strtod(text, &end);
-    if (end && *end == '\0' && seconds > 0.0 && seconds < 1e7) return seconds;
-  }
-  return 600.0;
-}
+double gpuTimeoutSeconds() { return environmentNumber("IBLX_GPU_TIMEOUT_S", 600.0, 1e7); }
 
 void VulkanContext::submitAndWait(const std::function<void(vk::CommandBuffer)>& record) const {
   // The pool and the queue are shared by every thread (the viewer builds renderers and ground truths in the

@@ -3,6 +3,7 @@
 
 #include "engine/core/cache_dir.h"
 #include "engine/core/cache_file.h"
+#include "engine/core/environment.h"
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
 #include "engine/core/large_stack.h"
@@ -25,14 +26,7 @@ namespace {
 
 // How long glslang may take for one kernel: 300 s, or $IBLX_COMPILE_TIMEOUT_S. The .brdf limits keep real
 // compiles far below it (a 256 KiB file of 10 000 constants: 0.6 s).
-double compileTimeoutSeconds() {
-  if (const char* text = std::getenv("IBLX_COMPILE_TIMEOUT_S"); text && *text) {
-    char* end = nullptr;
-    const double seconds = std::strtod(text, &end);
-    if (end && *end == '\0' && seconds > 0.0 && seconds < 1e7) return seconds;
-  }
-  return 300.0;
-}
+double compileTimeoutSeconds() { return environmentNumber("IBLX_COMPILE_TIMEOUT_S", 300.0, 1e7); }
 
 std::once_flag gGlslangInit;
 

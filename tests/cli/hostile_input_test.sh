@@ -4,15 +4,8 @@
 # that would crash, stall or hang the GPU compiler or the device, outputs on a full device, and Ctrl-C. Each
 # must end in one clear line and the right exit status, promptly; nothing partial is written.
 # Usage: hostile_input_test.sh path/to/iblx
-set -u
 iblx="$1"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-export IBLX_CACHE_DIR="$tmp/cache"
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); }
-fail() { failed=$((failed + 1)); echo "FAIL: $*"; }
+source "$(dirname "$0")/common.sh"
 
 # expect_error "description" "substring of the first line of stderr" args...: non-zero exit within 60 s, and the
 # message's first line holds the substring.

@@ -1,17 +1,12 @@
 #!/usr/bin/env bash
 # `iblx otmap` end to end: a small synthetic sky at n = 64 converges with no folded quad, writes its figure, and
 # the second run reads the map from the cache (--no-cache solves again). Usage: otmap_test.sh path/to/iblx
-set -u
 iblx="$1"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-export IBLX_CACHE_DIR="$tmp/cache"
-passed=0
-failed=0
+source "$(dirname "$0")/common.sh"
 check() {  # check "description" command...
   local what="$1"
   shift
-  if "$@"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "FAIL: $what"; fi
+  if "$@"; then pass; else fail "$what"; fi
 }
 field() {  # field JSON NAME: the value of one top-level field of a flat JSON object
   printf '%s' "$1" | sed -n "s/.*\"$2\": \\([^,}]*\\).*/\\1/p"

@@ -3,15 +3,8 @@
 # every image decodes, no script fails, clicking a header sorts the table, and a screenshot shows the page. Two
 # damaged copies (an image cut short, a script error) must be caught by the same check.
 # Usage: report_test.sh path/to/iblx
-set -u
 iblx="$1"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-export IBLX_CACHE_DIR="$tmp/cache"
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); }
-fail() { failed=$((failed + 1)); echo "FAIL: $*"; }
+source "$(dirname "$0")/common.sh"
 browser=$(command -v chromium || command -v chromium-browser || true)
 if [ -z "$browser" ]; then
   echo "FAIL: no chromium (tools/install.sh installs Debian's chromium)"

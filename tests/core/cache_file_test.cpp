@@ -3,6 +3,7 @@
 #include "engine/core/cache_file.h"
 
 #include "engine/core/error.h"
+#include "tests/io/scratch_files.h"
 
 #include <doctest/doctest.h>
 
@@ -37,14 +38,8 @@ std::vector<unsigned char> fileBytes(const std::filesystem::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-std::string errorOf(auto&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
+// The message of the iblx::Error that f throws (tests/io/scratch_files.h).
+std::string errorOf(auto&& f) { return test::errorMessage(f); }
 
 // OpCapability Shader; OpMemoryModel Logical GLSL450 after a SPIR-V 1.5 header with id bound 1.
 std::vector<std::uint32_t> tinySpirv() {

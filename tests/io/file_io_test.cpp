@@ -18,21 +18,9 @@
 namespace iblx {
 namespace {
 
+using test::contains;
+using test::errorMessage;
 using test::ScratchDir;
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
-template <class F>
-std::string errorMessage(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 // Writes past `bytes` fail with EFBIG (SIGXFSZ ignored) until the guard dies: what a full device looks like
 // to a writer.
