@@ -11,6 +11,7 @@ packages=(build-essential cmake ninja-build pkg-config
           liblapack-dev libblas-dev  # the dense fronts of the OT solver's grid LU
           libopenblas0-pthread  # their fast kernels; the OT solver figures in docs/ were measured with it
           libglfw3-dev libimgui-dev xvfb xauth  # the viewer, and its test under Xvfb
+          nlohmann-json3-dev  # every --json output (engine/core/json_output.h)
           chromium  # the report.html test: the page loaded in a real browser, headless
           clang-14 libclang-rt-14-dev  # tools/fuzz.sh: libFuzzer (the sanitizer stage uses gcc's ASan/UBSan)
           blender-data)  # the CC0 HDRIs of tools/results.sh and the OT benchmarks (studiolights/world/*.exr)

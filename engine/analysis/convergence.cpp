@@ -2,6 +2,7 @@
 #include "engine/analysis/convergence.h"
 
 #include "engine/core/error.h"
+#include "engine/core/json_output.h"
 #include "engine/core/file_io.h"
 
 #include <algorithm>
@@ -256,26 +257,34 @@ std::string formatSummaryTable(const ConvergenceSummary& summary) {
          "\n\n" + formatMarkdownTable(summaryTable(summary));
 }
 
-std::string formatSummaryJson(const ConvergenceSummary& summary) {
-  std::ostringstream s;
-  auto number = [](double v) { return std::isfinite(v) ? formatNumber(v, "%.9g") : std::string("null"); };
+std::string formatSummaryJson(const ConvergenceSummary& summary, std::size_t* nonFinite) {
+  std::string lines;
   for (const auto& r : summary.rows)
-    s << "{\"method\": \"" << r.method << "\", \"sequence\": \"" << r.sequence << "\", \"seeds\": " << r.seeds
-      << ", \"spp\": " << r.spp << ", \"wall_s\": " << number(r.seconds)
-      << ", \"setup_s\": " << number(r.setupSeconds) << ", \"mse\": " << number(r.mse)
-      << ", \"mse_min\": " << number(r.mseLow) << ", \"mse_max\": " << number(r.mseHigh)
-      << ", \"relmse\": " << number(r.relMse) << ", \"slope_spp\": " << number(r.slopeSpp)
-      << ", \"slope_time\": " << number(r.slopeTime)
-      << ", \"target_relmse\": " << number(summary.targetRelMse)
-      << ", \"time_to_target_s\": " << number(r.timeToTarget)
-      << ", \"equal_time_s\": " << number(summary.equalTimeSeconds)
-      << ", \"equal_time_mse\": " << number(r.equalTimeMse)
-      << ", \"equal_time_ratio\": " << number(r.equalTimeRatio)
-      << ", \"efficiency\": " << number(r.efficiency) << ", \"max_abs_z\": " << number(r.maxAbsZ)
-      << ", \"reference_noise_mse\": " << number(summary.referenceNoiseMse)
-      << ", \"reference_noise_relmse\": " << number(summary.referenceNoiseRelMse)
-      << ", \"non_finite\": " << r.nonFiniteSamples << "}\n";
-  return s.str();
+    lines += formatJson({{"method", r.method},
+                         {"sequence", r.sequence},
+                         {"seeds", r.seeds},
+                         {"spp", r.spp},
+                         {"wall_s", r.seconds},
+                         {"setup_s", r.setupSeconds},
+                         {"mse", r.mse},
+                         {"mse_min", r.mseLow},
+                         {"mse_max", r.mseHigh},
+                         {"relmse", r.relMse},
+                         {"slope_spp", r.slopeSpp},
+                         {"slope_time", r.slopeTime},
+                         {"target_relmse", summary.targetRelMse},
+                         {"time_to_target_s", r.timeToTarget},
+                         {"equal_time_s", summary.equalTimeSeconds},
+                         {"equal_time_mse", r.equalTimeMse},
+                         {"equal_time_ratio", r.equalTimeRatio},
+                         {"efficiency", r.efficiency},
+                         {"max_abs_z", r.maxAbsZ},
+                         {"reference_noise_mse", summary.referenceNoiseMse},
+                         {"reference_noise_relmse", summary.referenceNoiseRelMse},
+                         {"non_finite", r.nonFiniteSamples}},
+                        nonFinite) +
+             "\n";
+  return lines;
 }
 
 void writeConvergenceCsv(const std::filesystem::path& path, std::span<const ConvergenceRun> runs) {

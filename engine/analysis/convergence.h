@@ -104,7 +104,8 @@ std::string formatSummaryTable(const ConvergenceSummary& summary);
 // One row per (method, sequence, seed, point): method,sequence,seed,pass,spp,gpu_s,wall_s,mse,relmse.
 void writeConvergenceCsv(const std::filesystem::path& path, std::span<const ConvergenceRun> runs);
 
-// The summary rows as JSON objects, one per line.
-std::string formatSummaryJson(const ConvergenceSummary& summary);
+// The summary rows as JSON objects, one per line (engine/core/json_output.h: figures that are NaN, such as a
+// target never reached, are null and counted in nonFinite).
+std::string formatSummaryJson(const ConvergenceSummary& summary, std::size_t* nonFinite = nullptr);
 
 }  // namespace iblx

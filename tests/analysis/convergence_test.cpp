@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 #include <fstream>
 #include <unistd.h>
 
@@ -104,6 +105,15 @@ TEST_CASE("summarize: equal-time ratio, slope, efficiency and time to target of 
   CHECK(formatSummaryTable(noisy).find("net of the reference's own noise (MSE 2e-06, relMSE 3e-07)") !=
         std::string::npos);
   CHECK(formatSummaryJson(noisy).find("\"reference_noise_mse\": 2e-06") != std::string::npos);
+  // Labels are escaped, and a figure that was never measured (NaN) is null and counted.
+  ConvergenceSummary odd = s;
+  odd.rows[0].method = "a \"quoted\" label";
+  odd.rows[0].timeToTarget = std::numeric_limits<double>::quiet_NaN();
+  std::size_t nulls = 0;
+  const std::string json = formatSummaryJson(odd, &nulls);
+  CHECK(json.find("\"method\": \"a \\\"quoted\\\" label\"") != std::string::npos);
+  CHECK(json.find("\"time_to_target_s\": null") != std::string::npos);
+  CHECK(nulls >= 1);
   CHECK_THROWS_AS(summarize(std::vector<ConvergenceRun>{{"empty", "random", 1}}, 1e-3), Error);
 }
 

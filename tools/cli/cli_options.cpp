@@ -282,23 +282,6 @@ std::vector<float> readReferenceFile(const std::filesystem::path& path, int widt
   return std::move(image.rgb);
 }
 
-std::string jsonEscape(const std::string& text) {
-  std::string out;
-  for (unsigned char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += char(c);
-    } else if (c < 0x20) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
-      out += buffer;
-    } else {
-      out += char(c);
-    }
-  }
-  return out;
-}
-
 std::string nonFiniteEstimatesMessage(std::uint64_t count, const std::string& brdfArgument) {
   const std::string ext = lowerExtension(brdfArgument);
   const bool programmable = ext == ".brdf" || ext == ".bparam";

@@ -85,13 +85,11 @@ void checkImagePath(const std::string& flag, const std::string& path, bool exrOn
 // the flag and file; a size mismatch says "does not match <sizeName> WxH".
 std::vector<float> readReferenceFile(const std::filesystem::path& path, int width, int height,
                                      const std::string& sizeName);
-// A string as the inside of a JSON string literal.
-std::string jsonEscape(const std::string& text);
-// Progress line on stderr, only when stderr is a terminal.
 // The warning for estimates the GPU replaced by 0 because they were NaN or Inf: with finite inputs below
 // iblx's limits that is a sampler bug, but a BRDF file can return values whose products overflow float.
 std::string nonFiniteEstimatesMessage(std::uint64_t count, const std::string& brdfArgument);
 
+// Progress line on stderr, only when stderr is a terminal.
 void progressLine(const std::string& text);
 void endProgressLine();
 }  // namespace iblx::cli

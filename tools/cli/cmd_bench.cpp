@@ -1,5 +1,6 @@
 // `iblx bench`: samples per second of every method (and sequence) on one scene, medians over timed passes.
 #include "engine/analysis/convergence.h"
+#include "engine/core/json_output.h"
 #include "engine/render/renderer.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
@@ -103,10 +104,13 @@ int cmdBench(const Args& args) {
     }
     const auto [lo, hi] = std::minmax_element(row.gpu.begin(), row.gpu.end());
     if (spec.json)
-      std::printf(
-          "{\"method\": \"%s\", \"gpu_samples_per_s\": %.1f, \"samples_per_s\": %.1f, "
-          "\"gpu_min\": %.1f, \"gpu_max\": %.1f, \"rounds\": %u, \"slowdown_vs_uniform\": %.3f}\n",
-          jsonEscape(row.label).c_str(), gpuRate, wallRate, *lo, *hi, repeat, ratio);
+      printJsonLine({{"method", row.label},
+                     {"gpu_samples_per_s", gpuRate},
+                     {"samples_per_s", wallRate},
+                     {"gpu_min", *lo},
+                     {"gpu_max", *hi},
+                     {"rounds", repeat},
+                     {"slowdown_vs_uniform", ratio}});
     else
       std::printf("%-44s %14.2f %14.2f %9.2fx   (GPU %.2f-%.2f over %u rounds)\n", row.label.c_str(),
                   gpuRate * 1e-6, wallRate * 1e-6, ratio, *lo * 1e-6, *hi * 1e-6, repeat);

@@ -152,8 +152,13 @@ int cmdConverge(const Args& args) {
     report.figures(heatFigures, 0);
   }
   report.write(outDir / "report.html");
-  if (render.json)
-    std::fputs(formatSummaryJson(summary).c_str(), stdout);
+  if (render.json) {
+    std::size_t nulls = 0;
+    std::fputs(formatSummaryJson(summary, &nulls).c_str(), stdout);
+    if (nulls > 0)
+      warn(std::to_string(nulls) + " figures are null in the JSON: not measured (a target never reached, an "
+                                   "equal time beyond a run)");
+  }
   else
     std::printf("%s\nwrote %s: converge.csv, summary.md, report.html, reference.exr and %zu figures\n",
                 table.c_str(), outDir.string().c_str(), figureCount);

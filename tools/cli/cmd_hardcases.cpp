@@ -3,6 +3,7 @@
 // rate 1e-3), then ranks the methods by MSE at equal time. Exit status 1 when any check fails.
 #include "engine/analysis/convergence.h"
 #include "engine/core/error.h"
+#include "engine/core/json_output.h"
 #include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "tools/cli/cli_options.h"
@@ -127,13 +128,18 @@ int cmdHardCases(const Args& args) {
       table.rows.push_back({std::to_string(position + 1), r.method, r.sequence, relMse, ratio, z,
                             std::to_string(r.nonFiniteSamples), ok ? "pass" : "FAIL"});
       if (render.json)
-        std::printf(
-            "{\"case\": \"%s\", \"rank\": %zu, \"method\": \"%s\", \"sequence\": \"%s\", \"spp\": %llu, "
-            "\"relmse\": %.6g, \"equal_time_ratio\": %.6g, \"max_abs_z\": %.4g, \"z_bound\": %.4g, "
-            "\"non_finite\": %u, \"finite\": %s, \"pass\": %s}\n",
-            name.c_str(), position + 1, jsonEscape(r.method).c_str(), r.sequence.c_str(),
-            static_cast<unsigned long long>(r.spp), r.relMse, r.equalTimeRatio, r.maxAbsZ, zBound,
-            r.nonFiniteSamples, r.finite ? "true" : "false", ok ? "true" : "false");
+        printJsonLine({{"case", name},
+                       {"rank", position + 1},
+                       {"method", r.method},
+                       {"sequence", r.sequence},
+                       {"spp", r.spp},
+                       {"relmse", r.relMse},
+                       {"equal_time_ratio", r.equalTimeRatio},
+                       {"max_abs_z", r.maxAbsZ},
+                       {"z_bound", zBound},
+                       {"non_finite", r.nonFiniteSamples},
+                       {"finite", r.finite},
+                       {"pass", ok}});
     }
     for (const auto& skipped : result.skipped)
       table.rows.push_back(

@@ -5,6 +5,7 @@
 #include "engine/core/cache_dir.h"
 #include "engine/core/error.h"
 #include "engine/core/file_names.h"
+#include "engine/core/json_output.h"
 #include "engine/core/log.h"
 #include "engine/io/env_image.h"
 #include "engine/io/image_write.h"
@@ -215,34 +216,48 @@ int cmdOtMap(const Args& args) {
   if (json) {
     // One object per coarse-to-fine level, coarsest first (none when the map came from the cache); their keys
     // differ from the top-level ones so that a flat reader of the top level is not misled.
-    std::string levels;
-    for (const OtLevelStats& l : map.levels) {
-      char entry[512];
-      std::snprintf(
-          entry, sizeof entry,
-          "%s{\"grid\": %d, \"newton_iterations\": %d, \"stages\": %d, \"undone_stages\": %d, "
-          "\"lu_factorisations\": %d, \"krylov_steps\": %d, \"curved_steps\": %d, \"level_seconds\": %.6f, "
-          "\"level_l2\": %.9g, \"folded_start\": %s, \"start_folded_quads\": %d, \"smoothing_passes\": %d, "
-          "\"restart_scale\": %.6g}",
-          levels.empty() ? "" : ", ", l.n, l.iterations, l.stages, l.undoneStages, l.factorisations,
-          l.krylovSteps, l.curvedSteps, l.seconds, l.l2, l.foldedStart() ? "true" : "false",
-          l.startFoldedQuads, l.smoothingPasses, l.restartScale);
-      levels += entry;
-    }
-    std::printf(
-        "{\"env\": \"%s\", \"env_width\": %d, \"env_height\": %d, \"n\": %d, \"floor\": %.9g, "
-        "\"iterations\": %d, \"coarse_iterations\": %d, \"seconds\": %.6f, \"wall_s\": %.6f, \"l2\": %.9g, "
-        "\"l1\": %.9g, \"linf\": %.9g, \"folded\": %d, \"non_convex\": %d, \"invalid_pieces\": %d, "
-        "\"sampler_l1\": %.9g, \"tree_depth\": %d, \"largest_leaf\": %u, \"sun_clip\": %.9g, "
-        "\"sun_share\": %.9g, \"sun_texels\": %zu, "
-        "\"converged\": %s, \"from_cache\": %s, \"out\": \"%s\", \"out_width\": %d, \"out_height\": %d, "
-        "\"levels\": [%s]}\n",
-        jsonEscape(envPath.string()).c_str(), env.width, env.height, n, options.floorFraction, map.iterations,
-        map.coarseIterations, map.seconds, wall, map.l2, map.l1, map.linf, map.negativeAreaQuads,
-        map.foldedQuads, forward.invalidPieces(), samplerL1, forward.treeDepth(), forward.largestLeaf(),
-        sunClip, double(sun.sunShare), sun.sunShare > 0.0f ? sun.texels.size() : std::size_t(0),
-        map.converged ? "true" : "false", fromCache ? "true" : "false", jsonEscape(out).c_str(), figure.width,
-        figure.height, levels.c_str());
+    JsonObject levels = JsonObject::array();
+    for (const OtLevelStats& l : map.levels)
+      levels.push_back({{"grid", l.n},
+                        {"newton_iterations", l.iterations},
+                        {"stages", l.stages},
+                        {"undone_stages", l.undoneStages},
+                        {"lu_factorisations", l.factorisations},
+                        {"krylov_steps", l.krylovSteps},
+                        {"curved_steps", l.curvedSteps},
+                        {"level_seconds", l.seconds},
+                        {"level_l2", l.l2},
+                        {"folded_start", l.foldedStart()},
+                        {"start_folded_quads", l.startFoldedQuads},
+                        {"smoothing_passes", l.smoothingPasses},
+                        {"restart_scale", l.restartScale}});
+    printJsonLine({{"env", envPath.string()},
+                   {"env_width", env.width},
+                   {"env_height", env.height},
+                   {"n", n},
+                   {"floor", options.floorFraction},
+                   {"iterations", map.iterations},
+                   {"coarse_iterations", map.coarseIterations},
+                   {"seconds", map.seconds},
+                   {"wall_s", wall},
+                   {"l2", map.l2},
+                   {"l1", map.l1},
+                   {"linf", map.linf},
+                   {"folded", map.negativeAreaQuads},
+                   {"non_convex", map.foldedQuads},
+                   {"invalid_pieces", forward.invalidPieces()},
+                   {"sampler_l1", samplerL1},
+                   {"tree_depth", forward.treeDepth()},
+                   {"largest_leaf", forward.largestLeaf()},
+                   {"sun_clip", sunClip},
+                   {"sun_share", double(sun.sunShare)},
+                   {"sun_texels", sun.sunShare > 0.0f ? sun.texels.size() : std::size_t(0)},
+                   {"converged", map.converged},
+                   {"from_cache", fromCache},
+                   {"out", out},
+                   {"out_width", figure.width},
+                   {"out_height", figure.height},
+                   {"levels", levels}});
   } else {
     std::printf("otmap of %s (%dx%d) on a %dx%d grid, floor %g x mean\n", envPath.string().c_str(), env.width,
                 env.height, n, n, options.floorFraction);

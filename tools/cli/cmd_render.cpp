@@ -1,5 +1,6 @@
 // `iblx render`: progressive render of one scene with one method; writes the image, prints speed (and error).
 #include "engine/core/error.h"
+#include "engine/core/json_output.h"
 #include "engine/core/log.h"
 #include "engine/io/brdf_file.h"
 #include "engine/io/image_write.h"
@@ -118,19 +119,27 @@ int cmdRender(const Args& args) {
   const double samplesPerSecond = renderWallSeconds > 0 ? samples / renderWallSeconds : 0.0;
   const double gpuSamplesPerSecond = gpuSeconds > 0 ? samples / gpuSeconds : 0.0;
   if (spec.json) {
-    std::printf(
-        "{\"method\": \"%s\", \"device\": \"%s\", \"width\": %d, \"height\": %d, \"spp\": %llu, "
-        "\"passes\": %u, \"gpu_s\": %.6f, \"wall_s\": %.6f, \"setup_s\": %.6f, \"total_wall_s\": %.6f, "
-        "\"samples_per_s\": %.1f, \"gpu_samples_per_s\": %.1f, \"non_finite\": %u",
-        jsonEscape(method.label()).c_str(), jsonEscape(context.deviceName()).c_str(), scene.gbuffer.width,
-        scene.gbuffer.height, static_cast<unsigned long long>(renderer.samplesPerPixel()), passes, gpuSeconds,
-        renderWallSeconds, renderer.setupSeconds(), totalWall, samplesPerSecond, gpuSamplesPerSecond,
-        renderer.nonFiniteSamples());
-    if (error)
-      std::printf(", \"mse\": %.9g, \"relmse\": %.9g, \"mean_signed_error\": %.9g", error->mse, error->relMse,
-                  error->meanSignedError);
-    if (error && !referenceImage) std::printf(", \"reference_s\": %.3f", referenceSeconds);
-    std::printf(", \"out\": \"%s\"}\n", jsonEscape(spec.out).c_str());
+    JsonObject line = {{"method", method.label()},
+                       {"device", context.deviceName()},
+                       {"width", scene.gbuffer.width},
+                       {"height", scene.gbuffer.height},
+                       {"spp", renderer.samplesPerPixel()},
+                       {"passes", passes},
+                       {"gpu_s", gpuSeconds},
+                       {"wall_s", renderWallSeconds},
+                       {"setup_s", renderer.setupSeconds()},
+                       {"total_wall_s", totalWall},
+                       {"samples_per_s", samplesPerSecond},
+                       {"gpu_samples_per_s", gpuSamplesPerSecond},
+                       {"non_finite", renderer.nonFiniteSamples()}};
+    if (error) {
+      line["mse"] = error->mse;
+      line["relmse"] = error->relMse;
+      line["mean_signed_error"] = error->meanSignedError;
+    }
+    if (error && !referenceImage) line["reference_s"] = referenceSeconds;
+    line["out"] = spec.out;
+    printJsonLine(line);
   } else {
     std::printf(
         "%s on %s: %llu spp in %u passes, %.3f s wall (%.3f s GPU), %.2f M samples/s (%.2f M/s GPU)\n",
