@@ -61,6 +61,12 @@ std::filesystem::path teapotObjPath() {
   return assetPath("teapot.obj");
 }
 
+std::string objectNameList() {
+  std::string list;
+  for (const char* name : kObjectNames) list += (list.empty() ? "" : ", ") + std::string(name);
+  return list;
+}
+
 TriMesh loadObjectMesh(const std::string& object) {
   if (object == "plane") return makePlaneMesh();
   if (object == "teapot") {
@@ -71,7 +77,7 @@ TriMesh loadObjectMesh(const std::string& object) {
     return loadObjMesh(path);
   }
   if (lowerExtension(object) == ".obj") return loadObjMesh(object);
-  throw Error("unknown --object '" + object + "'; valid: sphere, plane, teapot, or a file ending in .obj");
+  throw Error("unknown --object '" + object + "'; valid: " + objectNameList() + ", or a file ending in .obj");
 }
 
 GBuffer makeGBuffer(const std::string& object, const CameraSpec& camera, int width, int height) {

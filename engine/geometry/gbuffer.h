@@ -42,6 +42,11 @@ GBuffer makeSphereGBuffer(int width, int height, const CameraSpec& camera = {});
 // The path `--object teapot` loads: teapot.obj in $IBLX_ASSET_DIR, else in the source tree's assets/.
 std::filesystem::path teapotObjPath();
 
+// The built-in objects, in the order the CLI's help, its errors and the viewer's list show them.
+inline constexpr const char* kObjectNames[] = {"sphere", "plane", "teapot"};
+// "sphere, plane, teapot".
+std::string objectNameList();
+
 // The mesh of a non-sphere --object: "plane" (makePlaneMesh), "teapot" (teapotObjPath(), fitted into the unit
 // sphere) or a path ending in .obj (loadObjMesh). Throws iblx::Error for an unknown name or a bad file.
 TriMesh loadObjectMesh(const std::string& object);

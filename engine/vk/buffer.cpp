@@ -42,6 +42,8 @@ Buffer::Buffer(const VulkanContext& context, vk::DeviceSize size, std::string na
     throw Error("cannot allocate " + std::to_string(size_ >> 20) + " MiB for buffer '" + name_ +
                 "': " + e.what());
   }
+  context.nameObject(*buffer_, name_);
+  context.nameObject(*memory_, name_ + " memory");
   buffer_.bindMemory(*memory_, 0);
   mapped_ = memory_.mapMemory(0, VK_WHOLE_SIZE);
   std::memset(mapped_, 0, size_);  // padding of small or empty tables reads as 0, never as garbage

@@ -18,6 +18,7 @@ ComputeKernel::ComputeKernel(const VulkanContext& context, std::span<const uint3
       bindings.emplace_back(b, type, 1, vk::ShaderStageFlagBits::eCompute);
     }
     setLayouts_.emplace_back(device, vk::DescriptorSetLayoutCreateInfo({}, bindings));
+    context.nameObject(*setLayouts_.back(), name_ + " set " + std::to_string(set) + " layout");
   }
   std::vector<vk::DescriptorSetLayout> rawLayouts;
   for (const auto& l : setLayouts_) rawLayouts.push_back(*l);
@@ -28,6 +29,9 @@ ComputeKernel::ComputeKernel(const VulkanContext& context, std::span<const uint3
   module_ = vk::raii::ShaderModule(device, vk::ShaderModuleCreateInfo({}, spirv.size_bytes(), spirv.data()));
   vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module_, "main");
   pipeline_ = vk::raii::Pipeline(device, nullptr, vk::ComputePipelineCreateInfo({}, stage, *pipelineLayout_));
+  context.nameObject(*pipelineLayout_, name_ + " pipeline layout");
+  context.nameObject(*module_, name_ + " shader");
+  context.nameObject(*pipeline_, name_);
 
   const std::array<vk::DescriptorPoolSize, 2> poolSizes{
       vk::DescriptorPoolSize(vk::DescriptorType::eStorageBuffer, std::max(storageCount, 1u)),
@@ -36,7 +40,11 @@ ComputeKernel::ComputeKernel(const VulkanContext& context, std::span<const uint3
       device,
       vk::DescriptorPoolCreateInfo(vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, 4, poolSizes));
   vk::raii::DescriptorSets sets(device, vk::DescriptorSetAllocateInfo(*pool_, rawLayouts));
-  for (auto& s : sets) sets_.push_back(std::move(s));
+  context.nameObject(*pool_, name_ + " descriptor pool");
+  for (auto& s : sets) {
+    context.nameObject(*s, name_ + " set " + std::to_string(sets_.size()));
+    sets_.push_back(std::move(s));
+  }
 }
 
 void ComputeKernel::bindBuffers(uint32_t set, std::initializer_list<const Buffer*> buffers) {
@@ -74,6 +82,7 @@ void ComputeKernel::bindBuffers(uint32_t set, std::span<const Buffer* const> buf
                                            : vk::Format::eR32Uint;
     views.emplace_back(context_->device(), vk::BufferViewCreateInfo({}, b.handle(), format, 0,
                                                                     elements * words * sizeof(uint32_t)));
+    context_->nameObject(*views.back(), b.name() + " view");
     rawViews[i] = *views.back();
     writes.emplace_back(*sets_[set], i, 0, 1, type, nullptr, nullptr, &rawViews[i]);
   }
@@ -113,6 +122,7 @@ void recordShaderWriteBarrier(vk::CommandBuffer cmd, bool host) {
 TimestampPair::TimestampPair(const VulkanContext& context) : context_(&context) {
   if (context.hasTimestamps())
     pool_ = vk::raii::QueryPool(context.device(), vk::QueryPoolCreateInfo({}, vk::QueryType::eTimestamp, 2));
+  context.nameObject(*pool_, "timestamps");
 }
 
 void TimestampPair::begin(vk::CommandBuffer cmd) const {

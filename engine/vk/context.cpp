@@ -110,6 +110,10 @@ VKAPI_ATTR VkBool32 VKAPI_CALL VulkanContext::debugCallback(VkDebugUtilsMessageS
   return VK_FALSE;
 }
 
+void VulkanContext::setObjectName(vk::ObjectType type, std::uint64_t handle, const std::string& name) const {
+  device_.setDebugUtilsObjectNameEXT(vk::DebugUtilsObjectNameInfoEXT(type, handle, name.c_str()));
+}
+
 std::vector<std::string> VulkanContext::validationMessages() const {
   std::lock_guard lock(gMessageMutex);
   return messages_;
@@ -208,6 +212,9 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
   queue_ = vk::raii::Queue(device_, queueFamily_, 0);
   commandPool_ = vk::raii::CommandPool(
       device_, vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer, queueFamily_));
+  nameObject(*device_, "iblx device");
+  nameObject(*queue_, "iblx queue");
+  nameObject(*commandPool_, "shared command pool");
 }
 
 double gpuTimeoutSeconds() { return environmentNumber("IBLX_GPU_TIMEOUT_S", 600.0, 1e7); }
@@ -220,10 +227,12 @@ void VulkanContext::submitAndWait(const std::function<void(vk::CommandBuffer)>& 
       std::in_place, device_,
       vk::CommandBufferAllocateInfo(*commandPool_, vk::CommandBufferLevel::ePrimary, 1));
   vk::raii::CommandBuffer& cmd = (*buffers)[0];
+  nameObject(*cmd, "one-time commands");
   cmd.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
   record(*cmd);
   cmd.end();
   vk::raii::Fence fence(device_, vk::FenceCreateInfo());
+  nameObject(*fence, "one-time commands done");
   vk::CommandBuffer handle = *cmd;
   queue_.submit(vk::SubmitInfo({}, {}, handle), *fence);
   lock.unlock();

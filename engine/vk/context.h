@@ -7,6 +7,7 @@
 #include <vulkan/vulkan_raii.hpp>
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <mutex>
 #include <optional>
@@ -60,6 +61,16 @@ class VulkanContext {
   bool validationEnabled() const { return validationEnabled_; }
   const vk::PhysicalDeviceLimits& limits() const { return limits_; }
 
+  // Gives a Vulkan object a name that validation messages quote (VK_EXT_debug_utils), when the validation
+  // layers are on; otherwise does nothing. Every object iblx creates is named after its role.
+  template <typename Handle>
+  void nameObject(const Handle& handle, const std::string& name) const {
+    if (!validationEnabled_ || !handle) return;
+    using CType = typename Handle::CType;
+    setObjectName(Handle::objectType, std::uint64_t(reinterpret_cast<std::uintptr_t>(static_cast<CType>(handle))),
+                  name);
+  }
+
   // Messages of severity error reported by the validation layers since creation.
   uint32_t validationErrorCount() const { return validationErrors_.load(); }
   std::vector<std::string> validationMessages() const;
@@ -76,6 +87,7 @@ class VulkanContext {
   static std::vector<DeviceDescription> describeDevices();
 
  private:
+  void setObjectName(vk::ObjectType type, std::uint64_t handle, const std::string& name) const;
   static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                       VkDebugUtilsMessageTypeFlagsEXT types,
                                                       const VkDebugUtilsMessengerCallbackDataEXT* data,

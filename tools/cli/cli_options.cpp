@@ -121,7 +121,7 @@ void addSceneFlags(ArgParser& p, RenderSpec& s) {
       "file",
       [&](const std::string& v) { s.scene.brdf = v; });
   addParamFlag(p, s.scene.params);
-  p.value("--object", "NAME|FILE", "sphere (default) | plane | teapot | an .obj file",
+  p.value("--object", "NAME|FILE", objectNameList() + " (default sphere), or an .obj file",
           [&](const std::string& v) { s.scene.object = v; });
   p.value("--orbit", "AZ,EL",
           "camera orbit in degrees: azimuth about +Y, then elevation towards +Y in [-90, 90] (default 0,0)",

@@ -707,11 +707,11 @@ class ViewerApp {
         options_.scene.envRotationDeg = rotation;
         sceneChanged();
       }
-      static const char* objects[] = {"sphere", "plane", "teapot"};
+      const int objectCount = int(std::size(kObjectNames));
       int object = 0;
-      for (int k = 0; k < 3; ++k) object = options_.scene.object == objects[k] ? k : object;
-      if (ImGui::Combo("object", &object, objects, 3) && options_.scene.object != objects[object]) {
-        options_.scene.object = objects[object];
+      for (int k = 0; k < objectCount; ++k) object = options_.scene.object == kObjectNames[k] ? k : object;
+      if (ImGui::Combo("object", &object, kObjectNames, objectCount) && options_.scene.object != kObjectNames[object]) {
+        options_.scene.object = kObjectNames[object];
         reloadGeometry();
       }
       if (ImGui::Button("open environment...")) browser_.open("environment map", {".exr", ".hdr"});

@@ -70,6 +70,10 @@ ViewerWindow::ViewerWindow(const std::string& title, int width, int height,
         device, vk::CommandBufferAllocateInfo(*commandPool_, vk::CommandBufferLevel::ePrimary, 1));
     imageAvailable_ = vk::raii::Semaphore(device, vk::SemaphoreCreateInfo());
     frameDone_ = vk::raii::Fence(device, vk::FenceCreateInfo(vk::FenceCreateFlagBits::eSignaled));
+    context_->nameObject(*commandPool_, "viewer command pool");
+    context_->nameObject(*commands_[0], "viewer frame commands");
+    context_->nameObject(*imageAvailable_, "viewer image available");
+    context_->nameObject(*frameDone_, "viewer frame done");
     createSwapchain();
 
     // Dear ImGui's own descriptor sets (its font texture): a small pool, as in its Vulkan example.
@@ -77,6 +81,7 @@ ViewerWindow::ViewerWindow(const std::string& title, int width, int height,
     imguiPool_ = vk::raii::DescriptorPool(
         device,
         vk::DescriptorPoolCreateInfo(vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, 16, poolSize));
+    context_->nameObject(*imguiPool_, "Dear ImGui descriptor pool");
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the user's files
@@ -168,6 +173,7 @@ void ViewerWindow::createSwapchain() {
                                   vk::CompositeAlphaFlagBitsKHR::eOpaque, vk::PresentModeKHR::eFifo, VK_TRUE,
                                   *swapchain_);
   swapchain_ = vk::raii::SwapchainKHR(device, info);
+  context_->nameObject(*swapchain_, "viewer swapchain");
   images_ = swapchain_.getImages();
 
   if (!*renderPass_) {
@@ -184,6 +190,7 @@ void ViewerWindow::createSwapchain() {
                                            A::eTransferWrite,
                                            A::eColorAttachmentRead | A::eColorAttachmentWrite);
     renderPass_ = vk::raii::RenderPass(device, vk::RenderPassCreateInfo({}, color, subpass, dependency));
+    context_->nameObject(*renderPass_, "viewer render pass");
   }
   renderFinished_.clear();
   for (vk::Image image : images_) {
@@ -192,6 +199,11 @@ void ViewerWindow::createSwapchain() {
     framebuffers_.emplace_back(device, vk::FramebufferCreateInfo({}, *renderPass_, *views_.back(),
                                                                  extent_.width, extent_.height, 1));
     renderFinished_.emplace_back(device, vk::SemaphoreCreateInfo());
+    const std::string index = std::to_string(views_.size() - 1);
+    context_->nameObject(image, "swapchain image " + index);
+    context_->nameObject(*views_.back(), "swapchain image view " + index);
+    context_->nameObject(*framebuffers_.back(), "viewer framebuffer " + index);
+    context_->nameObject(*renderFinished_.back(), "viewer render finished " + index);
   }
   const vk::DeviceSize bytes = vk::DeviceSize(extent_.width) * extent_.height * 4;
   upload_ = Buffer(*context_, bytes, "viewer canvas");
