@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Issue 4's benchmarks, figures in docs/BENCHMARKS.md ("Optimal-transport sampling"):
+# The optimal-transport benchmarks: sampler figures in docs/BENCHMARKS.md ("Optimal-transport sampling"), solver
+# figures in docs/ot_solver.md:
 #   solver:   the grid LU alone (iblx_ot_bench --lu), then the OT solver's time and accuracy (iblx_ot_bench) on
 #             the synthetic cases and on the CC0 HDRIs of Debian's blender-data, at the grid sizes given
 #             (default 128,256);

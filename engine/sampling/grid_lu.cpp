@@ -249,7 +249,7 @@ void GridLu::factorSubtree(int index, int depth, std::size_t slot, const Stencil
 // memory the update matrices move and doubles the BLAS's vector width: a factorisation at n = 1024 went from
 // 1.0 s to 0.6 s and at 512 from 0.16 to 0.11 s, while a solve's residual on the random test matrix went from
 // 3e-4 to 6e-4 (512) and 6e-4 to 1.2e-3 (1024). The OT solver took the same Newton iterations on every
-// benchmark map at n = 512 and was 10-20 % faster (iblx_ot_bench, docs/BENCHMARKS.md).
+// benchmark map at n = 512 and was 10-20 % faster (iblx_ot_bench, docs/ot_solver.md).
 void GridLu::factorNode(int index, const StencilMatrix& a, Workspace& work, int& replaced) {
   const Node& node = nodes_[std::size_t(index)];
   const int m = int(node.vars.size()), s = node.own, b = m - s;

@@ -3,7 +3,7 @@
 // (shaders/brdf_sampler/half_vector_table.glsl, which also serves `brdf-tab` for any BRDF). Both sample a
 // half vector h around the normal in the square-root-warped parameterisation of MERL's theta_h,
 //   u_theta = sqrt(theta_h / (pi/2)),  u_phi = phi_h / (2 pi),
-// and reflect: wi = 2 (wo.h) h - wo. Densities (sampling_sota.md §3.3, Mitsuba 3 measured.cpp):
+// and reflect: wi = 2 (wo.h) h - wo. Densities (Mitsuba 3, src/bsdfs/measured.cpp):
 //   p(h) = p(u) / (2 pi^2 u_theta sin(theta_h))      [d omega_h = sin theta_h d theta_h d phi_h]
 //   p(wi) = p(h) / (4 |wo.h|)                        [Walter et al. 2007, eq. 14]
 // Everything runs in the local shading frame: normal +z, wo.z > 0. As for every BRDF technique

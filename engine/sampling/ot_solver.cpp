@@ -72,7 +72,7 @@ struct Quartic {
 };
 
 // argmin of E on [lo, hi] (lo <= 0 <= hi): E'' (a quadratic) splits the interval into pieces where E' is
-// monotone; each sign change of E' is bisected. Exact up to rounding, no cubic formula (otmap.md §2.3 step 3
+// monotone; each sign change of E' is bisected. Exact up to rounding, no cubic formula (the line search of Nader & Guennebaud 2018, Algorithm 1
 // uses companion-matrix eigenvalues instead).
 double minimiseQuartic(const Quartic& q, double lo, double hi) {
   std::vector<double> cuts{lo, hi};
@@ -112,7 +112,7 @@ double minimiseQuartic(const Quartic& q, double lo, double hi) {
   return bestT;
 }
 
-// One grid level: the fixed pseudo-Laplacian's DCT solver and the iteration of otmap.md §2.3.
+// One grid level: the fixed pseudo-Laplacian's DCT solver and the iteration of Nader & Guennebaud 2018, Algorithm 1.
 class LevelSolver {
  public:
   LevelSolver(int n, std::span<const double> rho, const OtSolverOptions& options)
@@ -291,7 +291,7 @@ class LevelSolver {
     return predict(psi, negated, 1.0);
   }
 
-  // The iteration of otmap.md §2.3 until E <= targetL2 and L1 <= targetL1 (true), or a stall or the budget
+  // The iteration of Nader & Guennebaud 2018 (Algorithm 1) until E <= targetL2 and L1 <= targetL1 (true), or a stall or the budget
   // (false). s.iterations counts every iteration.
   bool iterate(std::vector<double>& psi, Stats& s, double targetL2, int budget,
                const std::function<void(int, double)>& progress, bool strict, double& firstStep) {
@@ -305,7 +305,7 @@ class LevelSolver {
                          : (s.l2 <= targetL2 && s.l1 <= options_.targetL1))
         return true;
       if (k >= budget) return false;
-      // 1. Chord-Newton direction: d^ = -L^-1 r, L the Jacobian of the areas at the identity (otmap.md §2.2);
+      // 1. Chord-Newton direction: d^ = -L^-1 r, L the Jacobian of the areas at the identity (Nader & Guennebaud 2018);
       //    or, with krylovSteps > 0, an inexact Newton direction J d = -r by GMRES preconditioned with L^-1.
       newtonRightHandSide();
       if (options_.krylovSteps > 0) {
@@ -429,7 +429,7 @@ class LevelSolver {
  private:
   std::size_t vi(int i, int j) const { return std::size_t(j) * v_ + i; }
 
-  // Vertex gradients (otmap.md §2.1): the 2x2 difference of the four cells around a vertex, with cell indices
+  // Vertex gradients (the discretization of Nader & Guennebaud 2018): the 2x2 difference of the four cells around a vertex, with cell indices
   // clamped to the grid. Clamping gives exactly the boundary rule (normal component 0, tangential 1-D
   // difference, corners 0), so boundary vertices slide along the boundary.
   void gradient(std::span<const double> f, std::vector<Vec2>& g) {
@@ -671,7 +671,7 @@ class LevelSolver {
   }
 
   // Linear coefficient of the area of cell (i, j) when the vertices move by t * g: with diagonals D1 = P11 -
-  // P00, D2 = P01 - P10, A(t) = ½ (D1 + t E1) x (D2 + t E2) (otmap.md §2.1, §2.3 step 3).
+  // P00, D2 = P01 - P10, A(t) = ½ (D1 + t E1) x (D2 + t E2) (Nader & Guennebaud 2018: the quad area and Algorithm 1's line search).
   double linearCoefficient(int i, int j, const std::vector<Vec2>& g) const {
     const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
     const Vec2 d1 = pos_[p11] - pos_[p00], d2 = pos_[p01] - pos_[p10];
@@ -703,7 +703,7 @@ class LevelSolver {
   }
 
   // Exact line search along the vertex motion gradDir_: every area is r + b t + a t^2, so E(t) is a quartic
-  // (otmap.md §2.3 step 3). The step is kept within boundaryFraction of the first t at which some quad
+  // (the line search of Nader & Guennebaud 2018, Algorithm 1). The step is kept within boundaryFraction of the first t at which some quad
   // corner's cross product (P_next - P) x (P_prev - P), also quadratic in t, reaches 0: a convex quad stays
   // convex.
   double lineSearch() {
@@ -759,7 +759,7 @@ class LevelSolver {
         {false, false, false, false, false, true, true});
     Quartic q;
     for (int k = 0; k < 5; ++k) q.e[std::size_t(k)] = sums[std::size_t(k)];
-    constexpr double kMaxStep = 10.0;  // as otmap.md §2.3
+    constexpr double kMaxStep = 10.0;  // as Nader & Guennebaud 2018's released solver (github.com/ggael/otmap)
     const double hi = std::min(kMaxStep, options_.boundaryFraction * -sums[5]);
     const double lo = -std::min(kMaxStep, options_.boundaryFraction * -sums[6]);
     const double t = minimiseQuartic(q, lo, hi);
@@ -905,7 +905,7 @@ std::vector<double> restrictDensity(std::span<const double> rho, int n) {
 
 // Coarse psi (m x m) to the fine grid (2m x 2m): psi averaged over the four cells around each coarse vertex,
 // then interpolated bilinearly between the coarse vertices at the fine cell centres. The average removes the
-// checkerboard (-1)^(i+j), which the 2x2 gradient stencil does not see at interior vertices (otmap.md §2.2),
+// checkerboard (-1)^(i+j), which the 2x2 gradient stencil does not see at interior vertices (Nader & Guennebaud 2018),
 // so a converged coarse psi can carry any amount of it; interpolated directly from the cell centres it became
 // steep fine gradients (measured: 30-45 % of the fine quads folded on every real map and sun, so every level
 // had restarted from the identity). Averaging psi keeps x^2/2 + psi convex where it was (a mean of convex

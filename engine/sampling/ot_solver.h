@@ -29,7 +29,7 @@
 //   The default eps = 1e-2 costs a sampler at most a factor 1 + eps in the second moment of f / p (the
 //   floored pdf is >= p / (1 + eps) wherever p > 0) and makes the finest level of hard maps 2-5x cheaper:
 //   the crawl next to a sun is set by the contrast between the sun's cells and the near-empty cells that
-//   must become slivers beside them (measured, docs/BENCHMARKS.md).
+//   must become slivers beside them (measured, docs/ot_solver.md).
 // The converged map can hold self-intersecting quads of positive area next to a sun; the samplers solve for
 // a map with their suns split off (ot_sun.h) and ot_map.h untangles what twists remain.
 #pragma once
@@ -60,20 +60,20 @@ std::vector<double> otDensityFromWeights(std::span<const double> weights, int wi
 enum class OtFoldGuard { None, Area, Convex };
 
 // What the line search minimises along a direction. L2: E = sum_c (A_c - m_c)^2, a quartic in the step
-// (otmap.md §2.3). Barrier: F = sum_c [A_c - m_c - m_c log(A_c / m_c)], the Bregman divergence of -log: zero
+// (Nader & Guennebaud 2018, Algorithm 1). Barrier: F = sum_c [A_c - m_c - m_c log(A_c / m_c)], the Bregman divergence of -log: zero
 // exactly at A = m, convex in each area, infinite at A_c = 0 so no quad area can reach 0, and relative in its
 // weighting, so a cell that must grow 1e4-fold is not drowned by the quadratic error of a million small ones.
 enum class OtMerit { L2, Barrier };
 
 struct OtSolverOptions {
   int maxIterations = 2000;        // at the finest level; each coarse level gets the same cap
-  double targetL2 = 1e-7;          // E = sum_c h^2 (rho_achieved - rho)^2, mean-1 units (otmap.md §2.1)
+  double targetL2 = 1e-7;          // E = sum_c h^2 (rho_achieved - rho)^2, mean-1 units (Nader & Guennebaud 2018)
   double targetL1 = 1e-3;          // sum_c |A_c - h^2 rho_c|, the mass error (2 x total variation)
   double floorFraction = 1e-2;     // density floor eps: rho' = max(rho, eps * mean), renormalised
   bool coarseToFine = true;        // solve on n/2 first (recursively) and prolong psi
   int coarsestSize = 16;           // no level below this size
   double coarseTargetL2 = 1e-5;    // looser target on the coarse levels: the fine level corrects them
-  bool conjugateJacobian = false;  // otmap.md §2.3 step 2 (also applied to the Newton directions)
+  bool conjugateJacobian = false;  // Nader & Guennebaud 2018, Algorithm 1 (also applied to the Newton directions)
   int krylovSteps = 20;          // > 0: inexact Newton directions, GMRES(krylovSteps) on the exact Jacobian;
                                  // 0: otmap's chord directions (L^-1 r) with conjugate-Jacobian updates
   bool directNewton = true;      // exact Newton directions by sparse LU of the Jacobian (instead of GMRES)
@@ -163,12 +163,12 @@ struct OtMap {
   // (P_prev - P), taken counter-clockwise, is <= 0". Negative areas and self-intersecting or non-convex quads
   // are all counted.
   int foldedQuads = 0;
-  // The subset with signed area <= 0 (the issue's "folded": otmap.md §3 counts these).
+  // The subset with signed area <= 0 ("folded": the reference solver's count).
   int negativeAreaQuads = 0;
   bool converged = false;  // l2 <= targetL2 and l1 <= targetL1
 };
 
-// Signed quad areas ½ (P11 - P00) x (P01 - P10) of a vertex grid (n+1)^2 -> n^2 (otmap.md §2.1).
+// Signed quad areas ½ (P11 - P00) x (P01 - P10) of a vertex grid (n+1)^2 -> n^2 (Nader & Guennebaud 2018).
 std::vector<double> otQuadAreas(std::span<const glm::dvec2> vertices, int n);
 // foldedQuads as defined in OtMap.
 int otFoldedQuads(std::span<const glm::dvec2> vertices, int n);

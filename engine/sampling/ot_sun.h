@@ -1,7 +1,7 @@
 // Splits an environment's texel weights into a smooth part, which the optimal-transport map carries, and the
 // excess of its near-delta texels (suns), which the OT techniques sample directly, texel by texel. A grid of
 // bilinear quads cannot follow the map around a sun that holds most of the mass in a few cells: its quads
-// twist there and untangling them misplaces up to a third of the mass (docs/BENCHMARKS.md). With the radiance
+// twist there and untangling them misplaces up to a third of the mass (docs/ot_solver.md). With the radiance
 // capped at a multiple of the median, the rest solves to an injective map. The techniques sample the mixture
 //   p(w) = sunShare * pSun(w) + (1 - sunShare) * pOt(w)
 // and evaluate both parts' pdfs, so the pdf stays exact.

@@ -1,5 +1,5 @@
 // BRDF "merl": a MERL measured isotropic table (engine/io/merl.h), looked up at the nearest-lower bin exactly
-// as MERL's reference code does (Matusik et al. 2003; brdf_explorer.md §9). Invalid bins were zeroed at load.
+// as MERL's reference code does (Matusik et al. 2003; BRDF Explorer's BRDFMeasuredMERL). Invalid bins were zeroed at load.
 // GPU twin of evalMerl in engine/io/merl.cpp.
 #include "lib/table.glsl"
 #include "lib/constants.glsl"

@@ -32,7 +32,7 @@ void checkMap(const OtMap& map, const OtSolverOptions& options) {
   CHECK(map.converged);
   CHECK(map.l2 <= options.targetL2);
   CHECK(map.l1 <= options.targetL1);
-  CHECK(map.l2 <= 1e-7);  // issue 4's tolerances, whatever the defaults become
+  CHECK(map.l2 <= 1e-7);  // the solver's required tolerances, whatever the defaults become
   CHECK(map.l1 <= 1e-3);
   // Recompute the residuals independently of the solver's bookkeeping.
   const std::vector<double> areas = otQuadAreas(map.vertices, n);
@@ -171,7 +171,7 @@ TEST_CASE("OT solver: sun 1e5 over a few cells, n = 64 and 128") {
 // restart here). A textured density (a sky times a per-cell factor in [e^-2, e^2], like a real map's detail)
 // must start every level from its coarse solution, with at most 0.1 % of its quads folded. (Not checkMap: on
 // this density two side vertices slide past a corner by up to 5e-4, a known limit of the boundary rule, see
-// docs/BENCHMARKS.md.)
+// docs/ot_solver.md.)
 TEST_CASE("OT solver: every level starts from the prolonged coarse map (textured density, n = 128)") {
   constexpr int n = 128;
   const OtMap map = solveOtMap(textured(smoothDensity(n), 2.0, 7), n);
