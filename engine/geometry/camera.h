@@ -3,7 +3,7 @@
 // image.
 #pragma once
 
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 
 #include <glm/glm.hpp>
 

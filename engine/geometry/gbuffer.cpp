@@ -6,7 +6,7 @@
 #include "engine/core/file_names.h"
 #include "engine/geometry/obj_file.h"
 #include "engine/geometry/rasterizer.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 
 #include <algorithm>
 #include <cctype>

@@ -4,7 +4,7 @@
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
 #include "engine/render/kernel_assembly.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 #include "engine/vk/compute_kernel.h"
 
 #include <algorithm>

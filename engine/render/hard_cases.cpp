@@ -5,7 +5,7 @@
 #include "engine/io/image_write.h"
 #include "engine/io/synthetic_envs.h"
 #include "engine/sampling/latlong_texel.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 
 #include <unistd.h>
 

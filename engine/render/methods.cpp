@@ -260,13 +260,8 @@ const SequenceInfo kSequences[] = {
      "sequence/cp_shared.glsl"},
 };
 
-const MethodInfo kMethods[] = {
-    {"uniform", "env technique 'uniform' alone", Strategy::SingleEnv, "uniform"},
-    {"cosine", "env technique 'cosine' alone", Strategy::SingleEnv, "cosine"},
-    {"env-cdf", "env technique 'env-cdf' alone", Strategy::SingleEnv, "env-cdf"},
-    {"env-hier", "env technique 'env-hier' alone", Strategy::SingleEnv, "env-hier"},
-    {"env-ot-inv", "env technique 'env-ot-inv' alone", Strategy::SingleEnv, "env-ot-inv"},
-    {"env-ot-fwd", "env technique 'env-ot-fwd' alone", Strategy::SingleEnv, "env-ot-fwd"},
+// The methods beyond one env technique alone; those come first, one per entry of kEnvTechniques (methods()).
+const MethodInfo kCombinedMethods[] = {
     {"brdf", "the BRDF technique alone (--brdf-sampler)", Strategy::SingleBrdf, ""},
     {"mis", "two-sample MIS of --env-sampler and --brdf-sampler (one-sample with --mis-split)", Strategy::Mis,
      ""},
@@ -278,6 +273,19 @@ const MethodInfo kMethods[] = {
     {"product-warp", "warp composition (Hart 2020): per pixel, f cos tabulated over env-hier's unit square",
      Strategy::ProductWarp, "env-hier", makeEnvHierProduct},
 };
+
+// Every env technique alone, in kEnvTechniques' order, then kCombinedMethods: a new env technique is a
+// method by itself.
+const std::vector<MethodInfo>& methods() {
+  static const std::vector<MethodInfo> list = [] {
+    std::vector<MethodInfo> all;
+    for (const EnvTechniqueInfo& t : kEnvTechniques)
+      all.push_back({t.name, "env technique '" + t.name + "' alone", Strategy::SingleEnv, t.name, nullptr});
+    all.insert(all.end(), std::begin(kCombinedMethods), std::end(kCombinedMethods));
+    return all;
+  }();
+  return list;
+}
 
 template <typename T>
 const T& findIn(std::span<const T> list, const std::string& name, const std::string& what) {
@@ -312,7 +320,7 @@ std::span<const SequenceInfo> sequenceRegistry() {
   return kSequences;
 }
 std::span<const MethodInfo> methodRegistry() {
-  return kMethods;
+  return methods();
 }
 
 std::string strategyPart(Strategy strategy) {

@@ -10,7 +10,7 @@
 
 #include "engine/render/kernel_assembly.h"
 #include "engine/sampling/latlong_texel.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 #include "engine/vk/compute_kernel.h"
 
 #include <algorithm>

@@ -4,7 +4,7 @@
 #include "engine/core/error.h"
 #include "engine/render/kernel_assembly.h"
 #include "engine/sampling/mis_compensation.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 
 #include <chrono>
 #include <cmath>

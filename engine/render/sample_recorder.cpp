@@ -2,7 +2,7 @@
 #include "engine/render/sample_recorder.h"
 
 #include "engine/core/error.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 
 namespace iblx {
 namespace {

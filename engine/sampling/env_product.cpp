@@ -2,7 +2,7 @@
 #include "engine/sampling/env_product.h"
 
 #include "engine/core/error.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 #include "engine/core/error.h"
 #include "engine/core/log.h"
 #include "engine/io/env_image.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 
 #include <glm/glm.hpp>
 

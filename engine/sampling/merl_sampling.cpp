@@ -5,7 +5,7 @@
 #include "engine/core/error.h"
 #include "engine/sampling/float_cdf.h"
 #include "engine/sampling/latlong_texel.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 
 #include <algorithm>
 #include <array>

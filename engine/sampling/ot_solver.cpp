@@ -6,7 +6,7 @@
 #include "engine/sampling/grid_lu.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/ot_dct.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 
 #include <algorithm>
 #include <array>

@@ -5,7 +5,7 @@
 #include "engine/core/error.h"
 #include "engine/render/sample_recorder.h"
 #include "engine/sampling/mis_compensation.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/gpu/render_checks.h"
 #include "tests/support/hard_envs.h"

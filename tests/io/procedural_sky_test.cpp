@@ -3,7 +3,7 @@
 #include "engine/io/procedural_sky.h"
 
 #include "engine/core/error.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 
 #include <doctest/doctest.h>
 

@@ -3,7 +3,7 @@
 #include "engine/sampling/env_product.h"
 
 #include "engine/core/error.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 #include "tests/sampling/env_sampler_checks.h"
 #include "tests/support/hard_envs.h"
 

@@ -5,7 +5,7 @@
 #include "engine/core/log.h"
 #include "engine/io/env_image.h"
 #include "engine/sampling/latlong_texel.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 #include "tests/support/chi2.h"
 #include "tests/support/hard_envs.h"
 

@@ -6,7 +6,7 @@
 
 #include "engine/core/error.h"
 #include "engine/sampling/latlong_texel.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 #include "tests/support/chi2.h"
 
 #include <doctest/doctest.h>

@@ -1,7 +1,7 @@
-// Tests of the DESIGN §3 conventions in engine/sampling/sphere_mapping.h and the texel warp in
+// Tests of the DESIGN §3 conventions in engine/core/sphere_mapping.h and the texel warp in
 // latlong_texel.h.
 #include "engine/sampling/latlong_texel.h"
-#include "engine/sampling/sphere_mapping.h"
+#include "engine/core/sphere_mapping.h"
 #include "tests/support/chi2.h"
 
 #include <doctest/doctest.h>
