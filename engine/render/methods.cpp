@@ -296,6 +296,12 @@ const T& findIn(std::span<const T> list, const std::string& name, const std::str
   throw Error("unknown " + what + " '" + name + "'; valid: " + valid);
 }
 
+// A registry name padded to the listing's name column (13 wide, so product-warp keeps a space).
+std::string column(const std::string& name) {
+  constexpr std::size_t kWidth = 13;
+  return name + std::string(kWidth - std::min(kWidth - 1, name.size()), ' ');
+}
+
 std::string formatValue(const ParamDecl& p, const std::array<double, 3>& v) {
   std::ostringstream s;
   if (p.type == ParamType::Color)
@@ -385,20 +391,20 @@ std::string describeRegistry() {
   std::ostringstream s;
   s << "methods (--method):\n";
   for (const auto& m : methodRegistry())
-    s << "  " << m.name << std::string(12 - std::min<size_t>(11, m.name.size()), ' ') << m.description
+    s << "  " << column(m.name) << m.description
       << "\n";
   s << "env techniques (--env-sampler, used by mis; each is also a method):\n";
   for (const auto& t : envTechniqueRegistry())
-    s << "  " << t.name << std::string(12 - std::min<size_t>(11, t.name.size()), ' ') << t.description
+    s << "  " << column(t.name) << t.description
       << "; any BRDF\n";
   s << "BRDF techniques (--brdf-sampler, used by brdf and mis):\n";
   for (const auto& t : brdfTechniqueRegistry()) {
-    s << "  " << t.name << std::string(12 - std::min<size_t>(11, t.name.size()), ' ') << t.description << "; "
+    s << "  " << column(t.name) << t.description << "; "
       << (t.applies ? "BRDFs: " : "") << t.appliesText << "\n";
   }
   s << "sequences (--seq):\n";
   for (const auto& q : sequenceRegistry())
-    s << "  " << q.name << std::string(12 - std::min<size_t>(11, q.name.size()), ' ') << q.description
+    s << "  " << column(q.name) << q.description
       << "\n";
   s << "BRDFs (--brdf NAME, a .brdf / .bparam file, or a MERL .binary file) and parameters (--param "
        "NAME=VALUE):\n";
@@ -408,7 +414,7 @@ std::string describeRegistry() {
 
 std::string describeBrdf(const BrdfInfo& b) {
   std::ostringstream s;
-  s << "  " << b.name << std::string(12 - std::min<size_t>(11, b.name.size()), ' ') << b.description
+  s << "  " << column(b.name) << b.description
     << "; best sampler: " << b.bestSampler << "\n";
   for (const auto& p : b.params) {
     s << "      " << p.name << " ("
