@@ -4,6 +4,7 @@
 #include "engine/core/environment.h"
 #include "engine/core/error.h"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -55,8 +56,20 @@ std::vector<unsigned char> readInputFile(const fs::path& path, std::uint64_t max
     throw Error(path.string() + ": the file is " + sizeText + ", more than the " + formatBytes(maxBytes) +
                 " this kind of file may have");
   }
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!file) throwCannotOpen(path, std::strerror(errno));
+  // Opened without blocking and checked again on the descriptor: a file swapped for a FIFO after the stat
+  // above is refused here instead of blocking the open.
+  const int descriptor = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (descriptor < 0) throwCannotOpen(path, std::strerror(errno));
+  struct stat opened {};
+  if (::fstat(descriptor, &opened) != 0 || !S_ISREG(opened.st_mode)) {
+    ::close(descriptor);
+    throwCannotOpen(path, "it is not a regular file");
+  }
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(::fdopen(descriptor, "rb"), &std::fclose);
+  if (!file) {
+    ::close(descriptor);
+    throwCannotOpen(path, std::strerror(errno));
+  }
   std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
   const std::size_t read = std::fread(bytes.data(), 1, bytes.size(), file.get());
   if (std::ferror(file.get())) throwCannotOpen(path, "read error");

@@ -31,8 +31,10 @@ void checkMemoryBudget(std::string_view what, std::uint64_t bytes);
 std::string formatBytes(std::uint64_t bytes);
 
 // An output file written atomically: the data goes to a temporary file beside path, and commit() checks the
-// write and the close and renames it to path. Destroyed without commit() (an exception, an interrupted run)
-// it removes the temporary, so path never holds a partial file and an existing file is kept.
+// write and the close and renames it to path. Destroyed without commit() (an exception, Ctrl-C handled by the
+// command) it removes the temporary, so path never holds a partial file and an existing file is kept; a
+// process killed outright may leave the hidden temporary (.NAME.tmp-PID-N). The rename replaces a symbolic
+// link at path rather than writing through it, and a device (/dev/null) cannot be an output.
 class AtomicOutput {
  public:
   explicit AtomicOutput(std::filesystem::path path);

@@ -7,13 +7,19 @@
 #include <cstdio>
 
 namespace iblx {
+namespace {
+
+// A path need not be UTF-8 on Linux: its invalid bytes become U+FFFD instead of failing the whole output.
+constexpr auto kReplaceInvalidUtf8 = nlohmann::json::error_handler_t::replace;
+
+}  // namespace
 
 std::string formatJson(const JsonObject& value, std::size_t* nonFinite) {
   if (value.is_object()) {
     std::string text = "{";
     for (auto it = value.begin(); it != value.end(); ++it) {
       if (it != value.begin()) text += ", ";
-      text += JsonObject(it.key()).dump() + ": " + formatJson(it.value(), nonFinite);
+      text += JsonObject(it.key()).dump(-1, ' ', false, kReplaceInvalidUtf8) + ": " + formatJson(it.value(), nonFinite);
     }
     return text + "}";
   }
@@ -26,7 +32,7 @@ std::string formatJson(const JsonObject& value, std::size_t* nonFinite) {
     if (nonFinite) ++*nonFinite;
     return "null";
   }
-  return value.dump();
+  return value.dump(-1, ' ', false, kReplaceInvalidUtf8);
 }
 
 void printJsonLine(const JsonObject& value) {

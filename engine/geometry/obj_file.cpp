@@ -66,9 +66,13 @@ void checkIndices(const std::filesystem::path& path, int number, std::istringstr
 // tinyobjloader reads a missing or malformed number on a `v` or `vn` line as 0 without a word, so the
 // coordinates are checked here first: three numbers, each finite (strtod accepts "nan" and "inf").
 void checkCoordinateLines(const std::filesystem::path& path, const std::string& text) {
-  std::istringstream lines(text);
-  std::string line;
-  for (int number = 1; std::getline(lines, line); ++number) {
+  // Lines end as tinyobjloader ends them (its safeGetline): at "\n", "\r\n" or a lone "\r", so that a file
+  // with old Mac line ends cannot hide a line from these checks.
+  std::size_t pos = 0;
+  for (int number = 1; pos < text.size(); ++number) {
+    const std::size_t lineEnd = std::min(text.find_first_of("\r\n", pos), text.size());
+    const std::string line = text.substr(pos, lineEnd - pos);
+    pos = lineEnd + (lineEnd + 1 < text.size() && text[lineEnd] == '\r' && text[lineEnd + 1] == '\n' ? 2 : 1);
     std::istringstream tokens(line);
     std::string keyword;
     tokens >> keyword;

@@ -363,6 +363,9 @@ EnvImage readExrChannels(const fs::path& path) {
                          Imf::Slice::Make(Imf::FLOAT, stripe.data() + c, stripeWindow, xStride, yStride));
     input.setFrameBuffer(frameBuffer);
     input.readPixels(stripeWindow.min.y, stripeWindow.max.y);
+    // The whole image once the first stripe has decoded (a file that fails there never allocates it), so the
+    // vector does not grow by doubling past the size the budget approved.
+    if (row == 0) image.rgb.reserve(3 * std::size_t(width) * std::size_t(height));
     image.rgb.insert(image.rgb.end(), stripe.begin(), stripe.end());
   }
 

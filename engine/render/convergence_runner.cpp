@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <optional>
 
 namespace iblx {
@@ -56,8 +57,11 @@ ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& c
         }
         point.spp = renderer.samplesPerPixel();
         const ErrorMetrics e = compareToReference(scene.gbuffer, renderer.meanRgb(), reference);
-        point.mse = e.mse - noise.mse;
-        point.relMse = e.relMse - noise.relMse;
+        // Below the noise of a Monte Carlo reference an error is not resolved: NaN (not drawn, null in JSON,
+        // "—" in the tables), not a number near or below zero.
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        point.mse = noise.mse > 0.0 && e.mse <= noise.mse ? nan : e.mse - noise.mse;
+        point.relMse = noise.relMse > 0.0 && e.relMse <= noise.relMse ? nan : e.relMse - noise.relMse;
         run.points.push_back(point);
         if (progress) progress({result.runs.size(), runs, name + "/" + sequence, seed, point});
         if (budget.seconds && point.wallSeconds >= *budget.seconds) break;

@@ -54,7 +54,7 @@ struct ConvergenceResult {
 // limits (DeviceLimitError) is listed in `skipped` and the others go on. `stop` (e.g. set by Ctrl-C) ends the
 // measurement after the current point; what was recorded is kept. `noise`, the reference's own expected error
 // (a Monte Carlo reference), is subtracted from every MSE and relMSE recorded, so that they estimate the
-// error against the truth; an error below the reference's resolution then reads <= 0 (not drawn on log axes).
+// error against the truth; an error at or below the reference's noise is not resolved and recorded as NaN.
 ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                  std::span<const float> reference, std::span<const ResolvedMethod> methods,
                                  std::span<const std::uint32_t> seeds, const ConvergenceBudget& budget,

@@ -92,7 +92,8 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   // (about 65535 back-edges in all; beyond it loops end early and the sum silently misses texels), so each
   // run's worst-case iteration count stays under kIterationBudget: a texel costs one texel-loop iteration
   // plus its sub-cell loop, k^2 for the largest k any pixel may give it (any texel may lie in some pixel's
-  // fine zone or horizon band; only the bright ones get brightFine). Runs also bound the work per dispatch
+  // fine zone or horizon band; only the bright ones get brightFine), and each row 3 for its own loops. Runs
+  // also bound the work per dispatch
   // (watchdogs, progress).
   constexpr double kIterationBudget = 50000;
   const double workPerIteration = double(scene.gbuffer.objectPixelCount());
@@ -104,7 +105,8 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
     const std::size_t texels = std::size_t(W) * std::size_t(H);
     for (std::size_t i = 0; i < texels; ++i) {
       const double k = energies[i] >= brightEnergy ? std::max(kCommon, double(brightFine)) : kCommon;
-      const double cost = 1.0 + k * k;
+      // A row started in the run adds its own loop iterations (the row loop and its two column ranges).
+      const double cost = 1.0 + k * k + (i % std::size_t(W) == 0 ? 3.0 : 0.0);
       if (i > begin &&
           (iterations + cost > kIterationBudget || (iterations + cost) * workPerIteration > options.maxWorkPerDispatch)) {
         runs.emplace_back(begin, uint32_t(i));

@@ -240,9 +240,17 @@ void VulkanContext::submitAndWait(const std::function<void(vk::CommandBuffer)>& 
   // timeout the device is still running it and no resource it uses can be freed safely, so the process ends
   // with one clear line instead of hanging.
   const double timeoutSeconds = gpuTimeoutSeconds();
-  if (device_.waitForFences(*fence, VK_TRUE, std::uint64_t(timeoutSeconds * 1e9)) == vk::Result::eTimeout) {
+  vk::Result waited = vk::Result::eSuccess;
+  try {
+    waited = device_.waitForFences(*fence, VK_TRUE, std::uint64_t(timeoutSeconds * 1e9));
+  } catch (...) {
+    lock.lock();  // the command buffer goes back to the shared pool under its lock, even on device loss
+    buffers.reset();
+    throw;
+  }
+  if (waited == vk::Result::eTimeout) {
     std::fprintf(stderr,
-                 "iblx: error: the GPU did not finish a dispatch within %.0f s (IBLX_GPU_TIMEOUT_S sets the "
+                 "iblx: error: the GPU did not finish a dispatch within %.3g s (IBLX_GPU_TIMEOUT_S sets the "
                  "limit): a .brdf whose BRDF() never returns, or more work per dispatch than this device "
                  "does in that time\n",
                  timeoutSeconds);

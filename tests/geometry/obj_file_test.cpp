@@ -183,3 +183,13 @@ TEST_CASE("obj: a face index beyond int is out of range, not wrapped") {
       writeText(dir, "n.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//4294967297 2//1 3//1\n");
   CHECK(contains(errorMessage([&] { readObj(normals); }), "n.obj:5: index 4294967297 is out of range"));
 }
+
+TEST_CASE("obj: lines ended by a lone CR are checked too (tinyobjloader reads them as lines)") {
+  ScratchDir dir;
+  const auto nan = writeText(dir, "cr_nan.obj", "v 0 0 0\rv 1 0 0\rv 0 1 0\rv nan 0 0\rf 1 2 3\r");
+  CHECK(contains(errorMessage([&] { readObj(nan); }), "cr_nan.obj:4: coordinate 'nan' is not finite"));
+  const auto wrap = writeText(dir, "cr_wrap.obj", "v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 4294967299\r");
+  CHECK(contains(errorMessage([&] { readObj(wrap); }), "cr_wrap.obj:4: index 4294967299 is out of range"));
+  const auto crlf = writeText(dir, "crlf.obj", "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 7\r\n");
+  CHECK(contains(errorMessage([&] { readObj(crlf); }), "crlf.obj: face 1 refers to vertex 7"));
+}

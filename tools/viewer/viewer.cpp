@@ -387,7 +387,9 @@ class ViewerApp {
         } catch (const std::exception& e) {
           if (!rebuild_) error_ = e.what();  // else: a build for the previous BRDF, dropped
         }
-        startCurve();
+        // Compare mode: B's accumulation restarts too, or it would keep the head start it took while A built.
+        if (comparing()) restart();
+        else startCurve();
         // The overlay follows the method: its pixel is recorded again with the new one.
         if (pendingPixel_)
           startRecording(pendingPixel_->first, pendingPixel_->second), pendingPixel_.reset();
@@ -407,7 +409,7 @@ class ViewerApp {
         } catch (const std::exception& e) {
           if (!rebuild_) error_ = e.what();
         }
-        startCurve();
+        restart();  // A's accumulation too: equal time from here on, for both
       } else if (compareBuildJob_->error() != "cancelled") {
         error_ = "compare: " + compareBuildJob_->error();
       }
@@ -491,7 +493,8 @@ class ViewerApp {
                          options_.compareView,
                          divider_,
                          flipShowB_};
-      if (reference_ && active_.generation == referenceGeneration_) frame.reference = *reference_;
+      if (reference_ && active_.generation == referenceGeneration_ && compare_.generation == referenceGeneration_)
+        frame.reference = *reference_;
       CompareCanvas canvas = composeCompare(frame);
       canvas_ = std::move(canvas.bgra);
       canvasWidth_ = canvas.width, canvasHeight_ = canvas.height;
@@ -686,10 +689,13 @@ class ViewerApp {
       if (changed) {
         // New values change the ground truth, not the method: the renderer keeps its tables and shaders.
         const bool wasCurrent = active_.renderer && active_.generation == generation_;
+        const bool compareWasCurrent = compare_.renderer && compare_.generation == generation_;
         dropReference();
         try {
           if (active_.renderer) active_.renderer->setParams(params_);
           if (wasCurrent) active_.generation = generation_;
+          if (compare_.renderer) compare_.renderer->setParams(params_);  // B shows the same material
+          if (compareWasCurrent) compare_.generation = generation_;
         } catch (const std::exception& e) {
           error_ = e.what();
         }
