@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <optional>
 
 namespace iblx {
 namespace {
@@ -67,37 +66,24 @@ ReferenceNoise referenceNoise(const GBuffer& gbuffer, std::span<const float> a, 
 
 ReferenceImage computeMcReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                   const McReferenceOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  const ResolvedMethod method = resolveMethod(options.method, *scene.brdf);
-  const double half = 0.5 * options.seconds;
-  const auto progressOf = [&](double offset) -> std::function<void(double)> {
-    if (!options.progress) return {};
-    return [&options, offset](double f) { options.progress(offset + 0.5 * f); };
-  };
-  const std::vector<float> a =
-      renderHalf(context, compiler, scene, method, options.seedA, half, progressOf(0.0));
-  const std::vector<float> b =
-      renderHalf(context, compiler, scene, method, options.seedB, half, progressOf(0.5));
-  return combine(scene, a, b,
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return cachedMcReference(context, compiler, scene, {}, options);
 }
 
 ReferenceImage cachedMcReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                  const std::filesystem::path& cacheDir, const McReferenceOptions& options,
                                  bool* fromCache) {
-  if (fromCache) *fromCache = false;
-  if (cacheDir.empty()) return computeMcReference(context, compiler, scene, options);
   const auto start = std::chrono::steady_clock::now();
   const ResolvedMethod method = resolveMethod(options.method, *scene.brdf);
   const int width = scene.gbuffer.width, height = scene.gbuffer.height;
-  bool allCached = true;
+  bool allCached = !cacheDir.empty();
   std::vector<float> halves[2];
   const std::uint32_t seeds[2] = {options.seedA, options.seedB};
   for (int h = 0; h < 2; ++h) {
-    const auto path =
-        cacheDir / "references" / (hexKey(halfKey(scene, method, options.seconds, seeds[h])) + ".exr");
+    const auto path = cacheDir.empty() ? std::filesystem::path()
+                                       : cacheDir / "references" /
+                                             (hexKey(halfKey(scene, method, options.seconds, seeds[h])) + ".exr");
     std::error_code ec;
-    if (std::filesystem::exists(path, ec)) {
+    if (!path.empty() && std::filesystem::exists(path, ec)) {
       try {
         halves[h] = readReferenceCacheFile(path, width, height);
         continue;
@@ -109,6 +95,7 @@ ReferenceImage cachedMcReference(const VulkanContext& context, ShaderCompiler& c
     std::function<void(double)> progress;
     if (options.progress) progress = [&options, h](double f) { options.progress(0.5 * h + 0.5 * f); };
     halves[h] = renderHalf(context, compiler, scene, method, seeds[h], 0.5 * options.seconds, progress);
+    if (path.empty()) continue;
     try {
       writeReferenceCacheFile(path, width, height, halves[h]);
     } catch (const std::exception& e) {
@@ -116,9 +103,8 @@ ReferenceImage cachedMcReference(const VulkanContext& context, ShaderCompiler& c
     }
   }
   if (fromCache) *fromCache = allCached;
-  return combine(
-      scene, halves[0], halves[1],
-      allCached ? 0.0 : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return combine(scene, halves[0], halves[1],
+                 allCached ? 0.0 : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 }  // namespace iblx

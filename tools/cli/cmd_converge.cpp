@@ -37,7 +37,6 @@ int cmdConverge(const Args& args) {
   std::filesystem::path outDir = "converge";
   double targetRelMse = 1e-3;
   bool plots = true;
-  bool sizeGiven = false;
   ArgParser parser("converge");
   addSceneFlags(parser, render);
   parser.value("--case", "NAME",
@@ -53,9 +52,11 @@ int cmdConverge(const Args& args) {
   parser.toggle("--no-plots", "write no PNG figures", [&] { plots = false; });
   parser.toggle("--json", "print the summary as one JSON object per method instead of the table",
                 [&] { render.json = true; });
-  // Both spellings the parser accepts: "--size 8x8" and "--size=8x8".
-  for (const auto& a : args) sizeGiven = sizeGiven || a == "--size" || a.rfind("--size=", 0) == 0;
+  // Whether --size was given, in whatever spelling the parser accepts: no size until it sets one.
+  render.scene.width = render.scene.height = 0;
   if (parser.parseOrShowHelp(args)) return 0;
+  const bool sizeGiven = render.scene.width != 0;
+  if (!sizeGiven) render.scene.width = SceneSpec{}.width, render.scene.height = SceneSpec{}.height;
 
   // Everything a user can get wrong is checked before anything heavy.
   const HardCase* hardCase = caseName.empty() ? nullptr : &findHardCase(caseName);

@@ -35,7 +35,7 @@ struct CompareCanvas {
 // Split: W x H, A left of column round(divider * W), B from it on, the divider column drawn white.
 // SideBySide: 2W x H (A | B), or 2W x 2H with a reference: below each, its relative squared error
 // (x - r)^2 / (r^2 + 0.01) per pixel on one log scale shared by both (four decades under the larger 99.5th
-// percentile; background grey). Flip: W x H, A or B.
+// percentile; background grey). Flip: W x H, A or B (with showB false and no B: the single view of one image).
 CompareCanvas composeCompare(const CompareFrame& frame);
 
 // The shared error scale of SideBySide: [high * 1e-4, high]; std::nullopt when no pixel has an error.

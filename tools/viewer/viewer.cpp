@@ -482,38 +482,24 @@ class ViewerApp {
     // In compare mode A's transform serves both, so that their brightness compares.
     const DisplayTransform display = resolveDisplay(options_.display, rgb, g.objectMask());
     shownExposureEV_ = display.exposureEV;
-    if (comparing()) {
-      const bool sameScene = compare_.scene && compare_.scene->gbuffer.pixels.size() == g.pixels.size();
-      CompareFrame frame{&g,
-                         rgb,
-                         sameScene ? std::span<const float>(shownB_) : std::span<const float>(),
-                         {},
-                         display,
-                         options_.background,
-                         options_.compareView,
-                         divider_,
-                         flipShowB_};
-      if (reference_ && active_.generation == referenceGeneration_ && compare_.generation == referenceGeneration_)
-        frame.reference = *reference_;
-      CompareCanvas canvas = composeCompare(frame);
-      canvas_ = std::move(canvas.bgra);
-      canvasWidth_ = canvas.width, canvasHeight_ = canvas.height;
-      return;
-    }
-    canvasWidth_ = g.width, canvasHeight_ = g.height;
-    canvas_.assign(std::size_t(g.width) * g.height * 4, 0);
-    for (std::size_t p = 0; p < std::size_t(g.width) * g.height; ++p) {
-      std::uint8_t* out = &canvas_[4 * p];
-      out[3] = 255;
-      const bool object = g.pixels[p].normal.w != 0.0f;
-      if (rgb.empty() || (!object && !options_.background)) {
-        out[0] = out[1] = out[2] = kWindowGrey;
-        continue;
-      }
-      out[2] = toDisplayByte(rgb[3 * p + 0], display);  // BGRA
-      out[1] = toDisplayByte(rgb[3 * p + 1], display);
-      out[0] = toDisplayByte(rgb[3 * p + 2], display);
-    }
+    // One image, or A and B composed: the same per-pixel loop (tools/viewer/compare_view.h) either way.
+    const bool sameScene =
+        comparing() && compare_.scene && compare_.scene->gbuffer.pixels.size() == g.pixels.size();
+    CompareFrame frame{&g,
+                       rgb,
+                       sameScene ? std::span<const float>(shownB_) : std::span<const float>(),
+                       {},
+                       display,
+                       options_.background,
+                       comparing() ? options_.compareView : CompareView::Flip,
+                       divider_,
+                       comparing() && flipShowB_};
+    if (comparing() && reference_ && active_.generation == referenceGeneration_ &&
+        compare_.generation == referenceGeneration_)
+      frame.reference = *reference_;
+    CompareCanvas canvas = composeCompare(frame);
+    canvas_ = std::move(canvas.bgra);
+    canvasWidth_ = canvas.width, canvasHeight_ = canvas.height;
   }
 
   template <typename T>
