@@ -64,18 +64,6 @@ void writeSealedCacheFile(const std::filesystem::path& path, std::span<const uns
   writeFileAtomically(path, sealCacheBytes(payload));
 }
 
-void appendCacheSeal(const std::filesystem::path& path) {
-  // The file is one this process just wrote, so its size is bounded by what it wrote; the bound only keeps
-  // the read honest.
-  const std::vector<unsigned char> bytes = readInputFile(path, std::uint64_t(1) << 40);
-  unsigned char seal[kSealBytes];
-  putLittleEndian(seal, payloadHash(bytes));
-  std::ofstream out(path, std::ios::binary | std::ios::app);
-  out.write(reinterpret_cast<const char*>(seal), kSealBytes);
-  out.close();
-  if (!out) throw Error("cannot write " + path.string() + ": appending its checksum failed");
-}
-
 std::vector<std::uint32_t> decodeSpirvCachePayload(std::span<const unsigned char> payload) {
   constexpr std::size_t kHeaderWords = 5;
   if (payload.size() % 4 != 0)

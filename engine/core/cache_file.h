@@ -25,10 +25,6 @@ std::vector<unsigned char> readSealedCacheFile(const std::filesystem::path& path
 // Writes payload || seal to path atomically (a temporary beside it, then a rename; engine/core/file_io.h),
 // creating the directory. Throws Error("cannot write PATH: REASON").
 void writeSealedCacheFile(const std::filesystem::path& path, std::span<const unsigned char> payload);
-// Appends the seal of the file's current contents to it: for files a library writes by name (OpenEXR) into
-// an AtomicOutput's temporary, before commit(). Throws Error naming the file when it cannot be read or
-// appended to.
-void appendCacheSeal(const std::filesystem::path& path);
 
 // SPIR-V cache entries (engine/vk/shader_compiler.cpp): a sealed file whose payload is the module's words.
 // The module's words from a payload; throws Error("REASON") unless it is a whole number of 32-bit words,

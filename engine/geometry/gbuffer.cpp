@@ -3,7 +3,9 @@
 
 #include "engine/core/assets.h"
 #include "engine/core/error.h"
+#include "engine/core/setting.h"
 #include "engine/core/file_names.h"
+#include "engine/core/join.h"
 #include "engine/geometry/obj_file.h"
 #include "engine/geometry/rasterizer.h"
 #include "engine/core/sphere_mapping.h"
@@ -62,9 +64,7 @@ std::filesystem::path teapotObjPath() {
 }
 
 std::string objectNameList() {
-  std::string list;
-  for (const char* name : kObjectNames) list += (list.empty() ? "" : ", ") + std::string(name);
-  return list;
+  return joinNames(kObjectNames);
 }
 
 TriMesh loadObjectMesh(const std::string& object) {
@@ -72,12 +72,13 @@ TriMesh loadObjectMesh(const std::string& object) {
   if (object == "teapot") {
     const auto path = teapotObjPath();
     if (!std::filesystem::exists(path))
-      throw Error("--object teapot: " + path.string() +
-                  ": no such file (make it with `iblx make-teapot --out " + path.string() + "`)");
+      throw SettingError(Setting::Object, "",
+                         " teapot: " + path.string() + ": no such file (iblx make-teapot writes it)");
     return loadObjMesh(path);
   }
   if (lowerExtension(object) == ".obj") return loadObjMesh(object);
-  throw Error("unknown --object '" + object + "'; valid: " + objectNameList() + ", or a file ending in .obj");
+  throw SettingError(Setting::Object, "unknown ",
+                     " '" + object + "'; valid: " + objectNameList() + ", or a file ending in .obj");
 }
 
 GBuffer makeGBuffer(const std::string& object, const CameraSpec& camera, int width, int height) {

@@ -3,6 +3,7 @@
 #include "engine/io/env_image.h"
 
 #include "engine/core/error.h"
+#include "engine/core/join.h"
 #include "engine/core/file_io.h"
 #include "engine/core/file_names.h"
 #include "engine/core/log.h"
@@ -13,6 +14,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfRgbaFile.h>
+#include <ImfStdIO.h>
 
 #include <algorithm>
 #include <cctype>
@@ -221,15 +223,14 @@ EnvImage readHdr(const fs::path& path) {
 // conversion; they are half precision by construction, so nothing is lost.
 
 std::string channelListText(const Imf::ChannelList& channels) {
-  std::string text;
-  for (auto it = channels.begin(); it != channels.end(); ++it)
-    text += (text.empty() ? "" : ", ") + std::string(it.name());
-  return text.empty() ? "none" : text;
+  std::vector<const char*> names;
+  for (auto it = channels.begin(); it != channels.end(); ++it) names.push_back(it.name());
+  return names.empty() ? "none" : joinNames(names);
 }
 
-EnvImage readExrLuminanceChroma(const fs::path& path) {
-  const std::string fileName = path.string();
-  Imf::RgbaInputFile file(fileName.c_str());
+EnvImage readExrLuminanceChroma(Imf::IStream& stream, const std::string& fileName) {
+  stream.seekg(0);
+  Imf::RgbaInputFile file(stream);
   if (!file.isComplete())
     throw Error("corrupt or truncated EXR file " + fileName +
                 ": the file is incomplete (unfinished offset table)");
@@ -262,9 +263,7 @@ EnvImage readExrLuminanceChroma(const fs::path& path) {
 // bytes can claim gigabytes. The attributes (name\0 type\0 int32 size, value; an empty name ends a header;
 // multi-part files hold several headers, ended by an empty one) are walked here first, and a size larger than
 // what remains of the file is refused. OpenEXR file layout: openexr.com, "OpenEXR File Layout".
-void checkExrAttributeSizes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  const std::uint64_t size = fs::file_size(path);
+void checkExrAttributeSizes(std::istream& in, std::uint64_t size, const std::string& fileName) {
   unsigned char version[8];
   // Not an EXR (magic 76 2f 31 01) or too short: left to OpenEXR, which says so itself.
   if (!in.read(reinterpret_cast<char*>(version), 8) || version[0] != 0x76 || version[1] != 0x2f ||
@@ -294,7 +293,7 @@ void checkExrAttributeSizes(const fs::path& path) {
       const std::uint64_t position = std::uint64_t(in.tellg());
       if (length < 0 || std::uint64_t(length) > size - std::min(size, position))
         throw Error(
-            "corrupt or truncated EXR file " + path.string() + ": header attribute " +
+            "corrupt or truncated EXR file " + fileName + ": header attribute " +
             (std::all_of(name.begin(), name.end(),
                          [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; })
                  ? "'" + name + "'"
@@ -306,16 +305,20 @@ void checkExrAttributeSizes(const fs::path& path) {
   }
 }
 
-EnvImage readExrChannels(const fs::path& path) {
-  const std::string file = path.string();
-  checkExrAttributeSizes(path);
-  Imf::InputFile input(file.c_str());
+// `raw` and `stream` read the same bytes: the attribute check walks `raw`, OpenEXR reads `stream`.
+EnvImage readExrChannels(std::istream& raw, std::uint64_t size, Imf::IStream& stream,
+                         const std::string& file) {
+  checkExrAttributeSizes(raw, size, file);
+  raw.clear();  // the check may have read to the end; a file's `raw` is also what `stream` reads through
+  raw.seekg(0);
+  stream.seekg(0);
+  Imf::InputFile input(stream);
   const Imf::Header& header = input.header();
   const Imf::ChannelList& channels = header.channels();
   const bool hasRgb = channels.findChannel("R") && channels.findChannel("G") && channels.findChannel("B");
   const bool hasY = channels.findChannel("Y") != nullptr;
   if (!hasRgb && hasY && (channels.findChannel("RY") || channels.findChannel("BY")))
-    return readExrLuminanceChroma(path);
+    return readExrLuminanceChroma(stream, file);
   if (!hasRgb && !hasY)
     throw Error(file + ": no R, G, B (or Y) channels; the file has channels " + channelListText(channels));
   const std::vector<const char*> names =
@@ -376,19 +379,27 @@ EnvImage readExrChannels(const fs::path& path) {
   return image;
 }
 
-EnvImage readExr(const fs::path& path) {
-  if (fs::file_size(path) == 0)
-    throw Error("corrupt or truncated EXR file " + path.string() + ": the file is empty");
+EnvImage readExrFrom(std::istream& raw, std::uint64_t size, Imf::IStream& stream, const std::string& file) {
+  if (size == 0) throw Error("corrupt or truncated EXR file " + file + ": the file is empty");
   try {
-    return readExrChannels(path);
+    return readExrChannels(raw, size, stream, file);
   } catch (const Error&) {
     throw;
   } catch (const std::bad_alloc&) {
-    throw Error("not enough memory to load " + path.string());
+    throw Error("not enough memory to load " + file);
   } catch (const std::exception& e) {
     // OpenEXR reports through Iex exceptions; keep its text, which names the structure that failed.
-    throw Error("corrupt or truncated EXR file " + path.string() + ": " + e.what());
+    throw Error("corrupt or truncated EXR file " + file + ": " + e.what());
   }
+}
+
+EnvImage readExr(const fs::path& path) {
+  const std::string file = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throwCannotOpen(path, std::strerror(errno));
+  const std::uint64_t size = fs::file_size(path);
+  Imf::StdIFStream stream(in, file.c_str());
+  return readExrFrom(in, size, stream, file);
 }
 
 }  // namespace
@@ -432,6 +443,14 @@ EnvImage loadRgbImage(const fs::path& path) {
   } catch (const fs::filesystem_error& e) {
     throwCannotOpen(path, e.code().message());
   }
+}
+
+EnvImage decodeExr(std::span<const unsigned char> bytes, const std::string& name) {
+  const std::string data(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  std::istringstream raw(data);
+  Imf::StdISStream stream;
+  stream.str(data);
+  return readExrFrom(raw, bytes.size(), stream, name);
 }
 
 EnvImage loadEnvImage(const fs::path& path) {

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <span>
 #include <vector>
 
 namespace iblx {
@@ -44,5 +45,8 @@ EnvImage loadEnvImage(const std::filesystem::path& path);
 // Reads any .exr or .hdr as linear RGB, as it is: no sanitation, no environment-map checks (e.g. a reference
 // image written by `iblx reference`). Throws iblx::Error naming the file on any failure.
 EnvImage loadRgbImage(const std::filesystem::path& path);
+// The same for an OpenEXR file's bytes already in memory (a cache entry whose seal was checked); `name` names
+// it in errors.
+EnvImage decodeExr(std::span<const unsigned char> bytes, const std::string& name);
 
 }  // namespace iblx

@@ -63,35 +63,51 @@ std::uint8_t toDisplayByte(float radiance, const DisplayTransform& transform) {
   return std::uint8_t(std::lround(255.0 * encoded));
 }
 
+namespace {
+
+// Writes a float RGB image with ZIP compression to `stream`. OpenEXR writes the offset table in OutputFile's
+// destructor and swallows its errors there: callers check their stream's state afterwards.
+void writeExrTo(Imf::OStream& stream, int width, int height, std::span<const float> rgb) {
+  Imf::Header header(width, height);
+  header.compression() = Imf::ZIP_COMPRESSION;
+  const char* const names[3] = {"R", "G", "B"};
+  Imf::FrameBuffer frameBuffer;
+  // OpenEXR's Slice takes a mutable pointer but only reads from it when writing.
+  char* base = reinterpret_cast<char*>(const_cast<float*>(rgb.data()));
+  const std::size_t xStride = 3 * sizeof(float), yStride = xStride * std::size_t(width);
+  for (int c = 0; c < 3; ++c) {
+    header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
+    frameBuffer.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xStride, yStride));
+  }
+  Imf::OutputFile file(stream, header);
+  file.setFrameBuffer(frameBuffer);
+  file.writePixels(height);
+}
+
+}  // namespace
+
 void writeExr(const fs::path& path, int width, int height, std::span<const float> rgb) {
   checkImageSize(path, width, height, rgb);
   try {
-    Imf::Header header(width, height);
-    header.compression() = Imf::ZIP_COMPRESSION;
-    const char* const names[3] = {"R", "G", "B"};
-    Imf::FrameBuffer frameBuffer;
-    // OpenEXR's Slice takes a mutable pointer but only reads from it when writing.
-    char* base = reinterpret_cast<char*>(const_cast<float*>(rgb.data()));
-    const std::size_t xStride = 3 * sizeof(float), yStride = xStride * std::size_t(width);
-    for (int c = 0; c < 3; ++c) {
-      header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
-      frameBuffer.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xStride, yStride));
-    }
-    // OpenEXR writes the offset table in OutputFile's destructor and swallows its errors there, so it writes
-    // to our stream, whose state commit() checks after the destructor has run.
     AtomicOutput output(path);
     {
       Imf::StdOFStream stream(output.stream(), path.string().c_str());
-      Imf::OutputFile file(stream, header);
-      file.setFrameBuffer(frameBuffer);
-      file.writePixels(height);
+      writeExrTo(stream, width, height, rgb);
     }
-    output.commit();
+    output.commit();  // checks the stream's state after OutputFile's destructor has run
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
     throw Error("cannot write EXR file " + path.string() + ": " + e.what());
   }
+}
+
+std::vector<unsigned char> encodeExr(int width, int height, std::span<const float> rgb) {
+  checkImageSize("EXR image", width, height, rgb);
+  Imf::StdOSStream stream;
+  writeExrTo(stream, width, height, rgb);
+  const std::string bytes = stream.str();
+  return {bytes.begin(), bytes.end()};
 }
 
 double autoExposureEV(std::span<const float> rgb, std::span<const std::uint8_t> objectMask) {

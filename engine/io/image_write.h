@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <vector>
 
 namespace iblx {
 
@@ -31,6 +32,8 @@ void writePngRgb8(const std::filesystem::path& path, int width, int height,
 void writeImage(const std::filesystem::path& path, int width, int height, std::span<const float> rgb,
                 const DisplayTransform& transform);
 void writeImage(const std::filesystem::path& path, int width, int height, std::span<const float> rgb);
+// The bytes writeExr would write, in memory (for files written sealed, engine/core/cache_file.h).
+std::vector<unsigned char> encodeExr(int width, int height, std::span<const float> rgb);
 
 // The exact sRGB OETF (IEC 61966-2-1) for linear x in [0, 1].
 double linearToSrgb(double x);

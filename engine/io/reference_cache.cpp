@@ -36,9 +36,9 @@ std::vector<float> readReferenceCacheFile(const std::filesystem::path& path, int
   // An uncompressed float RGB image plus OpenEXR's headers and offset tables bounds a valid entry's size.
   const std::uint64_t maxBytes = 3 * 4 * std::uint64_t(width) * std::uint64_t(height) +
                                  16 * std::uint64_t(height) + (std::uint64_t(1) << 16);
-  // The seal first: OpenEXR then reads a file known to be whole, as this process's writer left it.
-  readSealedCacheFile(path, maxBytes);
-  EnvImage image = loadRgbImage(path);
+  // Read once; the seal is checked first, so OpenEXR decodes bytes known to be whole, as the writer left
+  // them.
+  EnvImage image = decodeExr(readSealedCacheFile(path, maxBytes), file);
   if (image.width != width || image.height != height)
     throw Error(file + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                 ", expected " + std::to_string(width) + "x" + std::to_string(height));
@@ -51,13 +51,7 @@ void writeReferenceCacheFile(const std::filesystem::path& path, int width, int h
                              std::span<const float> rgb) {
   if (const std::string bad = width > 0 ? firstNonFinitePixel(rgb, width) : ""; !bad.empty())
     throw Error("not caching " + path.string() + ": the ground truth holds " + bad);
-  std::error_code ec;
-  std::filesystem::create_directories(path.parent_path(), ec);
-  if (ec) throw Error("cannot write " + path.string() + ": " + ec.message());
-  AtomicOutput output(path);
-  writeExr(output.temporaryPath(), width, height, rgb);
-  appendCacheSeal(output.temporaryPath());
-  output.commit();
+  writeSealedCacheFile(path, encodeExr(width, height, rgb));
 }
 
 }  // namespace iblx

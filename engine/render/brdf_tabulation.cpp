@@ -4,6 +4,8 @@
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
 #include "engine/render/kernel_assembly.h"
+#include "engine/render/scene_gpu.h"
+#include "engine/scene/brdf_params.h"
 #include "engine/core/sphere_mapping.h"
 #include "engine/vk/compute_kernel.h"
 
@@ -21,17 +23,16 @@ struct BrdfEvaluator::State {
   std::unique_ptr<ComputeKernel> kernel;
 };
 
-BrdfEvaluator::BrdfEvaluator(const GpuServices& services, const Scene& scene, bool unguarded)
+BrdfEvaluator::BrdfEvaluator(const VulkanServices& services, const Scene& scene, bool unguarded)
     : state_(
           std::make_unique<State>(State{services.context, uploadScene(services.context, scene), nullptr})) {
-  KernelParts parts = brdfKernelParts("brdf_eval.comp", *scene.brdf);
-  parts.defines = brdfBindingDefines(state_->gpu.brdfData.size());
+  KernelParts parts = brdfKernelParts("brdf_eval.comp", *scene.brdf, state_->gpu.brdfDataLayout);
   if (unguarded) parts.defines.emplace_back("IBLX_UNGUARDED_BRDF", "1");
   const auto spirv = compileKernel(services.compiler, parts, "brdf eval " + scene.brdf->name);
   const auto set3 = state_->gpu.brdfSet();
   KernelLayout layout{{0, 2, 0, uint32_t(set3.size())},
                       sizeof(uint32_t),
-                      {0, 0, 0, bindingBits(1, uint32_t(set3.size()) - 1)}};
+                      {0, 0, 0, bindingBits(kBrdfDataBinding, uint32_t(set3.size()) - 1)}};
   state_->kernel = std::make_unique<ComputeKernel>(services.context, spirv, layout, "brdf eval");
   state_->kernel->bindBuffers(3, set3);
 }
@@ -72,10 +73,10 @@ std::vector<glm::dvec3> BrdfEvaluator::evaluate(std::span<const glm::dvec3> wi,
 std::vector<glm::dvec3> evaluateBrdf(const VulkanContext& context, ShaderCompiler& compiler,
                                      const Scene& scene, std::span<const glm::dvec3> wi,
                                      std::span<const glm::dvec3> wo) {
-  return BrdfEvaluator({context, compiler}, scene).evaluate(wi, wo);
+  return BrdfEvaluator(VulkanServices(context, compiler), scene).evaluate(wi, wo);
 }
 
-double estimateLobeWidth(const GpuServices& services, const Scene& scene) {
+double estimateLobeWidth(const VulkanServices& services, const Scene& scene) {
   const BrdfEvaluator evaluator(services, scene);
   constexpr double kStep = 0.05 * kPi / 180.0;
   constexpr int kHalfSteps = 1800;  // +-90 degrees around the mirror direction
@@ -145,7 +146,7 @@ bool isAnisotropic(const BrdfEvaluator& evaluator) {
 }
 }  // namespace
 
-std::shared_ptr<const MerlTableData> tabulateBrdfTable(const GpuServices& services, const Scene& scene) {
+std::shared_ptr<const MerlTableData> tabulateBrdfTable(const VulkanServices& services, const Scene& scene) {
   // One table per BRDF source and parameter values, for the life of the process.
   static std::mutex mutex;
   static std::map<std::string, std::shared_ptr<const MerlTableData>> cache;
@@ -154,8 +155,8 @@ std::shared_ptr<const MerlTableData> tabulateBrdfTable(const GpuServices& servic
   key.append(reinterpret_cast<const char*>(params.data()), params.size() * sizeof(float));
   if (scene.brdf->data) {  // a material read from a file (MERL): its data is part of the BRDF
     ContentHash hash;
-    for (const auto& buffer : scene.brdf->data(scene).buffers)
-      hash.add(std::string_view(reinterpret_cast<const char*>(buffer.data()), buffer.size()));
+    for (const TechniqueTable& table : scene.brdf->data(scene).tables)
+      hash.add(std::string_view(reinterpret_cast<const char*>(table.bytes.data()), table.bytes.size()));
     key += '|';
     key += std::to_string(hash.value());
   }
@@ -215,6 +216,14 @@ MerlSynthResult tabulateMerl(const VulkanContext& context, ShaderCompiler& compi
     for (int c = 0; c < 3; ++c) result.values[std::size_t(c) * kMerlBins + bin] = invalid ? -1.0 : f[bin][c];
   }
   return result;
+}
+
+std::shared_ptr<const MerlTableData> VulkanServices::tabulateBrdf(const Scene& scene) const {
+  return tabulateBrdfTable(*this, scene);
+}
+
+double VulkanServices::measureLobeWidth(const Scene& scene) const {
+  return estimateLobeWidth(*this, scene);
 }
 
 }  // namespace iblx

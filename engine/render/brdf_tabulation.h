@@ -3,7 +3,8 @@
 // evaluations with CPU ones.
 #pragma once
 
-#include "engine/render/scene.h"
+#include "engine/scene/scene.h"
+#include "engine/vk/context.h"
 #include "engine/sampling/merl_sampling.h"
 #include "engine/vk/shader_compiler.h"
 
@@ -16,13 +17,25 @@
 
 namespace iblx {
 
+// The GPU services the registry's builders get (engine/scene/methods.h): through this device and compiler.
+class VulkanServices final : public GpuServices {
+ public:
+  VulkanServices(const VulkanContext& vulkanContext, ShaderCompiler& shaderCompiler)
+      : context(vulkanContext), compiler(shaderCompiler) {}
+  std::shared_ptr<const MerlTableData> tabulateBrdf(const Scene& scene) const override;
+  double measureLobeWidth(const Scene& scene) const override;
+
+  const VulkanContext& context;
+  ShaderCompiler& compiler;
+};
+
 // f(wi, wo) in 1/sr for each pair (local frame: normal +z), evaluated as the integrator would. Runs in chunks
 // within the device's dispatch and buffer limits. Compiles and uploads once; call evaluate() many times.
 class BrdfEvaluator {
  public:
   // `unguarded`: a .brdf file's values as written, without the generated part's clamp of negative and
   // non-finite values to 0 (to test the file itself).
-  BrdfEvaluator(const GpuServices& gpu, const Scene& scene, bool unguarded = false);
+  BrdfEvaluator(const VulkanServices& gpu, const Scene& scene, bool unguarded = false);
   ~BrdfEvaluator();
   std::vector<glm::dvec3> evaluate(std::span<const glm::dvec3> wi, std::span<const glm::dvec3> wo) const;
 
@@ -39,12 +52,12 @@ std::vector<glm::dvec3> evaluateBrdf(const VulkanContext& context, ShaderCompile
 // incidence, for views at 0 and 60 degrees), at 0.05 degree steps. 0 when f cos has no peak (a maximum below
 // 4 times its mean along the circle). The reference refines its quadrature around lobes narrower than its
 // texels.
-double estimateLobeWidth(const GpuServices& gpu, const Scene& scene);
+double estimateLobeWidth(const VulkanServices& gpu, const Scene& scene);
 
 // brdf-tab's tables: the half-vector tables of merl-table (engine/sampling/merl_sampling.h) with the sampling
 // weight mean(f) of the scene's compiled BRDF, evaluated on the GPU. Kept in memory per BRDF source and
 // parameter values, so the renderers of one scene (bench, converge) build them once.
-std::shared_ptr<const MerlTableData> tabulateBrdfTable(const GpuServices& gpu, const Scene& scene);
+std::shared_ptr<const MerlTableData> tabulateBrdfTable(const VulkanServices& gpu, const Scene& scene);
 
 // A built-in BRDF tabulated in MERL's layout: the values of writeMerl (3 * kMerlBins, planar, 1/sr), each the
 // BRDF at its bin's centre (merlBinCenter). A centre direction at or below the horizon is evaluated at the

@@ -5,7 +5,8 @@
 
 #include "engine/analysis/convergence.h"
 #include "engine/render/reference.h"
-#include "engine/render/scene.h"
+#include "engine/scene/scene.h"
+#include "engine/vk/context.h"
 #include "engine/vk/shader_compiler.h"
 
 #include <atomic>
@@ -60,14 +61,5 @@ ConvergenceResult runConvergence(const VulkanContext& context, ShaderCompiler& c
                                  std::span<const std::uint32_t> seeds, const ConvergenceBudget& budget,
                                  const std::function<void(const ConvergenceProgress&)>& progress = {},
                                  const std::atomic<bool>* stop = nullptr, const ReferenceNoise& noise = {});
-
-// The methods of the registry that apply to `brdf`, with their default options: what `converge` and
-// `hardcases` run when no --method is given.
-std::vector<MethodSpec> defaultMethodSpecs(const BrdfInfo& brdf);
-
-// A method with its options in one word, as `converge --method` takes it: NAME[:OPTION]..., where an option
-// is an env technique (mis, ris), a BRDF technique (brdf, mis), balance | power, compensated, M=N (ris
-// candidates) or split=F (mis). E.g. "mis:env-hier:power", "ris:env-hier:M=32", "brdf:brdf-tab".
-MethodSpec parseMethodVariant(const std::string& text);
 
 }  // namespace iblx

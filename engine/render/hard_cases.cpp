@@ -2,6 +2,7 @@
 #include "engine/render/hard_cases.h"
 
 #include "engine/core/error.h"
+#include "engine/core/join.h"
 #include "engine/io/image_write.h"
 #include "engine/io/synthetic_envs.h"
 #include "engine/sampling/latlong_texel.h"
@@ -142,12 +143,9 @@ std::span<const HardCase> hardCases() {
 }
 
 const HardCase& findHardCase(const std::string& name) {
-  std::string valid;
-  for (const auto& c : hardCases()) {
+  for (const auto& c : hardCases())
     if (c.name == name) return c;
-    valid += (valid.empty() ? "" : ", ") + c.name;
-  }
-  throw Error("unknown hard case '" + name + "'; valid: " + valid);
+  throw Error("unknown hard case '" + name + "'; valid: " + joinNames(hardCases(), &HardCase::name));
 }
 
 Scene makeHardCaseScene(const HardCase& hardCase, HardCaseSize size) {

@@ -5,7 +5,7 @@
 // tests run each at a small size.
 #pragma once
 
-#include "engine/render/scene.h"
+#include "engine/scene/scene.h"
 
 #include <functional>
 #include <optional>

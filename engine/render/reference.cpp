@@ -8,7 +8,9 @@
 #include "engine/io/env_image.h"
 #include "engine/io/reference_cache.h"
 
+#include "engine/render/brdf_tabulation.h"
 #include "engine/render/kernel_assembly.h"
+#include "engine/render/scene_gpu.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/core/sphere_mapping.h"
 #include "engine/vk/compute_kernel.h"
@@ -25,7 +27,7 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
                                 const ReferenceOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   SceneGpu gpu = uploadScene(context, scene);
-  KernelParts parts = referenceParts(scene, gpu);
+  KernelParts parts = referenceParts(scene, gpu.brdfDataLayout, gpu.chunking());
   if (options.visitEveryTexel) parts.defines.emplace_back("REFERENCE_VISIT_EVERY_TEXEL", "1");
   const auto spirv = compileKernel(compiler, parts, "reference " + scene.brdf->name);
   const auto brdfSet = gpu.brdfSet();
@@ -36,7 +38,8 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
 
   const int W = scene.env.width, H = scene.env.height;
   const double texelAngle = std::max(kPi / H, 2.0 * kPi / W);  // largest texel side (at the equator)
-  const double lobe = scene.brdf->lobeWidth ? scene.brdf->lobeWidth(scene, {context, compiler}) : 0.0;
+  const double lobe =
+      scene.brdf->lobeWidth ? scene.brdf->lobeWidth(scene, VulkanServices(context, compiler)) : 0.0;
   // Texels much smaller than every feature of f cos (the lobe, the cosine) take the midpoint rule (error
   // ~ texel^2 / 24 relative); larger ones the 2x2 Gauss rule on coarseSubdivisions^2 sub-cells.
   const double smoothScale = lobe > 0.0 ? std::min(0.05, lobe / 8.0) : 0.05;

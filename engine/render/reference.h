@@ -3,7 +3,8 @@
 // texels that the BRDF's narrow lobe or the horizon cuts through.
 #pragma once
 
-#include "engine/render/scene.h"
+#include "engine/scene/scene.h"
+#include "engine/vk/context.h"
 #include "engine/vk/shader_compiler.h"
 
 #include <cstdint>

@@ -2,9 +2,11 @@
 #include "engine/render/renderer.h"
 
 #include "engine/core/error.h"
+#include "engine/render/brdf_tabulation.h"
 #include "engine/render/kernel_assembly.h"
 #include "engine/sampling/mis_compensation.h"
 #include "engine/core/sphere_mapping.h"
+#include "engine/scene/brdf_params.h"
 
 #include <chrono>
 #include <cmath>
@@ -35,14 +37,16 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
     const auto& build = method.method->envData ? method.method->envData : method.envTechnique->build;
     envData = method.misCompensation ? build(misCompensated(scene.env)) : build(scene.env);
   }
-  envBuffers_ = uploadTables(context, envData);
+  envBuffers_ = uploadTables(context, envData, method.envTechnique ? method.envTechnique->name : "");
   TechniqueData brdfData = method.brdfTechnique && method.brdfTechnique->build
-                               ? method.brdfTechnique->build(scene, {context, compiler})
+                               ? method.brdfTechnique->build(scene, VulkanServices(context, compiler))
                                : TechniqueData{};
-  brdfTechniqueBuffers_ = uploadTables(context, brdfData);
+  brdfTechniqueBuffers_ =
+      uploadTables(context, brdfData, method.brdfTechnique ? method.brdfTechnique->name : "");
   const bool recording = mode == IntegratorMode::RecordPixel;
   const std::string name = (recording ? "record samples " : "integrate ") + method.label();
-  const KernelParts parts = integratorParts(scene, gpu_, method, envData, brdfData, mode);
+  const KernelParts parts =
+      integratorParts(scene, gpu_.brdfDataLayout, gpu_.chunking(), method, envData, brdfData, mode);
   const auto spirv = compileKernel(compiler, parts, name);
   const auto brdfSet = gpu_.brdfSet(brdfTechniqueBuffers_);
   KernelLayout layout = sceneKernelLayout(uint32_t(envBuffers_.size()), uint32_t(brdfSet.size() - 1));

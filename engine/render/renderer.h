@@ -8,7 +8,8 @@
 #pragma once
 
 #include "engine/render/kernel_assembly.h"
-#include "engine/render/scene.h"
+#include "engine/render/scene_gpu.h"
+#include "engine/scene/scene.h"
 #include "engine/vk/compute_kernel.h"
 #include "engine/vk/shader_compiler.h"
 

@@ -154,4 +154,18 @@ std::optional<glm::dvec2> EnvCdfSampler::invert(glm::dvec3 wi) const {
   return glm::dvec2(std::min(ux, double(kOneMinusEpsilonF)), std::min(uy, double(kOneMinusEpsilonF)));
 }
 
+TechniqueData envCdfTechniqueData(const EnvImage& image) {
+  const EnvCdfData cdf = buildEnvCdf(image);
+  std::vector<float> packed(cdf.marginalCdf);
+  packed.insert(packed.end(), cdf.conditionalCdf.begin(), cdf.conditionalCdf.end());
+  std::vector<std::uint32_t> guide(cdf.marginalGuide);
+  guide.insert(guide.end(), cdf.conditionalGuide.begin(), cdf.conditionalGuide.end());
+  TechniqueData data;
+  data.add("envCdf", packed);
+  data.add("envCdfGuide", guide);
+  data.define("ENV_CDF_ROW_GUIDE_SIZE", std::uint32_t(cdf.rowGuideCells));
+  data.define("ENV_CDF_COLUMN_GUIDE_SIZE", std::uint32_t(cdf.columnGuideCells));
+  return data;
+}
+
 }  // namespace iblx

@@ -4,6 +4,7 @@
 
 #include "engine/io/env_image.h"
 #include "engine/sampling/latlong_texel.h"
+#include "engine/sampling/technique_data.h"
 
 #include <glm/glm.hpp>
 
@@ -91,5 +92,9 @@ class EnvCdfSampler {
   EnvCdfData data_;
   std::vector<float> rowSolidAngles_;
 };
+
+// env-cdf's tables for shaders/env/env_cdf.glsl: envCdf (the marginal, then every row's conditional) and
+// envCdfGuide (the marginal's guide cells, then the rows'), with the guide sizes as definitions.
+TechniqueData envCdfTechniqueData(const EnvImage& image);
 
 }  // namespace iblx

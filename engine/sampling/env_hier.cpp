@@ -296,4 +296,20 @@ EnvHierGpuData packEnvHierForGpu(const EnvHierData& data, uint32_t guideSize) {
   return gpu;
 }
 
+TechniqueData envHierTechniqueData(const EnvHierSampler& sampler) {
+  const EnvHierGpuData& hier = sampler.gpuData();
+  TechniqueData data;
+  data.add("hierSplits", hier.splits);
+  data.add("hierGuide", hier.guideNodes);
+  data.add("hierTexelRects", hier.texelRects);
+  data.define("ENV_HIER_LEAF_START", hier.leafStart);
+  data.define("ENV_HIER_GUIDE_SIZE", hier.guideSize);
+  data.define("ENV_HIER_WIDTH", std::to_string(sampler.data().width));
+  return data;
+}
+
+TechniqueData envHierTechniqueData(const EnvImage& image) {
+  return envHierTechniqueData(EnvHierSampler(buildEnvHier(image)));
+}
+
 }  // namespace iblx

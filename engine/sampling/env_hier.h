@@ -4,6 +4,7 @@
 
 #include "engine/io/env_image.h"
 #include "engine/sampling/latlong_texel.h"
+#include "engine/sampling/technique_data.h"
 
 #include <glm/glm.hpp>
 
@@ -123,5 +124,10 @@ class EnvHierSampler {
   EnvHierGpuData gpu_;  // sample() walks the GPU layout, as the GLSL part does
   std::vector<float> rowSolidAngles_;
 };
+
+// env-hier's tables for shaders/env/env_hier.glsl (hierSplits, hierGuide, hierTexelRects) from its pyramid,
+// with its sizes as definitions (read from a buffer, lavapipe would load them per lane).
+TechniqueData envHierTechniqueData(const EnvHierSampler& sampler);
+TechniqueData envHierTechniqueData(const EnvImage& image);
 
 }  // namespace iblx

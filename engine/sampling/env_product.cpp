@@ -174,4 +174,21 @@ double EnvProductSampler::pdf(glm::dvec3 wi) const {
   return area > 0.0 ? probability_[j] / area * env_.pdf(wi) : 0.0;
 }
 
+TechniqueData envHierProductTechniqueData(const EnvImage& image) {
+  const EnvHierSampler sampler(buildEnvHier(image));
+  TechniqueData data = envHierTechniqueData(sampler);
+  const EnvProductLevel product = buildEnvProductLevel(sampler);
+  const EnvProductLevel grid = buildEnvProductGrid(sampler);
+  data.add("productNodeRects", product.rects);
+  data.add("productNodeCenters", product.centers);
+  data.add("productGridCenters", grid.centers);
+  data.define("PRODUCT_WIDTH", product.width);
+  data.define("PRODUCT_ROWS", product.rows);
+  data.define("PRODUCT_TEXELS_PER_NODE", product.texelsPerNode);
+  data.define("PRODUCT_GRID_WIDTH", grid.width);
+  data.define("PRODUCT_GRID_ROWS", grid.rows);
+  data.define("PRODUCT_DEFENSIVE", std::to_string(kEnvProductDefensive));
+  return data;
+}
+
 }  // namespace iblx

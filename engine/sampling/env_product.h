@@ -94,4 +94,9 @@ class EnvProductSampler {
   PiecewiseConstant2D nodes_;        // the row/column choice over the weights
 };
 
+// The product strategies' tables (shaders/lib/product_sampling.glsl) after env-hier's, from the same pyramid:
+// productNodeRects and productNodeCenters of the level `product` and `product-mis` choose nodes on, and
+// productGridCenters, the caps of `product-warp`'s uniform grid over u (its rectangles are arithmetic).
+TechniqueData envHierProductTechniqueData(const EnvImage& image);
+
 }  // namespace iblx

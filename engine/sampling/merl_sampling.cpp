@@ -349,4 +349,23 @@ double MerlTableSampler::pdf(glm::dvec3 wi, glm::dvec3 wo) const {
   return halfVectorPdfToSolidAngle(double(pdfU), p.uTheta, p.thetaH, glm::dot(wo, p.h));
 }
 
+TechniqueData merlBrdfTechniqueData(const MerlBrdf& brdf) {
+  TechniqueData data;
+  data.add("merlRgb", brdf.rgb);
+  return data;
+}
+
+TechniqueData merlThetaHTechniqueData(const MerlThetaHData& table) {
+  TechniqueData data;
+  data.add("merlThetaHCdf", table.cdf);
+  return data;
+}
+
+TechniqueData halfVectorTableTechniqueData(const MerlTableData& table) {
+  TechniqueData data;
+  data.add("merlTable", table.tables);
+  if (table.absolutePhi) data.define("HALF_VECTOR_TABLE_ABSOLUTE_PHI", "1");
+  return data;
+}
+
 }  // namespace iblx

@@ -14,6 +14,7 @@
 #pragma once
 
 #include "engine/io/merl.h"
+#include "engine/sampling/technique_data.h"
 
 #include <glm/glm.hpp>
 
@@ -138,5 +139,14 @@ class MerlTableSampler {
  private:
   MerlTableData data_;
 };
+
+// ---- GPU tables ----
+// The MERL BRDF's own table (shaders/brdf/merl.glsl: merlRgb), merl-thetah's CDF
+// (shaders/brdf_sampler/merl_thetah.glsl: merlThetaHCdf) and the half-vector tables of merl-table and
+// brdf-tab (shaders/brdf_sampler/half_vector_table.glsl: merlTable, over phi_h itself for absolutePhi
+// tables).
+TechniqueData merlBrdfTechniqueData(const MerlBrdf& brdf);
+TechniqueData merlThetaHTechniqueData(const MerlThetaHData& table);
+TechniqueData halfVectorTableTechniqueData(const MerlTableData& table);
 
 }  // namespace iblx

@@ -3,6 +3,7 @@
 #include "engine/sampling/ot_map.h"
 
 #include "engine/core/error.h"
+#include "engine/sampling/ot_geometry.h"
 #include "engine/sampling/ot_solver.h"
 
 #include <algorithm>
@@ -17,15 +18,11 @@ namespace {
 
 using Vec2 = glm::dvec2;
 
-double cross(Vec2 a, Vec2 b) {
-  return a.x * b.y - a.y * b.x;
-}
-
 // (s, t) of y in the affine triangle o + s a + t b.
 Vec2 solveAffine(Vec2 o, Vec2 a, Vec2 b, Vec2 y, double& det) {
-  det = cross(a, b);
+  det = cross2(a, b);
   const Vec2 h = y - o;
-  return det != 0.0 ? Vec2(cross(h, b) / det, cross(a, h) / det) : Vec2(-1.0);
+  return det != 0.0 ? Vec2(cross2(h, b) / det, cross2(a, h) / det) : Vec2(-1.0);
 }
 
 struct Box {
@@ -41,7 +38,7 @@ bool convexOverlapsBox(std::span<const Vec2> poly, const Box& box) {
   for (std::size_t k = 0; k < poly.size(); ++k) {
     const Vec2 a = poly[k], edge = poly[(k + 1) % poly.size()] - a;
     bool allOutside = true;  // every box corner strictly right of the edge
-    for (const Vec2& c : corners) allOutside = allOutside && cross(edge, c - a) < 0.0;
+    for (const Vec2& c : corners) allOutside = allOutside && cross2(edge, c - a) < 0.0;
     if (allOutside) return false;
   }
   return true;
@@ -69,12 +66,10 @@ bool pieceOverlapsBox(QuadPiece piece, const Vec2 c[4], const Box& box) {
 }  // namespace
 
 QuadPiece classifyQuad(Vec2 p00, Vec2 p10, Vec2 p11, Vec2 p01) {
-  const bool convex = cross(p10 - p00, p01 - p00) > 0.0 && cross(p11 - p10, p00 - p10) > 0.0 &&
-                      cross(p01 - p11, p10 - p11) > 0.0 && cross(p00 - p01, p11 - p01) > 0.0;
-  if (convex) return QuadPiece::Bilinear;
-  if (cross(p10 - p00, p11 - p00) > 0.0 && cross(p11 - p00, p01 - p00) > 0.0)
+  if (strictlyConvexQuad(p00, p10, p11, p01)) return QuadPiece::Bilinear;
+  if (cross2(p10 - p00, p11 - p00) > 0.0 && cross2(p11 - p00, p01 - p00) > 0.0)
     return QuadPiece::SplitMainDiagonal;
-  if (cross(p10 - p00, p01 - p00) > 0.0 && cross(p11 - p10, p01 - p10) > 0.0)
+  if (cross2(p10 - p00, p01 - p00) > 0.0 && cross2(p11 - p10, p01 - p10) > 0.0)
     return QuadPiece::SplitAntiDiagonal;
   return QuadPiece::Invalid;
 }
@@ -88,25 +83,25 @@ Vec2 evaluatePiece(QuadPiece piece, const Vec2 c[4], Vec2 st, double* localJacob
     case QuadPiece::SplitMainDiagonal:
       if (s >= t) {
         p = p00 + s * (p10 - p00) + t * (p11 - p10);
-        jac = cross(p10 - p00, p11 - p10);
+        jac = cross2(p10 - p00, p11 - p10);
       } else {
         p = p00 + s * (p11 - p01) + t * (p01 - p00);
-        jac = cross(p11 - p01, p01 - p00);
+        jac = cross2(p11 - p01, p01 - p00);
       }
       break;
     case QuadPiece::SplitAntiDiagonal:
       if (s + t <= 1.0) {
         p = p00 + s * (p10 - p00) + t * (p01 - p00);
-        jac = cross(p10 - p00, p01 - p00);
+        jac = cross2(p10 - p00, p01 - p00);
       } else {
         p = p11 + (1.0 - s) * (p01 - p11) + (1.0 - t) * (p10 - p11);
-        jac = cross(p11 - p01, p11 - p10);
+        jac = cross2(p11 - p01, p11 - p10);
       }
       break;
     default: {  // Bilinear (and Invalid, evaluated as bilinear)
       p = (1 - s) * (1 - t) * p00 + s * (1 - t) * p10 + s * t * p11 + (1 - s) * t * p01;
       const Vec2 ds = (1 - t) * (p10 - p00) + t * (p11 - p01), dt = (1 - s) * (p01 - p00) + s * (p11 - p10);
-      jac = cross(ds, dt);
+      jac = cross2(ds, dt);
     }
   }
   if (localJacobian) *localJacobian = jac;
@@ -145,7 +140,7 @@ bool invertPiece(QuadPiece piece, const Vec2 c[4], Vec2 y, Vec2& st, double tole
   // Bilinear: y - p00 = e s + f t + g s t; eliminating s gives k2 t^2 + k1 t + k0 = 0 (Quilez, "Inverse
   // bilinear interpolation", 2010), solved with the cancellation-free quadratic formula.
   const Vec2 e = p10 - p00, f = p01 - p00, g = p00 - p10 + p11 - p01, h = y - p00;
-  const double k2 = cross(g, f), k1 = cross(e, f) + cross(h, g), k0 = cross(h, e);
+  const double k2 = cross2(g, f), k1 = cross2(e, f) + cross2(h, g), k0 = cross2(h, e);
   std::array<double, 2> roots{};
   int count = 0;
   const double scale = std::abs(k1) + std::abs(k0) + std::abs(k2);
@@ -171,7 +166,7 @@ bool invertPiece(QuadPiece piece, const Vec2 c[4], Vec2 y, Vec2& st, double tole
       const Vec2 ds = (1 - q.y) * (p10 - p00) + q.y * (p11 - p01),
                  dt = (1 - q.x) * (p01 - p00) + q.x * (p11 - p10);
       if (!(jac > 0.0)) break;
-      q -= Vec2(cross(r0, dt), cross(ds, r0)) / jac;
+      q -= Vec2(cross2(r0, dt), cross2(ds, r0)) / jac;
     }
     if (!inUnit(q)) continue;
     st = glm::clamp(q, 0.0, 1.0);

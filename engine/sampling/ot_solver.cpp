@@ -6,6 +6,7 @@
 #include "engine/sampling/grid_lu.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/ot_dct.h"
+#include "engine/sampling/ot_geometry.h"
 #include "engine/core/sphere_mapping.h"
 
 #include <algorithm>
@@ -27,10 +28,6 @@ namespace {
 using Vec2 = glm::dvec2;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kFirstStepGoal = 0.5;  // the first Newton step's length a continuation stage is sized for
-
-double cross(Vec2 a, Vec2 b) {
-  return a.x * b.y - a.y * b.x;
-}
 
 // Deterministic parallel reduction: fn(lo, hi) -> K partial sums/maxima, combined in chunk order.
 template <int K, typename F>
@@ -268,8 +265,8 @@ class LevelSolver {
               const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
               const Vec2 d1 = pos_[p11] - pos_[p00], d2 = pos_[p01] - pos_[p10];
               const Vec2 e1 = gradDir_[p11] - gradDir_[p00], e2 = gradDir_[p01] - gradDir_[p10];
-              t = std::min(t, firstPositiveRoot(0.5 * cross(d1, d2), 0.5 * (cross(d1, e2) + cross(e1, d2)),
-                                                0.5 * cross(e1, e2)));
+              t = std::min(t, firstPositiveRoot(0.5 * cross2(d1, d2), 0.5 * (cross2(d1, e2) + cross2(e1, d2)),
+                                                0.5 * cross2(e1, e2)));
             }
           return std::array<double, 1>{-t};
         },
@@ -377,7 +374,7 @@ class LevelSolver {
         for (int i = 0; i < n; ++i) {
           const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
           rhs_[std::size_t(j) * n + i] =
-              0.5 * cross(gradDir_[p11] - gradDir_[p00], gradDir_[p01] - gradDir_[p10]);
+              0.5 * cross2(gradDir_[p11] - gradDir_[p00], gradDir_[p01] - gradDir_[p10]);
         }
     });
     curveDir_.resize(residual_.size()), curveGrad_.resize(pos_.size());
@@ -396,7 +393,7 @@ class LevelSolver {
           for (int i = 0; i < n; ++i) {
             const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
             const auto at = [&](std::size_t p) { return pos_[p] + t1 * gradDir_[p] + t2 * curveGrad_[p]; };
-            const double area = 0.5 * cross(at(p11) - at(p00), at(p01) - at(p10));
+            const double area = 0.5 * cross2(at(p11) - at(p00), at(p01) - at(p10));
             const std::size_t c = std::size_t(j) * n + i;
             if (residual_[c] + mass_[c] > 0.0 && !(area > 1e-3 * mass_[c])) acc[1] += 1.0;
             const double r = (area - mass_[c]) / (relative ? mass_[c] : 1.0);
@@ -676,7 +673,7 @@ class LevelSolver {
     const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
     const Vec2 d1 = pos_[p11] - pos_[p00], d2 = pos_[p01] - pos_[p10];
     const Vec2 e1 = g[p11] - g[p00], e2 = g[p01] - g[p10];
-    return 0.5 * (cross(d1, e2) + cross(e1, d2));
+    return 0.5 * (cross2(d1, e2) + cross2(e1, d2));
   }
 
   void evaluateResidual(Stats& s) {
@@ -688,7 +685,7 @@ class LevelSolver {
           for (int j = lo; j < hi; ++j)
             for (int i = 0; i < n; ++i) {
               const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
-              const double area = 0.5 * cross(pos_[p11] - pos_[p00], pos_[p01] - pos_[p10]);
+              const double area = 0.5 * cross2(pos_[p11] - pos_[p00], pos_[p01] - pos_[p10]);
               const std::size_t c = std::size_t(j) * n + i;
               const double r = area - mass_[c];
               residual_[c] = r;
@@ -721,7 +718,7 @@ class LevelSolver {
               const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
               const Vec2 d1 = pos_[p11] - pos_[p00], d2 = pos_[p01] - pos_[p10];
               const Vec2 e1 = gradDir_[p11] - gradDir_[p00], e2 = gradDir_[p01] - gradDir_[p10];
-              double b = 0.5 * (cross(d1, e2) + cross(e1, d2)), a = 0.5 * cross(e1, e2);
+              double b = 0.5 * (cross2(d1, e2) + cross2(e1, d2)), a = 0.5 * cross2(e1, e2);
               double r = residual_[std::size_t(j) * n + i];
               if (relative) {
                 const double w = 1.0 / mass_[std::size_t(j) * n + i];
@@ -746,9 +743,9 @@ class LevelSolver {
                                   pp = ring[std::size_t((k + 3) & 3)];
                 const Vec2 u = pos_[pn] - pos_[pc], du = gradDir_[pn] - gradDir_[pc];
                 const Vec2 w = pos_[pp] - pos_[pc], dw = gradDir_[pp] - gradDir_[pc];
-                const double c0 = cross(u, w);
+                const double c0 = cross2(u, w);
                 if (!(c0 > 0.0)) continue;  // already degenerate: not a constraint
-                const double c1 = cross(u, dw) + cross(du, w), c2 = cross(du, dw);
+                const double c1 = cross2(u, dw) + cross2(du, w), c2 = cross2(du, dw);
                 tPos = std::min(tPos, firstPositiveRoot(c0, c1, c2));
                 tNeg = std::min(tNeg, firstPositiveRoot(c0, -c1, c2));
               }
@@ -811,7 +808,7 @@ class LevelSolver {
               const std::size_t c = std::size_t(j) * n + i;
               const Vec2 d1 = pos_[p11] - pos_[p00], d2 = pos_[p01] - pos_[p10];
               const Vec2 e1 = gradDir_[p11] - gradDir_[p00], e2 = gradDir_[p01] - gradDir_[p10];
-              const double b = 0.5 * (cross(d1, e2) + cross(e1, d2)), a = 0.5 * cross(e1, e2);
+              const double b = 0.5 * (cross2(d1, e2) + cross2(e1, d2)), a = 0.5 * cross2(e1, e2);
               coefA_[c] = a, coefB_[c] = b;
               const double area = residual_[c] + mass_[c];
               tPos = std::min(tPos, firstPositiveRoot(area, b, a));
@@ -1057,7 +1054,7 @@ std::vector<double> otQuadAreas(std::span<const glm::dvec2> vertices, int n) {
     for (int i = 0; i < n; ++i) {
       const std::size_t p00 = std::size_t(j) * (n + 1) + i, p10 = p00 + 1, p01 = p00 + n + 1, p11 = p01 + 1;
       areas[std::size_t(j) * n + i] =
-          0.5 * cross(vertices[p11] - vertices[p00], vertices[p01] - vertices[p10]);
+          0.5 * cross2(vertices[p11] - vertices[p00], vertices[p01] - vertices[p10]);
     }
   return areas;
 }
@@ -1068,14 +1065,7 @@ int otFoldedQuads(std::span<const glm::dvec2> vertices, int n) {
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const std::size_t p00 = std::size_t(j) * (n + 1) + i, p10 = p00 + 1, p01 = p00 + n + 1, p11 = p01 + 1;
-      const std::array<std::size_t, 4> ring{p00, p10, p11, p01};
-      bool ok = true;
-      for (int k = 0; k < 4 && ok; ++k) {
-        const Vec2 p = vertices[ring[std::size_t(k)]];
-        ok = cross(vertices[ring[std::size_t((k + 1) & 3)]] - p,
-                   vertices[ring[std::size_t((k + 3) & 3)]] - p) > 0.0;
-      }
-      folded += ok ? 0 : 1;
+      folded += strictlyConvexQuad(vertices[p00], vertices[p10], vertices[p11], vertices[p01]) ? 0 : 1;
     }
   return folded;
 }

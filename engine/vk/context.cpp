@@ -177,7 +177,7 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
       const bool isIndex = std::all_of(selector.begin(), selector.end(), ::isdigit);
       const bool match =
           isIndex ? std::stoul(selector) == i : lower(name).find(lower(selector)) != std::string::npos;
-      if (!match) reason = "does not match --device '" + selector + "'";
+      if (!match) reason = "does not match the device selector '" + selector + "'";
     }
     report += "\n  [" + std::to_string(i) + "] " + name + " (" + typeName(properties.deviceType) +
               "): " + (reason.empty() ? "usable" : reason);

@@ -5,7 +5,7 @@
 #include "lib/constants.glsl"
 
 // Planar like the file: all R, then all G, then all B; scales applied, in 1/sr.
-IBLX_TABLE(3, BRDF_DATA_BINDING, merlRgb);
+IBLX_TABLE(merlRgb, 1);
 
 const uint kMerlBins = 1458000u;
 

@@ -4,7 +4,7 @@
 #include "lib/table.glsl"
 #include "lib/merl_half_vector.glsl"
 
-IBLX_TABLE(3, BRDF_SAMPLER_BINDING, merlTable);
+IBLX_TABLE(merlTable, 1);
 
 const int kMerlSlices = 32, kMerlRows = 90, kMerlColumns = 64;
 const int kMerlSliceFloats = (kMerlRows + 1) + kMerlRows * (kMerlColumns + 1);

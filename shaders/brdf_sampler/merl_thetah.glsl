@@ -4,7 +4,7 @@
 #include "lib/table.glsl"
 #include "lib/merl_half_vector.glsl"
 
-IBLX_TABLE(3, BRDF_SAMPLER_BINDING, merlThetaHCdf);
+IBLX_TABLE(merlThetaHCdf, 1);
 
 const int kMerlThetaHCells = 90;
 

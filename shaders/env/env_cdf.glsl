@@ -7,10 +7,10 @@
 #include "lib/latlong.glsl"
 
 // cdf[0 .. H]: marginal over rows; then per row y, cdf[H+1 + y*(W+1) .. + W]: conditional over columns.
-IBLX_TABLE(2, 0, envCdf);
+IBLX_TABLE(envCdf, 1);
 // Guide cells (EnvCdfData in engine/sampling/env_cdf.h): the marginal's ENV_CDF_ROW_GUIDE_SIZE cells, then
 // ENV_CDF_COLUMN_GUIDE_SIZE cells per row; each packs lo | hi << 16, the range of bins its u values fall in.
-IBLX_TABLE(2, 1, envCdfGuide);
+IBLX_TABLE(envCdfGuide, 1);
 
 // The largest i in [lo, hi] of guide cell `cell` with cdf[base + i] <= u, i.e. cdf[i] <= u < cdf[i+1], so a
 // zero-width bin is never chosen. The search runs only over the cell's bins: no step when the cell holds one.

@@ -9,11 +9,11 @@
 
 // Interior nodes in heap order: node g's (splitX, splitY of the left column, splitY of the right column, 0)
 // in u; its children are 4g + 1 + cx + 2cy; nodes from ENV_HIER_LEAF_START on are texels, in Morton order.
-IBLX_TABLE(2, 0, hierSplits);  // 4-word elements
+IBLX_TABLE(hierSplits, 4);
 // Per cell of a G x G grid over u: the heap index of the deepest node whose rectangle contains the cell.
-IBLX_TABLE(2, 1, hierGuide);
+IBLX_TABLE(hierGuide, 1);
 // Per texel, row-major: its rectangle in u (minX, minY, sizeX, sizeY).
-IBLX_TABLE(2, 2, hierTexelRects);  // 4-word elements
+IBLX_TABLE(hierTexelRects, 4);
 
 // The even bits of m, compacted (one axis of a Morton index).
 uint hierMortonAxis(uint m) {

@@ -12,8 +12,8 @@
 
 // The forward map F that G tabulates the inverse of (ot_map.h forwardMap), on the same grid: F(x) is a first
 // guess of x's preimage under G, so a sun sample's OT density costs a few piece tests, not a quadtree search.
-IBLX_TABLE(2, 7, otForwardVertex);  // vec2: 2-word elements
-IBLX_TABLE(2, 8, otForwardPiece);
+IBLX_TABLE(otForwardVertex, 2);
+IBLX_TABLE(otForwardPiece, 1);
 
 vec2 otForwardApply(vec2 x) {
   float jac;

@@ -14,19 +14,19 @@ layout(std430, set = 0, binding = 1) buffer AccumData { AccumPixel accum[]; };
 #ifndef ENV_RADIANCE_CHUNKS
 #define ENV_RADIANCE_CHUNKS 1
 #endif
-IBLX_TABLE(0, 2, envRgb);
+IBLX_TABLE(envRgb, 1);
 #if ENV_RADIANCE_CHUNKS > 1
-IBLX_TABLE(0, 5, envRgb1);
+IBLX_TABLE(envRgb1, 1);
 #endif
 #if ENV_RADIANCE_CHUNKS > 2
-IBLX_TABLE(0, 6, envRgb2);
+IBLX_TABLE(envRgb2, 1);
 #endif
 #if ENV_RADIANCE_CHUNKS > 3
-IBLX_TABLE(0, 7, envRgb3);
+IBLX_TABLE(envRgb3, 1);
 #endif
 // Per row (engine/sampling/latlong_texel.h envRowTable, computed in double): x = exact texel solid angle,
 // y, z = the squared half-angle terms at the row's edges, w = 1 for rows in the lower half.
-IBLX_TABLE(0, 3, envRows);  // 4-word elements
+IBLX_TABLE(envRows, 4);
 layout(std430, set = 0, binding = 4) buffer KernelStatsData { KernelStats stats; };
 
 layout(push_constant) uniform FrameBlock { FrameParams frame; };

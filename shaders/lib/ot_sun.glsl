@@ -8,9 +8,9 @@
 #include "lib/constants.glsl"
 #include "lib/latlong.glsl"
 
-IBLX_TABLE(2, 4, otSunTexel);  // ascending y*W+x
-IBLX_TABLE(2, 5, otSunCdf);
-IBLX_TABLE(2, 6, otSunRowFirst);  // H+1 entries
+IBLX_TABLE(otSunTexel, 1);  // ascending y*W+x
+IBLX_TABLE(otSunCdf, 1);
+IBLX_TABLE(otSunRowFirst, 1);  // H+1 entries
 
 float otSunShare() { return uintBitsToFloat(OT_SUN_SHARE_BITS); }
 

@@ -22,7 +22,8 @@
 #define PRODUCT_NODES_Y PRODUCT_GRID_ROWS
 // Per cell (row-major): the direction at the centre of its image under env-hier, with the cosine of the
 // image's angular radius.
-IBLX_TABLE(2, 5, productNodeCenters);  // 4-word elements
+IBLX_TABLE(productGridCenters, 4);
+vec4 productNodeCenter(uint j) { return tableVec4(productGridCenters, j); }
 vec4 productNodeRect(uint j) {
   uvec2 c = uvec2(j % PRODUCT_NODES_X, j / PRODUCT_NODES_X);
   return vec4(vec2(c), vec2(c + 1u)) / vec4(PRODUCT_NODES_X, PRODUCT_NODES_Y, PRODUCT_NODES_X, PRODUCT_NODES_Y);
@@ -39,9 +40,10 @@ uvec2 productNodeOf(vec3 wi) {
 #define PRODUCT_NODES_Y PRODUCT_ROWS
 // Per node (row-major): its rectangle in u (minX, minY, maxX, maxY), and the direction at its centre
 // (environment frame) with the cosine of its angular radius.
-IBLX_TABLE(2, 3, productNodeRects);    // 4-word elements
-IBLX_TABLE(2, 4, productNodeCenters);  // 4-word elements
+IBLX_TABLE(productNodeRects, 4);
+IBLX_TABLE(productNodeCenters, 4);
 vec4 productNodeRect(uint j) { return tableVec4(productNodeRects, j); }
+vec4 productNodeCenter(uint j) { return tableVec4(productNodeCenters, j); }
 uvec2 productNodeOf(vec3 wi) { return uvec2(directionToTexel(wi)) / PRODUCT_TEXELS_PER_NODE; }
 #endif
 
@@ -69,7 +71,7 @@ void productPrepare(Shading s) {
   vec3 mirror = vec3(-s.woLocal.xy, s.woLocal.z);  // the mirror direction of wo about n, local frame
   [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) {
     float area = productNodeArea(j);
-    vec4 centre = tableVec4(productNodeCenters, j);
+    vec4 centre = productNodeCenter(j);
     vec3 d = normalize(productNodeDirection(toLocal(s, centre.xyz), centre.w, mirror));
     float fCos = 0.0;
     if (area > 0.0 && d.z > 0.0) {

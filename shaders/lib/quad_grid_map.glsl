@@ -8,10 +8,10 @@
 #include "lib/constants.glsl"
 #include "lib/latlong.glsl"
 
-IBLX_TABLE(2, 0, quadMapVertex);  // vec2: 2-word elements
-IBLX_TABLE(2, 1, quadMapPiece);
-IBLX_TABLE(2, 2, quadMapNode);  // (first, count): 2-word elements
-IBLX_TABLE(2, 3, quadMapLeafCell);
+IBLX_TABLE(quadMapVertex, 2);
+IBLX_TABLE(quadMapPiece, 1);
+IBLX_TABLE(quadMapNode, 2);  // (first, count)
+IBLX_TABLE(quadMapLeafCell, 1);
 
 const uint kQuadPieceBilinear = 0u, kQuadPieceSplitMain = 1u, kQuadPieceSplitAnti = 2u;
 const uint kQuadTreeInteriorNode = 0xffffffffu;

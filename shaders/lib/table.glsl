@@ -1,13 +1,17 @@
 // Read-only tables: uniform texel buffers whose elements are 1, 2 or 4 32-bit words (R32 / R32G32 /
-// R32G32B32A32_UINT views; engine/vk/compute_kernel.h, TechniqueData::add). Read a table with the functions of
-// its element width. On lavapipe a texel fetch at a lane-dependent index is one gather, where a storage-buffer
-// load is a loop over the lanes with a branch each; on GPUs both are ordinary loads. A fetch past the end reads
-// 0 (robust buffer access), as a storage-buffer load would.
+// R32G32B32A32_UINT views; engine/vk/compute_kernel.h, engine/sampling/technique_data.h). Read a table with
+// the functions of its element width. On lavapipe a texel fetch at a lane-dependent index is one gather,
+// where a storage-buffer load is a loop over the lanes with a branch each; on GPUs both are ordinary loads. A
+// fetch past the end reads 0 (robust buffer access), as a storage-buffer load would.
 #ifndef IBLX_LIB_TABLE
 #define IBLX_LIB_TABLE
 
-#define IBLX_TABLE(setIndex, bindingIndex, name) \
-  layout(set = setIndex, binding = bindingIndex) uniform usamplerBuffer name
+// Declares the table `name` with `words` 32-bit words per element. Its set and binding are the kernel
+// assembler's (engine/scene/kernel_prelude.h): IBLX_SET_<name> and IBLX_BINDING_<name>_W<words>, defined only
+// for the tables the kernel's builders provide at that width, so reading any other table fails to compile,
+// naming it.
+#define IBLX_TABLE(name, words) \
+  layout(set = IBLX_SET_##name, binding = IBLX_BINDING_##name##_W##words) uniform usamplerBuffer name
 
 // 1-word elements.
 uint tableUint(usamplerBuffer table, uint i) { return texelFetch(table, int(i)).x; }

@@ -95,15 +95,6 @@ TEST_CASE("cache file: written atomically, read back with the file named in ever
   CHECK(errorOf([&] { readSealedCacheFile(dir.path / "sub", 100); }).find("sub") != std::string::npos);
 }
 
-TEST_CASE("cache file: appendCacheSeal seals a file written by name") {
-  TempDir dir;
-  const auto path = dir.path / "by-name.bin";
-  std::ofstream(path, std::ios::binary) << "written by a library";
-  appendCacheSeal(path);
-  const auto payload = readSealedCacheFile(path, 1 << 20);
-  CHECK(std::string(payload.begin(), payload.end()) == "written by a library");
-}
-
 TEST_CASE("cache file: SPIR-V entries are checked as SPIR-V") {
   const auto words = tinySpirv();
   CHECK(decodeSpirvCachePayload(bytesOf(words)) == words);

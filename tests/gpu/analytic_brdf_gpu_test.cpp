@@ -1,10 +1,11 @@
-// BRDF Explorer .brdf files on the GPU (engine/render/analytic_brdf.h): a GGX file evaluates like the
+// BRDF Explorer .brdf files on the GPU (engine/scene/analytic_brdf.h): a GGX file evaluates like the
 // built-in ggx, names the snippet shares with the kernels or GLSL compile, compile errors name the file's own
 // lines, brdf-tab passes chi-square and converges to the reference, the isFunc hook, .bparam files, and the
 // guard against negative and non-finite values.
 #include "engine/io/brdf_file.h"
-#include "engine/render/analytic_brdf.h"
+#include "engine/scene/analytic_brdf.h"
 #include "engine/render/brdf_tabulation.h"
+#include "engine/scene/brdf_params.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/gpu/render_checks.h"
 #include "tests/io/scratch_files.h"

@@ -101,7 +101,7 @@ TEST_CASE("brdf library: reciprocal, non-negative and finite as written") {
   for (const auto& lib : kLibrary) {
     CAPTURE(lib.file);
     const Scene scene = sceneWith(constantEnv(2, 1, 1.0f), libraryPath(lib.file).string(), {}, 1);
-    const BrdfEvaluator raw({gpuContext(), gpuCompiler()}, scene, true);
+    const BrdfEvaluator raw(VulkanServices(gpuContext(), gpuCompiler()), scene, true);
     const auto fab = raw.evaluate(a, b), fba = raw.evaluate(b, a);
     std::size_t negative = 0, nonFinite = 0, nonReciprocal = 0;
     double scale = 0.0;

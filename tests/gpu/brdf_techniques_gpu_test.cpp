@@ -1,6 +1,6 @@
 // Every BRDF technique of the registry, on the GPU: pdf integrates to 1 and chi-square passes at several view
 // angles (grazing included) and roughnesses; the BRDFs themselves are reciprocal and conserve energy.
-#include "engine/render/methods.h"
+#include "engine/scene/methods.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/gpu/render_checks.h"
 #include "tests/support/chi2.h"

@@ -1,7 +1,7 @@
 // Every env technique of the registry, on the GPU: pdf integrates to 1, chi-square of the sample histogram
 // against the pdf on smooth and hard maps, sample()'s pdf agrees with pdf(), and the table-based techniques
 // agree with their CPU twins on the same u.
-#include "engine/render/methods.h"
+#include "engine/scene/methods.h"
 #include "engine/sampling/env_cdf.h"
 #include "engine/sampling/env_hier.h"
 #include "tests/gpu/gpu_fixture.h"

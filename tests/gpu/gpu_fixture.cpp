@@ -1,8 +1,10 @@
 // GPU test fixture implementation: context, compiler with probe sources, probe runners.
 #include "tests/gpu/gpu_fixture.h"
 
+#include "engine/render/brdf_tabulation.h"
 #include "engine/render/kernel_assembly.h"
 #include "engine/sampling/latlong_texel.h"
+#include "engine/scene/brdf_params.h"
 #include "engine/vk/compute_kernel.h"
 
 #include <doctest/doctest.h>
@@ -36,15 +38,15 @@ struct ProbeRunner {
               const TechniqueData& envData, const TechniqueData& brdfData, glm::dvec3 v)
       : scene(std::move(s)),
         gpu(uploadScene(gpuContext(), scene)),
-        envBuffers(uploadTables(gpuContext(), envData)),
-        brdfBuffers(uploadTables(gpuContext(), brdfData)),
+        envBuffers(uploadTables(gpuContext(), envData, "probe env technique")),
+        brdfBuffers(uploadTables(gpuContext(), brdfData, "probe BRDF technique")),
         vector(v) {
-    KernelParts k{kernelFile, std::move(parts), paramBlockGlsl(*scene.brdf), envData.defines, {}};
-    if (!scene.brdf->evalSource.empty()) k.sources.emplace_back(scene.brdf->evalPart, scene.brdf->evalSource);
-    k.defines.insert(k.defines.end(), brdfData.defines.begin(), brdfData.defines.end());
-    const auto bindings = brdfBindingDefines(gpu.brdfData.size());
-    k.defines.insert(k.defines.end(), bindings.begin(), bindings.end());
-    for (auto& d : gpu.envDefines()) k.defines.push_back(d);
+    KernelParts k = brdfKernelParts(kernelFile, *scene.brdf, gpu.brdfDataLayout);
+    k.parts = std::move(parts);
+    k.bindTables(kEnvTechniqueSet, 0, envData, "probe env technique");
+    k.bindTables(kBrdfSet, kBrdfDataBinding + uint32_t(gpu.brdfData.size()), brdfData,
+                 "probe BRDF technique");
+    for (auto& d : gpu.chunking().defines()) k.defines.push_back(d);
     const auto spirv = compileKernel(gpuCompiler(), k, kernelFile);
     const auto set3 = gpu.brdfSet(brdfBuffers);
     KernelLayout layout = sceneKernelLayout(uint32_t(envBuffers.size()), uint32_t(set3.size() - 1));
@@ -178,7 +180,8 @@ BrdfTechniqueProbe::BrdfTechniqueProbe(const std::string& technique, const std::
   const auto& info = findBrdfTechnique(technique);
   Scene scene = probeScene(EnvImage{2, 1, std::vector<float>(6, 1.0f)}, brdf, params);
   const std::string evalPart = scene.brdf->evalPart;
-  const TechniqueData data = info.build ? info.build(scene, {gpuContext(), gpuCompiler()}) : TechniqueData{};
+  const TechniqueData data =
+      info.build ? info.build(scene, VulkanServices(gpuContext(), gpuCompiler())) : TechniqueData{};
   impl_ = std::make_unique<Impl>(std::move(scene), "probe/brdf_sampler_probe.comp",
                                  std::vector<std::string>{evalPart, info.part}, TechniqueData{}, data, wo);
 }

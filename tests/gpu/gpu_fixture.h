@@ -2,7 +2,7 @@
 // that also sees the probe kernels under tests/gpu/probe, plus the probe runners for env and BRDF techniques.
 #pragma once
 
-#include "engine/render/scene.h"
+#include "engine/render/scene_gpu.h"
 #include "engine/vk/context.h"
 #include "engine/vk/shader_compiler.h"
 #include "tests/support/chi2.h"

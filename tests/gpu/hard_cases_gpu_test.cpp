@@ -102,24 +102,6 @@ TEST_CASE("hard cases: the bad-texels case goes through the loader's sanitation"
   CHECK_THROWS_WITH_AS(findHardCase("nope"), doctest::Contains("valid: sun-1e3"), Error);
 }
 
-TEST_CASE("converge --method words: options by name, errors that say what is valid") {
-  const MethodSpec a = parseMethodVariant("mis:env-hier:power:split=0.25");
-  CHECK(a.method == "mis");
-  CHECK(a.envSampler == "env-hier");
-  CHECK(a.misHeuristic == "power");
-  CHECK(*a.misEnvFraction == 0.25);
-  const MethodSpec b = parseMethodVariant("ris:M=32");
-  CHECK(*b.risCandidates == 32);
-  CHECK(parseMethodVariant("brdf:brdf-tab").brdfSampler == "brdf-tab");
-  CHECK(parseMethodVariant("mis:compensated").misCompensation);
-  CHECK_THROWS_WITH_AS(parseMethodVariant("mis:bogus"), doctest::Contains("unknown option 'bogus'"), Error);
-  CHECK_THROWS_WITH_AS(parseMethodVariant("ris:M=0"), doctest::Contains("M must be 1-64"), Error);
-  CHECK_THROWS_AS(parseMethodVariant("mis:"), Error);
-  CHECK_THROWS_AS(parseMethodVariant("nomethod"), Error);
-  // Defaults: every registry method that applies to the BRDF, each once.
-  CHECK(defaultMethodSpecs(findBrdf("ggx")).size() == methodRegistry().size());
-}
-
 TEST_CASE("the reference cache: a second request reads the stored image; another scene misses") {
   const auto dir = std::filesystem::temp_directory_path() / ("iblx-refcache-" + std::to_string(::getpid()));
   const Scene scene = sceneWith(smoothSky(32, 16), "ggx", {{"roughness", "0.3"}}, 16);

@@ -4,7 +4,7 @@
 
 #include "engine/render/metrics.h"
 #include "engine/render/renderer.h"
-#include "engine/render/scene.h"
+#include "engine/scene/scene.h"
 #include "tests/gpu/gpu_fixture.h"
 
 #include <string>

@@ -6,6 +6,8 @@
 #include "engine/core/error.h"
 #include "engine/render/kernel_assembly.h"
 #include "engine/render/renderer.h"
+#include "engine/sampling/env_cdf.h"
+#include "engine/scene/brdf_params.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/gpu/render_checks.h"
 #include "tests/support/hard_envs.h"
@@ -219,6 +221,26 @@ TEST_CASE("shader compiler: errors name the part file and line; the SPIR-V cache
   CHECK(again.cacheHits() == 1);
   CHECK(first == second);
   std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("a part that reads a table its builder did not provide, or at another width, fails naming it") {
+  KernelParts parts{
+      "integrate.comp",
+      {"sequence/random.glsl", "env/env_cdf.glsl", "brdf/lambert.glsl", "strategy/single_env.glsl"},
+      paramBlockGlsl(findBrdf("lambert")),
+      {}};
+  CHECK_THROWS_WITH_AS(
+      compileKernel(gpuCompiler(), parts, "no tables"),
+      doctest::Contains("env/env_cdf.glsl:10: the part reads table 'envCdf', which no builder"), Error);
+  // env-cdf's tables with the CDF at 4 words per element.
+  TechniqueData wrongWidth = envCdfTechniqueData(constantEnv(8, 4, 1.0f));
+  wrongWidth.tables[0].words = 4;
+  parts.bindTables(kEnvTechniqueSet, 0, wrongWidth, "env technique env-cdf");
+  CHECK_THROWS_WITH_AS(
+      compileKernel(gpuCompiler(), parts, "wrong width"),
+      doctest::Contains("the part reads table 'envCdf' with 1-word elements, but env technique "
+                        "env-cdf provides 4-word elements"),
+      Error);
 }
 
 TEST_CASE("ris: one candidate is the env technique's own estimator; more candidates stay unbiased") {

@@ -6,6 +6,7 @@
 #include "engine/core/cache_file.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "engine/io/env_image.h"
 #include "engine/io/image_write.h"
 #include "tests/io/scratch_files.h"
 
@@ -36,6 +37,23 @@ TEST_CASE("reference cache: an entry round-trips exactly") {
   CHECK(std::distance(std::filesystem::directory_iterator(path.parent_path()), {}) == 1);
 }
 
+TEST_CASE("reference cache: an entry is one sealed EXR whose bytes decode in memory as they read from disk") {
+  ScratchDir dir;
+  const auto path = dir.file("entry.exr");
+  const auto rgb = gradient(6, 4);
+  writeReferenceCacheFile(path, 6, 4, rgb);
+  const std::vector<unsigned char> payload = readSealedCacheFile(path, 1 << 20);
+  CHECK(payload == encodeExr(6, 4, rgb));
+  const EnvImage decoded = decodeExr(payload, "entry");
+  CHECK(decoded.width == 6);
+  CHECK(decoded.height == 4);
+  CHECK(decoded.rgb == rgb);
+  // A truncated payload is refused as a file would be, naming what was decoded.
+  const std::vector<unsigned char> torn(payload.begin(),
+                                        payload.begin() + std::ptrdiff_t(payload.size() / 2));
+  CHECK(contains(errorMessage([&] { decodeExr(torn, "entry"); }), "corrupt or truncated EXR file entry"));
+}
+
 TEST_CASE("reference cache: a cached ground truth holding NaN or Inf is refused, naming file and pixel") {
   ScratchDir dir;
   const auto path = dir.file("nan.exr");
@@ -44,10 +62,7 @@ TEST_CASE("reference cache: a cached ground truth holding NaN or Inf is refused,
     auto rgb = gradient(4, 2);
     rgb[3 * (1 * 4 + 2) + 1] = bad;  // pixel (2, 1), green
     // Written as an older iblx or another tool could have left it: a valid, sealed EXR.
-    AtomicOutput output(path);
-    writeExr(output.temporaryPath(), 4, 2, rgb);
-    appendCacheSeal(output.temporaryPath());
-    output.commit();
+    writeSealedCacheFile(path, encodeExr(4, 2, rgb));
     const std::string message = errorMessage([&] { readReferenceCacheFile(path, 4, 2); });
     CHECK(contains(message, path.string()));
     CHECK(contains(message, std::isnan(bad) ? "NaN" : "Inf"));

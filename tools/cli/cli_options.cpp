@@ -5,6 +5,8 @@
 
 #include "engine/core/error.h"
 #include "engine/core/file_names.h"
+#include "engine/core/log.h"
+#include "tools/cli/registry_listing.h"
 
 #include <cerrno>
 #include <cmath>
@@ -217,6 +219,53 @@ void addRunFlags(ArgParser& p, RenderSpec& s) {
           "like --reference, with the ground truth read from an EXR of `iblx reference`",
           [&](const std::string& v) { s.referenceFile = v; });
   p.toggle("--json", "print one JSON object with the run's figures", [&] { s.json = true; });
+}
+
+std::string_view settingFlag(Setting setting) {
+  switch (setting) {
+    case Setting::Environment:
+      return "--env";
+    case Setting::EnvRotation:
+      return "--env-rotation";
+    case Setting::Brdf:
+      return "--brdf";
+    case Setting::BrdfParam:
+      return "--param";
+    case Setting::Object:
+      return "--object";
+    case Setting::Orbit:
+      return "--orbit";
+    case Setting::Zoom:
+      return "--zoom";
+    case Setting::ImageSize:
+      return "--size";
+    case Setting::Method:
+      return "--method";
+    case Setting::EnvSampler:
+      return "--env-sampler";
+    case Setting::BrdfSampler:
+      return "--brdf-sampler";
+    case Setting::Sequence:
+      return "--seq";
+    case Setting::MisHeuristic:
+      return "--mis-heuristic";
+    case Setting::MisSplit:
+      return "--mis-split";
+    case Setting::RisCandidates:
+      return "--ris-candidates";
+    case Setting::MisCompensation:
+      return "--mis-compensation";
+    case Setting::Device:
+      return "--device";
+  }
+  return settingName(setting);
+}
+
+ResolvedMethod resolveMethodAndWarn(const MethodSpec& spec, const BrdfInfo& brdf) {
+  ResolvedMethod method = resolveMethod(spec, brdf);
+  for (Setting ignored : method.ignoredSettings)
+    warn(std::string(settingFlag(ignored)) + " is ignored by --method " + method.method->name);
+  return method;
 }
 
 void printRegistry(const RenderSpec& spec) {

@@ -2,7 +2,7 @@
 #pragma once
 
 #include "engine/io/image_write.h"
-#include "engine/render/scene.h"
+#include "engine/scene/scene.h"
 
 #include <cstdint>
 #include <functional>
@@ -68,6 +68,13 @@ void addRunFlags(ArgParser& parser, RenderSpec& spec);
 void addDeviceFlags(ArgParser& parser, RenderSpec& spec);
 // --list-methods: the registry, and the parameters of a --brdf file.
 void printRegistry(const RenderSpec& spec);
+
+// The flag that sets an engine setting (engine/core/setting.h), e.g. "--mis-split": how the CLI words a
+// SettingError.
+std::string_view settingFlag(Setting setting);
+// resolveMethod, warning once per flag the method does not use ("--env-sampler is ignored by --method
+// brdf").
+ResolvedMethod resolveMethodAndWarn(const MethodSpec& spec, const BrdfInfo& brdf);
 
 // Number parsing with the flag's name in every error.
 uint32_t parseUint(const std::string& flag, const std::string& text, uint32_t min, uint32_t max);

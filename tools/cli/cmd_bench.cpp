@@ -37,8 +37,7 @@ int cmdBench(const Args& args) {
   if (sequences.empty())
     for (const auto& s : sequenceRegistry()) sequences.push_back(s.name);
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
-  checkImageFitsDevice(context, spec.scene.width, spec.scene.height);
-  const Scene scene = loadScene(spec.scene);
+  const Scene scene = loadSceneFor(context, spec.scene);
   ShaderCompiler compiler;
   const double objectPixels = double(scene.gbuffer.objectPixelCount());
   if (!spec.json)
@@ -63,7 +62,7 @@ int cmdBench(const Args& args) {
       MethodSpec methodSpec;
       methodSpec.method = m.name;
       methodSpec.sequence = sequence;
-      resolved.push_back(resolveMethod(methodSpec, *scene.brdf));
+      resolved.push_back(resolveMethodAndWarn(methodSpec, *scene.brdf));
       rows.push_back({resolved.back().label(), {}, {}});
     }
   const double samples = objectPixels * spec.samplesPerPass;

@@ -6,6 +6,8 @@
 #include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "engine/io/image_write.h"
+#include "engine/render/scene_gpu.h"
+#include "engine/scene/brdf_params.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/converge_figures.h"
@@ -66,11 +68,13 @@ int cmdConverge(const Args& args) {
   resolveMethods(spec, *brdf.info);  // an asked-for method that does not apply to the BRDF
 
   VulkanContext context({render.device, render.validation ? Validation::On : Validation::Auto});
-  if (!hardCase || sizeGiven) checkImageFitsDevice(context, render.scene.width, render.scene.height);
   Scene scene = [&] {
-    if (!hardCase) return loadScene(render.scene, std::move(brdf));
+    if (!hardCase) return loadSceneFor(context, render.scene, std::move(brdf));
     HardCase sized = *hardCase;
-    if (sizeGiven) sized.scene.width = render.scene.width, sized.scene.height = render.scene.height;
+    if (sizeGiven) {  // a hard case's own size fits every device
+      checkImageFitsDevice(context, render.scene.width, render.scene.height);
+      sized.scene.width = render.scene.width, sized.scene.height = render.scene.height;
+    }
     return makeHardCaseScene(sized);
   }();
   const std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene.brdf);

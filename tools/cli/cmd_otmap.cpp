@@ -9,7 +9,7 @@
 #include "engine/core/log.h"
 #include "engine/io/env_image.h"
 #include "engine/io/image_write.h"
-#include "engine/render/scene.h"
+#include "engine/scene/scene.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/ot_cache.h"
 #include "engine/sampling/ot_map.h"

@@ -1,6 +1,8 @@
 // `iblx reference`: the ground truth of a scene (DESIGN §4) written as a linear EXR.
 #include "engine/io/image_write.h"
 #include "engine/render/reference.h"
+#include "engine/render/scene_gpu.h"
+#include "engine/scene/brdf_params.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
 
@@ -21,8 +23,7 @@ int cmdReference(const Args& args) {
   resolveParams(*brdf.info, spec.scene.params);
   checkImagePath("--out", spec.out, true);
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
-  checkImageFitsDevice(context, spec.scene.width, spec.scene.height);
-  const Scene scene = loadScene(spec.scene, std::move(brdf));
+  const Scene scene = loadSceneFor(context, spec.scene, std::move(brdf));
   ShaderCompiler compiler;
   ReferenceOptions options;
   options.progress = [](double f) { progressLine("reference " + std::to_string(int(100 * f)) + "%"); };

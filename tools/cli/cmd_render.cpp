@@ -7,6 +7,7 @@
 #include "engine/render/metrics.h"
 #include "engine/render/reference.h"
 #include "engine/render/renderer.h"
+#include "engine/scene/brdf_params.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/measurement.h"
@@ -47,7 +48,7 @@ int cmdRender(const Args& args) {
     writeBparam(spec.saveBparam, std::filesystem::weakly_canonical(brdf.file), brdf.info->params, params);
     std::printf("wrote %s\n", spec.saveBparam.string().c_str());
   }
-  const ResolvedMethod method = resolveMethod(spec.method, *brdf.info);
+  const ResolvedMethod method = resolveMethodAndWarn(spec.method, *brdf.info);
   checkImagePath("--out", spec.out);
   if (!spec.timeBudgetSeconds && uint64_t(spec.passes) * spec.samplesPerPass > 0xffffffffull)
     throw Error("--passes x --spp exceeds 2^32 samples per pixel (the sample index would wrap)");
@@ -60,8 +61,7 @@ int cmdRender(const Args& args) {
     referenceImage = readReferenceFile(spec.referenceFile, spec.scene.width, spec.scene.height, "--size");
   }
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
-  checkImageFitsDevice(context, spec.scene.width, spec.scene.height);
-  const Scene scene = loadScene(spec.scene, std::move(brdf));
+  const Scene scene = loadSceneFor(context, spec.scene, std::move(brdf));
   ShaderCompiler compiler;
   Renderer renderer(context, compiler, scene, method, spec.seed);
 

@@ -5,6 +5,8 @@
 #include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "engine/render/sample_recorder.h"
+#include "engine/render/scene_gpu.h"
+#include "engine/scene/brdf_params.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
 
@@ -102,10 +104,9 @@ int cmdSamples(const Args& args) {
   }
   LoadedBrdf brdf = loadBrdfArgument(spec.scene.brdf);
   resolveParams(*brdf.info, spec.scene.params);
-  const ResolvedMethod method = resolveMethod(spec.method, *brdf.info);
+  const ResolvedMethod method = resolveMethodAndWarn(spec.method, *brdf.info);
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
-  checkImageFitsDevice(context, spec.scene.width, spec.scene.height);
-  const Scene scene = loadScene(spec.scene, std::move(brdf));
+  const Scene scene = loadSceneFor(context, spec.scene, std::move(brdf));
   // Coordinates beyond int are outside any image; unrecordablePixel words the message.
   const int x = pixelX < 0 || pixelX >= scene.gbuffer.width ? -1 : int(pixelX);
   const int y = pixelY < 0 || pixelY >= scene.gbuffer.height ? -1 : int(pixelY);

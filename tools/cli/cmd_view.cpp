@@ -2,7 +2,7 @@
 // scripted mode used by CI under Xvfb); the viewer itself is tools/viewer/.
 #include "engine/core/error.h"
 #include "engine/render/convergence_runner.h"
-#include "engine/render/methods.h"
+#include "engine/scene/methods.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
 #include "tools/viewer/viewer.h"

@@ -1,5 +1,7 @@
 // build/iblx: dispatches to a subcommand and turns every error into one line and a non-zero exit code.
 #include "engine/core/error.h"
+#include "engine/core/setting.h"
+#include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
 
 #include <vulkan/vulkan_raii.hpp>
@@ -54,6 +56,9 @@ int main(int argc, char** argv) {
   } catch (const iblx::Interrupted& e) {
     std::fprintf(stderr, "iblx: interrupted: %s\n", e.what());
     return 130;
+  } catch (const iblx::SettingError& e) {  // the engine names the setting; here it is the flag
+    std::fprintf(stderr, "iblx: error: %s\n", e.named(iblx::cli::settingFlag(e.setting())).c_str());
+    return 1;
   } catch (const iblx::Error& e) {
     std::fprintf(stderr, "iblx: error: %s\n", e.what());
     return 1;

@@ -71,7 +71,7 @@ std::vector<ResolvedMethod> resolveMethods(const MeasurementSpec& spec, const Br
   for (const auto& sequence : sequences)
     for (MethodSpec m : methods) {
       m.sequence = sequence;
-      resolved.push_back(resolveMethod(m, brdf));
+      resolved.push_back(resolveMethodAndWarn(m, brdf));
     }
   return resolved;
 }

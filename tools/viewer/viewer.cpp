@@ -5,9 +5,11 @@
 
 #include "engine/core/error.h"
 #include "engine/core/file_names.h"
+#include "engine/core/setting.h"
 #include "engine/core/cache_dir.h"
 #include "engine/render/brdf_tabulation.h"
-#include "engine/render/methods.h"
+#include "engine/scene/brdf_params.h"
+#include "engine/scene/methods.h"
 #include "engine/render/metrics.h"
 #include "engine/render/reference.h"
 #include "engine/render/renderer.h"
@@ -32,6 +34,54 @@
 namespace iblx::viewer {
 
 namespace {
+
+// The control (or, for what only the command line sets, the flag) that sets an engine setting: how the viewer
+// words a SettingError.
+std::string_view settingControl(Setting setting) {
+  switch (setting) {
+    case Setting::Environment:
+      return "environment";
+    case Setting::EnvRotation:
+      return "env rotation";
+    case Setting::Brdf:
+      return "BRDF";
+    case Setting::BrdfParam:
+      return "material parameter";
+    case Setting::Object:
+      return "object";
+    case Setting::Orbit:
+      return "orbit (drag)";
+    case Setting::Zoom:
+      return "zoom (wheel)";
+    case Setting::ImageSize:
+      return "--size";
+    case Setting::Method:
+      return "method";
+    case Setting::EnvSampler:
+      return "env technique";
+    case Setting::BrdfSampler:
+      return "BRDF technique";
+    case Setting::Sequence:
+      return "sequence";
+    case Setting::MisHeuristic:
+      return "power heuristic";
+    case Setting::MisSplit:
+      return "env fraction";
+    case Setting::RisCandidates:
+      return "candidates M";
+    case Setting::MisCompensation:
+      return "compensated env technique";
+    case Setting::Device:
+      return "--device";
+  }
+  return settingName(setting);
+}
+
+std::string errorText(const std::exception& e) {
+  if (const auto* setting = dynamic_cast<const SettingError*>(&e))
+    return setting->named(settingControl(setting->setting()));
+  return e.what();
+}
 
 constexpr int kPanelWidth = 360;  // the ImGui panel to the right of the image
 
@@ -212,7 +262,7 @@ class ViewerApp {
       applyScene(std::make_shared<Scene>(loadScene(options_.scene)));
       return true;
     } catch (const std::exception& e) {
-      error_ = e.what();
+      error_ = errorText(e);
       return false;
     }
   }
@@ -267,7 +317,7 @@ class ViewerApp {
       restart();
       if (overlayOn_ && !overlay_.empty()) startRecording(overlay_.pixelX(), overlay_.pixelY());
     } catch (const std::exception& e) {
-      error_ = e.what();
+      error_ = errorText(e);
       rebuild_ = true;
     }
   }
@@ -385,7 +435,7 @@ class ViewerApp {
           active_ = std::move(*result);
           error_.clear();
         } catch (const std::exception& e) {
-          if (!rebuild_) error_ = e.what();  // else: a build for the previous BRDF, dropped
+          if (!rebuild_) error_ = errorText(e);  // else: a build for the previous BRDF, dropped
         }
         // Compare mode: B's accumulation restarts too, or it would keep the head start it took while A built.
         if (comparing()) restart();
@@ -407,7 +457,7 @@ class ViewerApp {
           if (!rebuild_) result->generation = generation_;
           compare_ = std::move(*result);
         } catch (const std::exception& e) {
-          if (!rebuild_) error_ = e.what();
+          if (!rebuild_) error_ = errorText(e);
         }
         restart();  // A's accumulation too: equal time from here on, for both
       } else if (compareBuildJob_->error() != "cancelled") {
@@ -683,7 +733,7 @@ class ViewerApp {
           if (compare_.renderer) compare_.renderer->setParams(params_);  // B shows the same material
           if (compareWasCurrent) compare_.generation = generation_;
         } catch (const std::exception& e) {
-          error_ = e.what();
+          error_ = errorText(e);
         }
         restart();
         if (overlayOn_ && !overlay_.empty()) startRecording(overlay_.pixelX(), overlay_.pixelY());
@@ -895,7 +945,7 @@ int runViewer(const ViewerOptions& options) {
         screenshotWritten = true;
       } catch (const std::exception& e) {
         if (scripted) throw;
-        app.showError(e.what());  // an unwritable directory is no reason to close the viewer
+        app.showError(errorText(e));  // an unwritable directory is no reason to close the viewer
       }
       app.clearScreenshotRequest();
     }

@@ -5,7 +5,7 @@
 #pragma once
 
 #include "engine/io/image_write.h"
-#include "engine/render/scene.h"
+#include "engine/scene/scene.h"
 #include "tools/viewer/compare_view.h"
 
 #include <cstdint>

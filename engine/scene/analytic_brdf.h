@@ -17,7 +17,7 @@
 #pragma once
 
 #include "engine/io/brdf_file.h"
-#include "engine/render/methods.h"
+#include "engine/scene/methods.h"
 
 #include <memory>
 

@@ -1,50 +1,38 @@
 // The registry (DESIGN §2, STYLE "For iblx" 7): every BRDF, technique, sequence and method iblx knows, in one
 // explicit list each. The CLI, --list-methods, the benchmark and the tests iterate over these lists; adding a
-// method is one builder, one GLSL part and one line in methods.cpp.
+// method is one builder (with its TechniqueData, engine/sampling/), one GLSL part and one line in
+// methods.cpp.
 #pragma once
 
 #include "engine/core/params.h"
 #include "engine/io/env_image.h"
+#include "engine/sampling/technique_data.h"
 
 #include <array>
 #include <cstdint>
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
 namespace iblx {
 
-struct Scene;          // engine/render/scene.h
-class VulkanContext;   // engine/vk/context.h
-class ShaderCompiler;  // engine/vk/shader_compiler.h
+struct Scene;          // engine/scene/scene.h
+struct MerlTableData;  // engine/sampling/merl_sampling.h
 
-// What a builder that needs the GPU gets (brdf-tab tabulates the compiled BRDF; the reference measures a
-// .brdf file's lobe).
-struct GpuServices {
-  const VulkanContext& context;
-  ShaderCompiler& compiler;
-};
-
-// GPU data of a technique or of a BRDF read from a file: read-only tables in binding order (each with the
-// 32-bit words per element its GLSL part reads it with: 1, 2 or 4, shaders/lib/table.glsl), and preprocessor
-// definitions for its GLSL part (sizes known at build time, so most loops over them have constant trip counts
-// and unroll; they are part of the SPIR-V cache key through the prelude).
-struct TechniqueData {
-  std::vector<std::vector<std::byte>> buffers;
-  std::vector<std::string> names;
-  std::vector<uint32_t> elementWords;
-  std::vector<std::pair<std::string, std::string>> defines;
-
-  template <typename T>
-  void add(std::string name, std::span<const T> values, uint32_t wordsPerElement = 1) {
-    const auto* p = reinterpret_cast<const std::byte*>(values.data());
-    buffers.emplace_back(p, p + values.size_bytes());
-    names.push_back(std::move(name));
-    elementWords.push_back(wordsPerElement);
-  }
+// What a builder that needs the GPU gets: brdf-tab tabulates the compiled BRDF, and a .brdf file's lobe is
+// measured by evaluating it. The GPU part implements it (engine/render/brdf_tabulation.h, VulkanServices), so
+// the registry itself is CPU code.
+class GpuServices {
+ public:
+  virtual ~GpuServices() = default;
+  // brdf-tab's half-vector tables of the scene's compiled BRDF, kept per BRDF source and parameter values.
+  virtual std::shared_ptr<const MerlTableData> tabulateBrdf(const Scene& scene) const = 0;
+  // Angular width (radians) of the narrowest lobe of the scene's BRDF; 0 when it has no peak.
+  virtual double measureLobeWidth(const Scene& scene) const = 0;
 };
 
 // ---- BRDFs
@@ -61,9 +49,10 @@ struct BrdfInfo {
   std::function<double(const Scene&, const GpuServices&)> lobeWidth;
   // A BRDF read from a file (`--brdf FILE`) names the file extension it reads; empty for built-ins.
   std::string fileExtension;
-  // Buffers its eval part reads, made from the scene (set 3 from binding BRDF_DATA_BINDING on); may be null.
+  // Tables its eval part reads, made from the scene (set 3 from kBrdfDataBinding on, kernel_prelude.h); may
+  // be null.
   std::function<TechniqueData(const Scene&)> data;
-  // A BRDF made at run time (a .brdf file, engine/render/analytic_brdf.h): the GLSL text of evalPart, which
+  // A BRDF made at run time (a .brdf file, engine/scene/analytic_brdf.h): the GLSL text of evalPart, which
   // every compile of a kernel that includes it registers with the compiler (KernelParts::sources).
   std::string evalSource;
   // The file's own sampling routine (::begin isFunc with sampleBRDF and pdfBRDF): technique `isfunc`.
@@ -84,7 +73,7 @@ struct BrdfTechniqueInfo {
   std::string appliesText;  // for --list-methods, e.g. "any BRDF", "ggx"
   // Whether it can sample a BRDF; null = every BRDF.
   std::function<bool(const BrdfInfo&)> applies;
-  // Its tables, made from the scene (set 3 from binding BRDF_SAMPLER_BINDING on); may be null.
+  // Its tables, made from the scene (set 3, after the BRDF's own); may be null.
   std::function<TechniqueData(const Scene&, const GpuServices&)> build;
   bool appliesTo(const BrdfInfo& brdf) const { return !applies || applies(brdf); }
 };
@@ -119,28 +108,15 @@ std::span<const SequenceInfo> sequenceRegistry();
 std::span<const MethodInfo> methodRegistry();
 std::string strategyPart(Strategy strategy);
 
-// Lookups that throw iblx::Error listing the valid names (`what` names the flag, e.g. "--method").
+// Lookups that throw a SettingError (engine/core/setting.h) listing the valid names.
 const BrdfInfo& findBrdf(const std::string& name);
 // --brdf's argument without reading any file: a built-in, a file-based registry entry (MERL .binary) or
-// null for a .brdf / .bparam file (engine/render/scene.h's loadBrdfArgument reads those). Throws for an
+// null for a .brdf / .bparam file (engine/scene/scene.h's loadBrdfArgument reads those). Throws for an
 // unknown name.
 const BrdfInfo* findBrdfForArgument(const std::string& nameOrPath);
-const EnvTechniqueInfo& findEnvTechnique(const std::string& name, const std::string& what = "--env-sampler");
-const BrdfTechniqueInfo& findBrdfTechnique(const std::string& name,
-                                           const std::string& what = "--brdf-sampler");
+const EnvTechniqueInfo& findEnvTechnique(const std::string& name);
+const BrdfTechniqueInfo& findBrdfTechnique(const std::string& name);
 const SequenceInfo& findSequence(const std::string& name);
 const MethodInfo& findMethod(const std::string& name);
-
-// Human-readable registry (for --list-methods), and one BRDF with its parameters.
-std::string describeRegistry();
-std::string describeBrdf(const BrdfInfo& brdf);
-
-// Fills defaults, parses "r,g,b" / "x" / "0|1|true|false" strings, range-checks; throws on unknown names.
-ParamValues resolveParams(const BrdfInfo& brdf,
-                          const std::vector<std::pair<std::string, std::string>>& given);
-// Packs values into the BRDF parameter block: one 16-byte slot per parameter in declaration order.
-std::vector<float> packParams(const BrdfInfo& brdf, const ParamValues& values);
-// GLSL declaration of that block (set 3, binding 0) with each parameter as a plain name.
-std::string paramBlockGlsl(const BrdfInfo& brdf);
 
 }  // namespace iblx

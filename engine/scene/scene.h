@@ -1,12 +1,12 @@
-// A scene (DESIGN §2: object, camera, environment, BRDF) and the method that renders it, as plain values,
-// plus their GPU copies.
+// A scene (DESIGN §2: object, camera, environment, BRDF) and the method that renders it, as plain values
+// (their GPU copies: engine/render/scene_gpu.h).
 #pragma once
 
 #include "engine/geometry/gbuffer.h"
 #include "engine/io/env_image.h"
+#include "engine/core/setting.h"
 #include "engine/io/merl.h"
-#include "engine/render/methods.h"
-#include "engine/vk/buffer.h"
+#include "engine/scene/methods.h"
 
 #include <array>
 #include <filesystem>
@@ -67,7 +67,7 @@ class MeasuredBrdf {
   mutable std::unique_ptr<MerlTableData> table_;
 };
 
-// A --brdf argument resolved: a registry BRDF, or one made from a .brdf file (engine/render/analytic_brdf.h),
+// A --brdf argument resolved: a registry BRDF, or one made from a .brdf file (engine/scene/analytic_brdf.h),
 // with the material of a MERL file. A .bparam file resolves to the BRDF it names, with its saved values as
 // the parameters' defaults (BRDF Explorer copies them by name) and its own file name as the BRDF's name.
 struct LoadedBrdf {
@@ -99,6 +99,9 @@ struct ResolvedMethod {
   bool misPower = false;
   uint32_t risCandidates = 8;
   bool misCompensation = false;
+  // Settings the spec gave that this method does not use (e.g. an env technique for `brdf`): the front end
+  // says so, in its own words.
+  std::vector<Setting> ignoredSettings;
   std::string label() const;           // e.g. "mis(env-cdf+ggx-vndf, balance)/sobol"
   std::string techniqueLabel() const;  // the same without the sequence
   // Directions each sample draws and records (lib/sample_record.glsl): 2 for two-sample MIS, else 1.
@@ -113,29 +116,13 @@ Scene loadScene(const SceneSpec& spec);                   // reads spec.envPath 
 Scene loadScene(const SceneSpec& spec, LoadedBrdf brdf);  // the same with the --brdf argument already loaded
 ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf);
 
-// Set-0 and set-3 buffers shared by the integrator and the reference kernel.
-// A map's radiance may exceed the device's largest storage buffer (lavapipe: 128 MiB, 11 M texels): it is
-// then uploaded in up to this many buffers of whole texels (shaders/lib/frame_resources.glsl).
-inline constexpr std::size_t kMaxEnvRadianceChunks = 4;
+// The methods of the registry that apply to `brdf`, with their default options: what the measuring
+// commands run when no method is named.
+std::vector<MethodSpec> defaultMethodSpecs(const BrdfInfo& brdf);
 
-struct SceneGpu {
-  Buffer gbuffer, accum, envRows, stats, brdfParams;
-  std::vector<Buffer> envRgb;  // the radiance in chunks of envTexelsPerChunk texels (usually one)
-  std::size_t envTexelsPerChunk = 0;
-  std::vector<Buffer> brdfData;  // the BRDF's own buffers (BrdfInfo::data), bindings 1.. of set 3
-  // Set 0 (shaders/lib/frame_resources.glsl) in binding order; bindings 5-7 repeat chunk 0 when unused.
-  std::array<const Buffer*, 8> frameSet() const;
-  // The preprocessor definitions of the chunking, for every kernel that includes frame_resources.glsl.
-  std::vector<std::pair<std::string, std::string>> envDefines() const;
-  // Set 3: the parameter block, the BRDF's data, then `techniqueBuffers` (a BRDF technique's tables).
-  std::vector<const Buffer*> brdfSet(std::span<const Buffer> techniqueBuffers = {}) const;
-};
-SceneGpu uploadScene(const VulkanContext& context, const Scene& scene);
-
-// Throws DeviceLimitError naming the image size when the per-pixel buffers of a width x height image exceed
-// the device's largest storage buffer; checked before the scene (its G-buffer) is built.
-void checkImageFitsDevice(const VulkanContext& context, int width, int height);
-// A technique's (or a BRDF's) tables as buffers, in binding order, each viewed with its element width.
-std::vector<Buffer> uploadTables(const VulkanContext& context, const TechniqueData& data);
+// A method with its options in one word, as the measuring commands take it: NAME[:OPTION]..., where an option
+// is an env technique (mis, ris), a BRDF technique (brdf, mis), balance | power, compensated, M=N (ris
+// candidates) or split=F (mis). E.g. "mis:env-hier:power", "ris:env-hier:M=32", "brdf:brdf-tab".
+MethodSpec parseMethodVariant(const std::string& text);
 
 }  // namespace iblx

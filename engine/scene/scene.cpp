@@ -1,19 +1,23 @@
-// Scene loading, method resolution (with the checks a user needs to hear about) and GPU upload.
-#include "engine/render/scene.h"
+// Scene loading and method resolution, with the checks a user needs to hear about.
+#include "engine/scene/scene.h"
 
 #include "engine/core/assets.h"
 #include "engine/core/error.h"
+#include "engine/core/setting.h"
 #include "engine/core/file_io.h"
+#include "engine/core/join.h"
 #include "engine/core/log.h"
 #include "engine/io/brdf_file.h"
-#include "engine/render/analytic_brdf.h"
+#include "engine/scene/analytic_brdf.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/merl_sampling.h"
+#include "engine/scene/brdf_params.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include <cstdlib>
+#include <ranges>
 #include <sstream>
 
 namespace iblx {
@@ -62,7 +66,8 @@ LoadedBrdf loadBrdfArgument(const std::string& nameOrPath) {
     loaded.info =
         std::shared_ptr<const BrdfInfo>(std::shared_ptr<const BrdfInfo>(), registered);  // not owned
     if (!registered->fileExtension.empty()) {  // MERL, the one registry BRDF read from a file
-      if (!std::filesystem::exists(nameOrPath)) throw Error("--brdf " + nameOrPath + ": no such file");
+      if (!std::filesystem::exists(nameOrPath))
+        throw SettingError(Setting::Brdf, "", " " + nameOrPath + ": no such file");
       loaded.measured = std::make_shared<const MeasuredBrdf>(loadMerl(nameOrPath));
       loaded.file = nameOrPath;
     }
@@ -130,14 +135,19 @@ Scene makeScene(EnvImage env, const SceneSpec& spec) {
 }
 
 Scene makeScene(EnvImage env, const SceneSpec& spec, LoadedBrdf brdf) {
+  std::string size(" ");
+  size.append(std::to_string(spec.width)).append("x").append(std::to_string(spec.height));
   if (spec.width < 1 || spec.height < 1 || spec.width > 16384 || spec.height > 16384)
-    throw Error("--size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                ": width and height must be in [1, 16384]");
-  checkMemoryBudget("--size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                        ": the image's per-pixel buffers",
-                    std::uint64_t(spec.width) * std::uint64_t(spec.height) *
-                        (sizeof(gpu::GPixel) + sizeof(gpu::AccumPixel)));
-  if (!std::isfinite(spec.envRotationDeg)) throw Error("--env-rotation must be a finite number of degrees");
+    throw SettingError(Setting::ImageSize, "", size + ": width and height must be in [1, 16384]");
+  try {
+    checkMemoryBudget("the image's per-pixel buffers", std::uint64_t(spec.width) *
+                                                           std::uint64_t(spec.height) *
+                                                           (sizeof(gpu::GPixel) + sizeof(gpu::AccumPixel)));
+  } catch (const Error& e) {
+    throw SettingError(Setting::ImageSize, "", size + ": " + e.what());
+  }
+  if (!std::isfinite(spec.envRotationDeg))
+    throw SettingError(Setting::EnvRotation, "", " must be a finite number of degrees");
   Scene scene;
   scene.env = std::move(env);
   scene.envRotationDeg = spec.envRotationDeg;
@@ -194,11 +204,14 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
   r.method = &findMethod(spec.method);
   r.sequence = &findSequence(spec.sequence);
   if (!spec.misHeuristic.empty() && spec.misHeuristic != "balance" && spec.misHeuristic != "power")
-    throw Error("unknown --mis-heuristic '" + spec.misHeuristic + "'; valid: balance, power");
+    throw SettingError(Setting::MisHeuristic, "unknown ",
+                       " '" + spec.misHeuristic + "'; valid: balance, power");
   if (spec.misEnvFraction && !(*spec.misEnvFraction >= 0.0 && *spec.misEnvFraction <= 1.0))
-    throw Error("--mis-split must be in [0, 1] (the fraction of samples given to the env technique)");
+    throw SettingError(Setting::MisSplit, "",
+                       " must be in [0, 1] (the fraction of samples given to the env technique)");
   if (spec.risCandidates && !(*spec.risCandidates >= 1 && *spec.risCandidates <= kMaxRisCandidates))
-    throw Error("--ris-candidates must be in [1, " + std::to_string(kMaxRisCandidates) + "]");
+    throw SettingError(Setting::RisCandidates, "",
+                       " must be in [1, " + std::to_string(kMaxRisCandidates) + "]");
   r.misPower = spec.misHeuristic == "power";
   r.misOneSample = spec.misEnvFraction.has_value() && r.method->strategy == Strategy::Mis;
   r.misEnvFraction = float(spec.misEnvFraction.value_or(0.5));
@@ -207,17 +220,18 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
   const bool isProductMis = r.method->strategy == Strategy::ProductMis;
   const bool needsEnv = r.method->strategy != Strategy::SingleBrdf;
   const bool needsBrdf = r.method->strategy == Strategy::SingleBrdf || isMis || isProductMis;
-  // Flags that the chosen method does not use are reported, so a typo'd command line cannot mislead.
-  auto ignored = [&](bool given, const char* flag) {
-    if (given) warn(std::string(flag) + " is ignored by --method " + r.method->name);
+  // Settings that the chosen method does not use, for the front end to report (a typo'd command line must
+  // not mislead).
+  const auto ignored = [&](bool given, Setting setting) {
+    if (given) r.ignoredSettings.push_back(setting);
   };
-  ignored(!spec.envSampler.empty() && !isMis && !isRis, "--env-sampler");
-  ignored(spec.risCandidates.has_value() && !isRis, "--ris-candidates");
-  ignored(spec.misCompensation && !isMis, "--mis-compensation");
+  ignored(!spec.envSampler.empty() && !isMis && !isRis, Setting::EnvSampler);
+  ignored(spec.risCandidates.has_value() && !isRis, Setting::RisCandidates);
+  ignored(spec.misCompensation && !isMis, Setting::MisCompensation);
   r.misCompensation = spec.misCompensation && isMis;
-  ignored(!spec.brdfSampler.empty() && !needsBrdf, "--brdf-sampler");
-  ignored(spec.misEnvFraction.has_value() && !isMis, "--mis-split");
-  ignored(!spec.misHeuristic.empty() && !isMis && !isProductMis, "--mis-heuristic");
+  ignored(!spec.brdfSampler.empty() && !needsBrdf, Setting::BrdfSampler);
+  ignored(spec.misEnvFraction.has_value() && !isMis, Setting::MisSplit);
+  ignored(!spec.misHeuristic.empty() && !isMis && !isProductMis, Setting::MisHeuristic);
   if (needsEnv)
     r.envTechnique = !r.method->envTechnique.empty()
                          ? &findEnvTechnique(r.method->envTechnique)
@@ -225,84 +239,80 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
   if (needsBrdf) {
     const std::string name = spec.brdfSampler.empty() ? brdf.bestSampler : spec.brdfSampler;
     r.brdfTechnique = &findBrdfTechnique(name);
-    if (!r.brdfTechnique->appliesTo(brdf))
-      throw Error("--brdf-sampler " + name + " does not apply to BRDF '" + brdf.name +
-                  "' (see --list-methods)");
+    if (!r.brdfTechnique->appliesTo(brdf)) {
+      auto applicable = brdfTechniqueRegistry() |
+                        std::views::filter([&](const BrdfTechniqueInfo& t) { return t.appliesTo(brdf); });
+      throw SettingError(Setting::BrdfSampler, "",
+                         " " + name + " does not apply to BRDF '" + brdf.name +
+                             "'; those that do: " + joinNames(applicable, &BrdfTechniqueInfo::name));
+    }
   }
   return r;
 }
 
-void checkImageFitsDevice(const VulkanContext& context, int width, int height) {
-  const std::uint64_t pixels = std::uint64_t(std::max(width, 0)) * std::uint64_t(std::max(height, 0));
-  const std::uint64_t largest = context.limits().maxStorageBufferRange;
-  const std::uint64_t bytesPerPixel = std::max(sizeof(gpu::GPixel), sizeof(gpu::AccumPixel));
-  if (pixels * bytesPerPixel <= largest) return;
-  const int side = int(std::sqrt(double(largest / bytesPerPixel)));
-  throw DeviceLimitError("--size " + std::to_string(width) + "x" + std::to_string(height) +
-                         ": the G-buffer needs " + formatBytes(pixels * sizeof(gpu::GPixel)) +
-                         ", more than this device's largest storage " + "buffer (" + formatBytes(largest) +
-                         "); images up to about " + std::to_string(side) + "x" + std::to_string(side) +
-                         " pixels fit");
-}
-
-SceneGpu uploadScene(const VulkanContext& context, const Scene& scene) {
-  const auto& g = scene.gbuffer;
-  const std::size_t pixels = g.pixels.size();
-  std::vector<float> rows = envRowTable(scene.env.width, scene.env.height);
-  std::vector<float> params = packParams(*scene.brdf, scene.params);
-  SceneGpu gpu{Buffer::fromData(context, g.pixels, "gbuffer"),
-               Buffer(context, pixels * sizeof(gpu::AccumPixel), "accumulation"),
-               Buffer::fromData(context, rows, "environment row table", 4),
-               Buffer(context, sizeof(gpu::KernelStats), "kernel stats"),
-               Buffer::fromData(context, params, "brdf parameters")};
-  const std::size_t texels = std::size_t(scene.env.width) * std::size_t(scene.env.height);
-  const std::size_t bytesPerTexel = 3 * sizeof(float);
-  // Each chunk is one buffer, read as a table: it must fit both limits.
-  const std::size_t chunkBytes = std::min<std::size_t>(
-      context.limits().maxStorageBufferRange, std::size_t(context.limits().maxTexelBufferElements) * 4);
-  gpu.envTexelsPerChunk = std::min<std::size_t>(texels, chunkBytes / bytesPerTexel);
-  const std::size_t chunks = (texels + gpu.envTexelsPerChunk - 1) / gpu.envTexelsPerChunk;
-  if (chunks > kMaxEnvRadianceChunks)
-    throw DeviceLimitError("the environment map's " + std::to_string(texels * bytesPerTexel >> 20) +
-                           " MiB of radiance need " + std::to_string(chunks) + " buffers on this device (" +
-                           std::to_string(chunkBytes >> 20) + " MiB each), more than " +
-                           std::to_string(kMaxEnvRadianceChunks) + "; use a smaller map");
-  for (std::size_t c = 0; c < chunks; ++c) {
-    const std::size_t first = c * gpu.envTexelsPerChunk,
-                      count = std::min(gpu.envTexelsPerChunk, texels - first);
-    const std::span<const float> chunk(scene.env.rgb.data() + 3 * first, 3 * count);
-    gpu.envRgb.push_back(Buffer::fromData(
-        context, chunk, chunks == 1 ? "environment radiance" : "environment radiance " + std::to_string(c)));
+std::vector<MethodSpec> defaultMethodSpecs(const BrdfInfo& brdf) {
+  std::vector<MethodSpec> specs;
+  for (const auto& m : methodRegistry()) {
+    MethodSpec spec;
+    spec.method = m.name;
+    try {
+      resolveMethod(spec, brdf);  // e.g. brdf needs a BRDF technique that applies
+    } catch (const Error&) {
+      continue;
+    }
+    specs.push_back(spec);
   }
-  if (scene.brdf->data) gpu.brdfData = uploadTables(context, scene.brdf->data(scene));
-  gpu.accum.fill(0);
-  gpu.stats.fill(0);
-  return gpu;
+  return specs;
 }
 
-std::vector<Buffer> uploadTables(const VulkanContext& context, const TechniqueData& data) {
-  std::vector<Buffer> buffers;
-  for (std::size_t i = 0; i < data.buffers.size(); ++i)
-    buffers.push_back(Buffer::fromData(context, data.buffers[i], data.names[i], data.elementWords[i]));
-  return buffers;
-}
-
-std::array<const Buffer*, 8> SceneGpu::frameSet() const {
-  auto chunk = [&](std::size_t c) { return c < envRgb.size() ? &envRgb[c] : &envRgb[0]; };
-  return {&gbuffer, &accum, &envRgb[0], &envRows, &stats, chunk(1), chunk(2), chunk(3)};
-}
-
-std::vector<std::pair<std::string, std::string>> SceneGpu::envDefines() const {
-  if (envRgb.size() <= 1) return {};
-  return {{"ENV_RADIANCE_CHUNKS", std::to_string(envRgb.size())},
-          {"ENV_TEXELS_PER_CHUNK", std::to_string(envTexelsPerChunk) + "u"}};
-}
-
-std::vector<const Buffer*> SceneGpu::brdfSet(std::span<const Buffer> techniqueBuffers) const {
-  std::vector<const Buffer*> set{&brdfParams};
-  for (const auto& b : brdfData) set.push_back(&b);
-  for (const auto& b : techniqueBuffers) set.push_back(&b);
-  return set;
+MethodSpec parseMethodVariant(const std::string& text) {
+  MethodSpec spec;
+  std::size_t start = 0;
+  bool first = true;
+  while (start <= text.size()) {
+    const auto colon = text.find(':', start);
+    const std::string word =
+        text.substr(start, colon == std::string::npos ? std::string::npos : colon - start);
+    start = colon == std::string::npos ? text.size() + 1 : colon + 1;
+    const auto invalid = [&](const std::string& problem) {
+      return SettingError(Setting::Method, "", " " + text + ": " + problem);
+    };
+    if (word.empty()) throw invalid("empty option");
+    if (first) {
+      spec.method = findMethod(word).name;
+      first = false;
+      continue;
+    }
+    auto isIn = [&](auto registry) {
+      return std::any_of(registry.begin(), registry.end(), [&](const auto& t) { return t.name == word; });
+    };
+    if (isIn(envTechniqueRegistry())) {
+      spec.envSampler = word;
+    } else if (isIn(brdfTechniqueRegistry())) {
+      spec.brdfSampler = word;
+    } else if (word == "balance" || word == "power") {
+      spec.misHeuristic = word;
+    } else if (word == "compensated") {
+      spec.misCompensation = true;
+    } else if (word.rfind("M=", 0) == 0) {
+      char* end = nullptr;
+      const long m = std::strtol(word.c_str() + 2, &end, 10);
+      if (word.size() == 2 || *end || m < 1 || m > kMaxRisCandidates)
+        throw invalid("'" + word + "': M must be 1-" + std::to_string(kMaxRisCandidates));
+      spec.risCandidates = int(m);
+    } else if (word.rfind("split=", 0) == 0) {
+      char* end = nullptr;
+      const double f = std::strtod(word.c_str() + 6, &end);
+      if (word.size() == 6 || *end || !(f >= 0.0 && f <= 1.0))
+        throw invalid("'" + word + "': split must be in [0, 1]");
+      spec.misEnvFraction = f;
+    } else {
+      throw invalid(
+          "unknown option '" + word +
+          "'; options are env and BRDF technique names, balance, power, compensated, M=N and split=F");
+    }
+  }
+  return spec;
 }
 
 }  // namespace iblx

@@ -1,10 +1,9 @@
 // .brdf files as BRDFs: parameter checks, renaming of the snippet's top-level names, the generated part.
-#include "engine/render/analytic_brdf.h"
+#include "engine/scene/analytic_brdf.h"
 
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
 #include "engine/core/log.h"
-#include "engine/render/brdf_tabulation.h"
 
 #include <algorithm>
 #include <cctype>
@@ -261,7 +260,7 @@ std::shared_ptr<const BrdfInfo> makeAnalyticBrdf(const BrdfFile& file) {
   info->evalPart = path.str();
   info->evalSource = analyticBrdfSource(file, info->evalPart);
   info->bestSampler = info->hasSampleHook ? "isfunc" : "brdf-tab";
-  info->lobeWidth = [](const Scene& scene, const GpuServices& gpu) { return estimateLobeWidth(gpu, scene); };
+  info->lobeWidth = [](const Scene& scene, const GpuServices& gpu) { return gpu.measureLobeWidth(scene); };
   return info;
 }
 

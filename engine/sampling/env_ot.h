@@ -1,0 +1,22 @@
+// The optimal-transport env techniques' GPU tables: env-ot-fwd (the forward quad mesh, inverted per sample by
+// quadtree point location) and env-ot-inv (the tabulated inverse, with the forward map as its guess). The map
+// is solved (engine/sampling/ot_solver.h) for the environment with its sun texels split off
+// (engine/sampling/ot_sun.h); both parts read the sun's tables too.
+#pragma once
+
+#include "engine/io/env_image.h"
+#include "engine/sampling/technique_data.h"
+
+namespace iblx {
+
+// Grid of the OT map: 256 or, for smaller maps, the map's height (no finer than its rows), at least 32;
+// IBLX_OT_SIZE overrides it (benchmarks). Throws iblx::Error for an IBLX_OT_SIZE outside [8, 2048].
+int otGridSize(const EnvImage& image);
+
+// Tables of shaders/lib/quad_grid_map.glsl (quadMapVertex, quadMapPiece, quadMapNode, quadMapLeafCell) and
+// shaders/lib/ot_sun.glsl (otSunTexel, otSunCdf, otSunRowFirst); env-ot-inv adds otForwardVertex and
+// otForwardPiece. Throws iblx::Error when the solved map folds (it would not be an exact sampler).
+TechniqueData envOtFwdTechniqueData(const EnvImage& image);
+TechniqueData envOtInvTechniqueData(const EnvImage& image);
+
+}  // namespace iblx

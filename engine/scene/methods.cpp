@@ -1,0 +1,219 @@
+// The registry lists. Each line is one BRDF, technique, sequence or method; nothing else names them.
+#include "engine/scene/methods.h"
+
+#include "engine/core/setting.h"
+#include "engine/core/join.h"
+#include "engine/sampling/env_cdf.h"
+#include "engine/sampling/env_hier.h"
+#include "engine/sampling/env_ot.h"
+#include "engine/sampling/env_product.h"
+#include "engine/sampling/merl_sampling.h"
+#include "engine/scene/scene.h"
+
+#include <cmath>
+#include <filesystem>
+
+namespace iblx {
+namespace {
+
+TechniqueData noData(const EnvImage&) {
+  return {};
+}
+
+double ggxLobeWidth(const Scene& scene, const GpuServices&) {
+  return 2.0 * std::atan(scene.params.at("roughness")[0]);
+}
+
+TechniqueData makeMerlData(const Scene& scene) {
+  return merlBrdfTechniqueData(scene.measured->brdf);
+}
+
+TechniqueData makeMerlThetaH(const Scene& scene, const GpuServices&) {
+  return merlThetaHTechniqueData(scene.measured->thetaHTable());
+}
+
+TechniqueData makeMerlTable(const Scene& scene, const GpuServices&) {
+  return halfVectorTableTechniqueData(scene.measured->sampleTable());
+}
+
+TechniqueData makeBrdfTab(const Scene& scene, const GpuServices& gpu) {
+  return halfVectorTableTechniqueData(*gpu.tabulateBrdf(scene));
+}
+
+const BrdfInfo kBrdfs[] = {
+    {"lambert",
+     "diffuse: f = albedo / pi",
+     "brdf/lambert.glsl",
+     {{"albedo", ParamType::Color, 0.0, 1.0, {0.8, 0.8, 0.8}, "diffuse reflectance"}},
+     "cosine",
+     [](const Scene&, const GpuServices&) { return 0.0; }},
+    {"ggx",
+     "metallic-roughness GGX microfacet (Walter 2007) + Lambert diffuse",
+     "brdf/ggx.glsl",
+     {{"color", ParamType::Color, 0.0, 1.0, {0.95, 0.64, 0.54}, "base color (diffuse albedo, metal F0)"},
+      {"roughness", ParamType::Float, 1e-3, 1.0, {0.25, 0, 0}, "GGX alpha"},
+      {"metallic", ParamType::Float, 0.0, 1.0, {1.0, 0, 0}, "0 dielectric (F0 = 0.04), 1 metal"}},
+     "ggx-vndf",
+     ggxLobeWidth},
+    {"merl",
+     "MERL measured isotropic BRDF read from a .binary file, nearest bin as MERL's reference code",
+     "brdf/merl.glsl",
+     {},
+     "merl-table",
+     [](const Scene& scene, const GpuServices&) { return scene.measured->lobeWidth(); },
+     ".binary",
+     makeMerlData},
+};
+
+const EnvTechniqueInfo kEnvTechniques[] = {
+    {"uniform", "uniform directions on the sphere (baseline)", "env/uniform.glsl", noData},
+    {"cosine", "cosine-weighted hemisphere around the normal (baseline)", "env/cosine.glsl", noData},
+    {"env-cdf", "marginal/conditional CDF over texels", "env/env_cdf.glsl", envCdfTechniqueData},
+    {"env-hier", "hierarchical 2x2 mip-pyramid warp", "env/env_hier.glsl",
+     [](const EnvImage& image) { return envHierTechniqueData(image); }},
+    {"env-ot-inv", "optimal-transport map, tabulated inverse: one bilinear lookup per sample",
+     "env/env_ot_inv.glsl", envOtInvTechniqueData},
+    {"env-ot-fwd", "optimal-transport forward quad mesh inverted per sample (quadtree point location)",
+     "env/env_ot_fwd.glsl", envOtFwdTechniqueData},
+};
+
+bool isBrdf(const BrdfInfo& brdf, const char* name) {
+  return brdf.name == name && brdf.evalSource.empty();  // a .brdf file may be called "ggx" too
+}
+
+const BrdfTechniqueInfo kBrdfTechniques[] = {
+    {"cosine", "cosine-weighted hemisphere", "brdf_sampler/cosine.glsl", "any BRDF", nullptr, nullptr},
+    {"ggx-vndf", "GGX visible normals (Heitz 2018) + cosine for the diffuse lobe",
+     "brdf_sampler/ggx_vndf.glsl", "ggx", [](const BrdfInfo& b) { return isBrdf(b, "ggx"); }, nullptr},
+    {"merl-thetah", "1D inverse CDF over MERL's theta_h bins, phi_h uniform (baseline)",
+     "brdf_sampler/merl_thetah.glsl", "merl", [](const BrdfInfo& b) { return isBrdf(b, "merl"); },
+     makeMerlThetaH},
+    {"merl-table", "per-theta_o 2D tables of f cos over the half vector (sqrt-warped theta_h x phi_h)",
+     "brdf_sampler/half_vector_table.glsl", "merl", [](const BrdfInfo& b) { return isBrdf(b, "merl"); },
+     makeMerlTable},
+    {"brdf-tab",
+     "merl-table's tables of f cos over the half vector, tabulated on the GPU from the compiled BRDF",
+     "brdf_sampler/half_vector_table.glsl", "any BRDF", nullptr, makeBrdfTab},
+    {"isfunc", "the .brdf file's own sampleBRDF and pdfBRDF (its ::begin isFunc section)",
+     "brdf_sampler/isfunc.glsl", ".brdf files whose isFunc defines sampleBRDF and pdfBRDF",
+     [](const BrdfInfo& b) { return b.hasSampleHook; }, nullptr},
+};
+
+const SequenceInfo kSequences[] = {
+    {"random", "independent uniform points (PCG hash)", "sequence/random.glsl"},
+    {"sobol", "Owen-scrambled Sobol (randomized QMC, Burley 2020)", "sequence/sobol.glsl"},
+    {"cp-shared", "one shared Sobol point set, Cranley-Patterson-shifted per pixel",
+     "sequence/cp_shared.glsl"},
+};
+
+// The methods beyond one env technique alone; those come first, one per entry of kEnvTechniques (methods()).
+const MethodInfo kCombinedMethods[] = {
+    {"brdf", "the BRDF technique alone", Strategy::SingleBrdf, ""},
+    {"mis", "two-sample MIS of the env and BRDF techniques (one-sample with a MIS split)", Strategy::Mis, ""},
+    {"ris", "RIS: candidates from the env technique resampled by f cos (Talbot 2005)", Strategy::Ris, ""},
+    {"product", "env x f cos per pixel over env-hier's pyramid, finished in its texel tables",
+     Strategy::Product, "env-hier", envHierProductTechniqueData},
+    {"product-mis", "two-sample MIS of 'product' and the BRDF technique", Strategy::ProductMis, "env-hier",
+     envHierProductTechniqueData},
+    {"product-warp", "warp composition (Hart 2020): per pixel, f cos tabulated over env-hier's unit square",
+     Strategy::ProductWarp, "env-hier", envHierProductTechniqueData},
+};
+
+// Every env technique alone, in kEnvTechniques' order, then kCombinedMethods: a new env technique is a
+// method by itself.
+const std::vector<MethodInfo>& methods() {
+  static const std::vector<MethodInfo> list = [] {
+    std::vector<MethodInfo> all;
+    for (const EnvTechniqueInfo& t : kEnvTechniques)
+      all.push_back({t.name, "env technique '" + t.name + "' alone", Strategy::SingleEnv, t.name, nullptr});
+    all.insert(all.end(), std::begin(kCombinedMethods), std::end(kCombinedMethods));
+    return all;
+  }();
+  return list;
+}
+
+template <typename T>
+const T& findIn(std::span<const T> list, const std::string& name, Setting setting) {
+  for (const auto& item : list)
+    if (item.name == name) return item;
+  throw SettingError(setting, "unknown ", " '" + name + "'; valid: " + joinNames(list, &T::name));
+}
+
+}  // namespace
+
+std::span<const BrdfInfo> brdfRegistry() {
+  return kBrdfs;
+}
+std::span<const EnvTechniqueInfo> envTechniqueRegistry() {
+  return kEnvTechniques;
+}
+std::span<const BrdfTechniqueInfo> brdfTechniqueRegistry() {
+  return kBrdfTechniques;
+}
+std::span<const SequenceInfo> sequenceRegistry() {
+  return kSequences;
+}
+std::span<const MethodInfo> methodRegistry() {
+  return methods();
+}
+
+std::string strategyPart(Strategy strategy) {
+  switch (strategy) {
+    case Strategy::SingleEnv:
+      return "strategy/single_env.glsl";
+    case Strategy::SingleBrdf:
+      return "strategy/single_brdf.glsl";
+    case Strategy::Mis:
+      return "strategy/mis.glsl";
+    case Strategy::Ris:
+      return "strategy/ris.glsl";
+    case Strategy::Product:
+      return "strategy/product.glsl";
+    case Strategy::ProductMis:
+      return "strategy/product_mis.glsl";
+    case Strategy::ProductWarp:
+      return "strategy/product_warp.glsl";
+  }
+  return {};
+}
+
+const BrdfInfo& findBrdf(const std::string& name) {
+  return findIn(brdfRegistry(), name, Setting::Brdf);
+}
+
+const BrdfInfo* findBrdfForArgument(const std::string& nameOrPath) {
+  const std::string extension = std::filesystem::path(nameOrPath).extension().string();
+  if (extension == ".brdf" || extension == ".bparam") return nullptr;
+  for (const auto& b : brdfRegistry())
+    if (!b.fileExtension.empty() && extension == b.fileExtension) return &b;
+  std::string valid;
+  for (const auto& b : brdfRegistry())
+    if (b.fileExtension.empty()) {
+      if (b.name == nameOrPath) return &b;
+      valid += (valid.empty() ? "" : ", ") + b.name;
+    }
+  for (const auto& b : brdfRegistry())
+    if (!b.fileExtension.empty()) {
+      if (b.name == nameOrPath)
+        throw SettingError(Setting::Brdf, "",
+                           " " + nameOrPath + ": this BRDF is read from a file; give the path of a " +
+                               b.fileExtension + " file");
+      valid += ", a " + b.fileExtension + " file (" + b.name + ")";
+    }
+  valid += ", a .brdf or .bparam file (BRDF Explorer)";
+  throw SettingError(Setting::Brdf, "unknown ", " '" + nameOrPath + "'; valid: " + valid);
+}
+const EnvTechniqueInfo& findEnvTechnique(const std::string& name) {
+  return findIn(envTechniqueRegistry(), name, Setting::EnvSampler);
+}
+const BrdfTechniqueInfo& findBrdfTechnique(const std::string& name) {
+  return findIn(brdfTechniqueRegistry(), name, Setting::BrdfSampler);
+}
+const SequenceInfo& findSequence(const std::string& name) {
+  return findIn(sequenceRegistry(), name, Setting::Sequence);
+}
+const MethodInfo& findMethod(const std::string& name) {
+  return findIn(methodRegistry(), name, Setting::Method);
+}
+
+}  // namespace iblx
