@@ -102,6 +102,12 @@ LogRange paddedRange(LogRange r) {
   return {r.lo - pad, r.hi + pad};
 }
 
+LogRange wholeDecades(LogRange r) {
+  if (r.empty()) return {0.0, 1.0};
+  const double lo = std::floor(r.lo);
+  return {lo, std::max(std::ceil(r.hi), lo + 1)};
+}
+
 double LogLogAxes::pixelX(double x) const {
   return left + (std::log10(x) - log10XMin) / (log10XMax - log10XMin) * (right - left);
 }

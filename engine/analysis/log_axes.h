@@ -1,6 +1,6 @@
-// Log axes shared by the figures (loglog_plot, heat_map's colorbar): which ticks a log range gets and how
-// they are labelled, the log10 range of the data and the mapping from data to a plot area. No drawing, so any
-// canvas can use it.
+// Log axes shared by the figures (loglog_plot, heat_map's colorbar) and the viewer's convergence plot: which
+// ticks a log range gets and how they are labelled, the log10 range of the data (padded, or rounded out to
+// whole decades) and the mapping from data to a plot area. No drawing, so any canvas can use it.
 #pragma once
 
 #include <cstddef>
@@ -46,6 +46,9 @@ struct LogLogBounds {
 // The range padded by 5% of its width on each side; a single value is widened to one decade around it; an
 // empty range gives [0, 1] (1 to 10).
 LogRange paddedRange(LogRange log10Range);
+// The range rounded out to whole decades, at least one decade wide, so slopes can be read off the grid; an
+// empty range gives [0, 1].
+LogRange wholeDecades(LogRange log10Range);
 
 // The mapping from data to a plot area: log10 ranges onto a pixel rectangle, y growing downwards on screen.
 struct LogLogAxes {
