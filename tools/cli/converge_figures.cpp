@@ -1,7 +1,10 @@
-// The PNG figures of `iblx converge` (tools/cli/converge_figures.h), drawn by engine/analysis/plot.h.
+// The PNG figures of `iblx converge` (tools/cli/converge_figures.h), drawn by engine/analysis
+// (loglog_plot.h, heat_map.h).
 #include "tools/cli/converge_figures.h"
 
-#include "engine/analysis/plot.h"
+#include "engine/analysis/heat_map.h"
+#include "engine/analysis/loglog_plot.h"
+#include "engine/analysis/palette.h"
 #include "engine/io/image_write.h"
 #include "engine/render/metrics.h"
 

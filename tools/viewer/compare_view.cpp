@@ -1,7 +1,7 @@
 // Composition of the compare mode's canvas (tools/viewer/compare_view.h).
 #include "tools/viewer/compare_view.h"
 
-#include "engine/analysis/plot.h"
+#include "engine/analysis/palette.h"
 #include "engine/render/metrics.h"
 #include "tools/viewer/window.h"
 

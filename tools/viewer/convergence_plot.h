@@ -21,8 +21,9 @@ struct PlotSettings {
   bool relative = false;     // y: relMSE instead of MSE
 };
 
-// Draws its two toggles, the plot (180 px high, the available width) and one legend line per curve; the last
-// curve is the current one.
+// Draws its two toggles, the plot (180 px high, the available width) and one legend line per curve, each
+// curve in the figures' palette colour of its index. The last curve is the current one: drawn last and
+// thicker, and marked "(current)" in the legend when there are others.
 void drawConvergencePlot(std::span<const ConvergenceCurve> curves, PlotSettings& settings);
 
 }  // namespace iblx::viewer
