@@ -2,6 +2,8 @@
 // Dear ImGui's draw list, whole decades on both axes so slopes can be read off (-1 is 1/N).
 #pragma once
 
+#include "tools/viewer/convergence_curve.h"
+
 #include <imgui.h>
 
 #include <span>
@@ -9,12 +11,6 @@
 #include <vector>
 
 namespace iblx::viewer {
-
-// Error against spp and time for one method on the current ground truth, one entry per pass.
-struct ConvergenceCurve {
-  std::string label;
-  std::vector<double> spp, seconds, mse, relMse;
-};
 
 struct PlotSettings {
   bool againstTime = false;  // x: wall seconds instead of spp

@@ -1,0 +1,99 @@
+// The viewer's model without a window or Dear ImGui (tools/viewer/viewer_model.h): passes, restarts and
+// generations, equal time in compare mode, the cached object mask, files it cannot open, and errors in the
+// viewer's words. Runs on the Vulkan device present (lavapipe without a GPU), no display needed.
+#include "tools/viewer/viewer_model.h"
+
+#include "engine/core/setting.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+
+using namespace iblx;
+using namespace iblx::viewer;
+
+namespace {
+
+ViewerOptions smallScene() {
+  ViewerOptions options;
+  options.scene.width = options.scene.height = 16;
+  options.scene.brdf = "lambert";
+  options.method.method = "env-cdf";
+  options.samplesPerPass = 2;
+  return options;
+}
+
+}  // namespace
+
+TEST_CASE("viewer model: passes accumulate; new parameters start a new generation without a rebuild") {
+  VulkanContext context;
+  ViewerModel model(smallScene(), context);
+  REQUIRE(model.error().empty());
+  model.prepareBlocking(false);
+  for (int k = 0; k < 3; ++k) model.frame();
+  CHECK(model.passes() == 3);
+  REQUIRE(model.active().renderer);
+  CHECK(model.active().renderer->samplesPerPixel() == 6);
+  CHECK(model.shownA().size() == 16 * 16 * 3);
+  CHECK(model.active().generation == model.generation());
+
+  const Renderer* renderer = model.active().renderer.get();
+  const uint64_t generation = model.generation();
+  ParamValues params = model.params();
+  params["albedo"] = {0.5, 0.5, 0.5};
+  model.setParams(params);
+  CHECK(model.generation() > generation);
+  CHECK(model.active().renderer.get() == renderer);  // same tables and shaders
+  CHECK(model.active().generation == model.generation());
+  CHECK(model.passes() == 0);
+  model.frame();
+  CHECK(model.active().renderer->samplesPerPixel() == 2);
+
+  // The object mask is made once per G-buffer.
+  const std::span<const std::uint8_t> mask = model.objectMask();
+  CHECK(model.objectMask().data() == mask.data());
+  CHECK(std::size_t(std::count(mask.begin(), mask.end(), std::uint8_t(1))) ==
+        model.shownGBuffer().objectPixelCount());
+}
+
+TEST_CASE("viewer model: a method change rebuilds; compare mode renders A and B at equal time") {
+  VulkanContext context;
+  ViewerModel model(smallScene(), context);
+  model.prepareBlocking(false);
+  model.options().method.method = "env-hier";
+  model.methodChanged();
+  model.prepareBlocking(false);
+  CHECK(model.active().method.label().rfind("env-hier", 0) == 0);
+
+  MethodSpec b = model.options().method;
+  b.sequence = "sobol";
+  model.setCompare(b);
+  model.prepareBlocking(false);
+  REQUIRE(model.compareActive().renderer);
+  for (int k = 0; k < 8; ++k) model.frame();
+  CHECK(model.passes() + model.comparePasses() == 8);
+  // Each frame runs whichever has rendered for less time, so neither falls behind by more than a pass or two.
+  CHECK(model.passes() >= 2);
+  CHECK(model.comparePasses() >= 2);
+  CHECK(model.shownB().size() == 16 * 16 * 3);
+  model.setCompare(std::nullopt);
+  CHECK_FALSE(model.compareActive().renderer);
+  CHECK(model.shownB().empty());
+}
+
+TEST_CASE("viewer model: a file it cannot open is an error naming it, and the scene stays") {
+  VulkanContext context;
+  ViewerModel model(smallScene(), context);
+  const auto scene = model.scene();
+  model.openFile("notes.txt");
+  CHECK(model.error() ==
+        "notes.txt: not an environment (.exr, .hdr), BRDF (.brdf, .binary, .bparam) or object (.obj)");
+  CHECK(model.scene() == scene);
+}
+
+TEST_CASE("viewer model: engine errors name the viewer's control, or the flag only the command line sets") {
+  CHECK(errorText(SettingError(Setting::MisSplit, "", " must be in [0, 1]")) ==
+        "env fraction must be in [0, 1]");
+  CHECK(errorText(SettingError(Setting::ImageSize, "", " 9x9: too large")) == "--size 9x9: too large");
+  CHECK(errorText(Error("plain")) == "plain");
+}
