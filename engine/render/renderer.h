@@ -50,6 +50,10 @@ class Renderer {
 
   uint64_t samplesPerPixel() const { return samplesPerPixel_; }
   std::vector<float> meanRgb() const;      // width*height*3
+  // The accumulation (gpu::AccumPixel per pixel, running means) and the G-buffer on the device, for kernels
+  // that show the image without reading it back (the viewer's display kernel).
+  const Buffer& accumulation() const { return gpu_.accum; }
+  const Buffer& gbufferBuffer() const { return gpu_.gbuffer; }
   std::vector<float> varianceRgb() const;  // per-pixel sample variance of one estimate, width*height*3
   uint32_t nonFiniteSamples() const;
   double setupSeconds() const { return setupSeconds_; }  // table builds + shader compile + upload

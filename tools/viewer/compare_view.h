@@ -1,6 +1,8 @@
 // The viewer's compare mode: two renders of one scene (methods, sequences or settings A and B) composed into
 // one canvas: a split view with a divider, A | B side by side with their per-pixel error against the ground
-// truth below, or A and B flipped in turn. Pure CPU, so the composition is testable without a window.
+// truth below, or A and B flipped in turn. The viewer composes on the GPU (display_kernel.h); this CPU
+// composition is its reference, which the tests compare it with, and draws the canvas before anything is
+// rendered.
 #pragma once
 
 #include "engine/geometry/gbuffer.h"

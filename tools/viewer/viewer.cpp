@@ -4,7 +4,9 @@
 
 #include "engine/core/error.h"
 #include "engine/scene/brdf_params.h"
+#include "engine/vk/shader_compiler.h"
 #include "tools/viewer/compare_view.h"
+#include "tools/viewer/display_kernel.h"
 #include "tools/viewer/viewer_model.h"
 #include "tools/viewer/viewer_panels.h"
 #include "tools/viewer/window.h"
@@ -19,35 +21,42 @@
 namespace iblx::viewer {
 namespace {
 
-// The canvas of this frame: A's image (or A and B composed) through the display transform, with the exposure
-// it was drawn with.
+// The canvas of this frame: A's image (or A and B composed) through the display transform, on the GPU from
+// the renderers' accumulations, with the exposure it was drawn with.
 struct Canvas {
   CompareCanvas pixels;
   double exposureEV = 0.0;
 };
 
-Canvas composeCanvas(ViewerModel& model, const ViewerPanels& panels) {
+Canvas composeCanvas(ViewerModel& model, const ViewerPanels& panels, DisplayKernel& display) {
   const ViewerOptions& options = model.options();
   const GBuffer& g = model.shownGBuffer();
   const std::span<const float> a = model.shownA();
   // The same transform as render's PNG of the same image: the automatic exposure reads the object pixels. In
   // compare mode A's transform serves both, so that their brightness compares.
-  const DisplayTransform display = resolveDisplay(options.display, a, model.objectMask());
+  const DisplayTransform transform = resolveDisplay(options.display, a, model.objectMask());
   const bool comparing = model.comparing();
-  const ActiveRenderer& b = model.compareActive();
-  const bool sameScene = comparing && b.scene && b.scene->gbuffer.pixels.size() == g.pixels.size();
+  const ActiveRenderer& activeA = model.active();
+  const ActiveRenderer& activeB = model.compareActive();
+  const bool sameScene =
+      comparing && activeB.scene && activeB.scene->gbuffer.pixels.size() == g.pixels.size();
+  const bool showsB = sameScene && !model.shownB().empty();
   CompareFrame frame{&g,
                      a,
-                     sameScene ? model.shownB() : std::span<const float>(),
+                     showsB ? model.shownB() : std::span<const float>(),
                      {},
-                     display,
+                     transform,
                      options.background,
                      comparing ? options.compareView : CompareView::Flip,
                      panels.divider(),
                      comparing && panels.flipShowsB()};
-  if (comparing && model.referenceMatches(model.active()) && model.referenceMatches(b))
+  if (comparing && model.referenceMatches(activeA) && model.referenceMatches(activeB))
     frame.reference = *model.reference();
-  return {composeCompare(frame), display.exposureEV};
+  const Renderer* gbufferOwner = activeA.renderer ? activeA.renderer.get() : activeB.renderer.get();
+  const Buffer* accumA = !a.empty() && activeA.renderer ? &activeA.renderer->accumulation() : nullptr;
+  const Buffer* accumB = showsB ? &activeB.renderer->accumulation() : nullptr;
+  if (!gbufferOwner) return {composeCompare(frame), transform.exposureEV};  // nothing rendered yet
+  return {display.compose(frame, accumA, accumB, gbufferOwner->gbufferBuffer()), transform.exposureEV};
 }
 
 ViewerModel* gDropTarget = nullptr;  // GLFW's drop callback has no user pointer of ours to spare
@@ -78,6 +87,8 @@ int runViewer(const ViewerOptions& options) {
   ViewerModel model(options, window.context());
   if (!model.error().empty()) throw Error(model.error());
   ViewerPanels panels(options);
+  ShaderCompiler compiler;
+  DisplayKernel display(window.context(), compiler);
   const bool scripted = options.frames > 0;
   if (scripted) model.prepareBlocking(options.reference);
   gDropTarget = &model;
@@ -100,7 +111,7 @@ int runViewer(const ViewerOptions& options) {
     // The pass runs before the panels, so their figures describe the image shown with them; what the panels
     // change takes effect in the next frame.
     model.frame();
-    const Canvas canvas = composeCanvas(model, panels);
+    const Canvas canvas = composeCanvas(model, panels, display);
     panels.draw(model, {window.width(), window.height(), canvas.pixels.width, canvas.pixels.height},
                 canvas.exposureEV);
     if (const auto shot = window.endFrame(canvas.pixels.bgra, canvas.pixels.width, canvas.pixels.height,
