@@ -10,13 +10,14 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=${IBLX_JOBS:-$(nproc)}
 
-# The sanitizer stage: the CPU suites (iblx_io_tests, iblx_sampling_tests) and the fuzz targets' short run
-# in a separate AddressSanitizer + UndefinedBehaviorSanitizer build, build-asan/ (-O1 -g, assertions on), so
-# that a memory error, a leak or undefined behaviour fails the run: -fno-sanitize-recover makes UB abort,
-# and ASan halts on its first report. CPU only: the GPU suites run their kernels in lavapipe, which is not
-# instrumented, and would take many times the suite's budget under ASan. All of the CPU suites run: under ASan they take
-# about 45 s here, so no test case needs to be left out. The short run replays 1000 mutated inputs per target
-# (2000 in the Release build), as each ASan run of OpenEXR's header allocations costs a few milliseconds.
+# The sanitizer stage: the CPU suites (iblx_io_tests, iblx_sampling_tests, iblx_scene_tests) and the fuzz
+# targets' short run in a separate AddressSanitizer + UndefinedBehaviorSanitizer build, build-asan/ (-O1 -g,
+# assertions on), so that a memory error, a leak or undefined behaviour fails the run: -fno-sanitize-recover
+# makes UB abort, and ASan halts on its first report. CPU only: the GPU suites run their kernels in lavapipe,
+# which is not instrumented, and would take many times the suite's budget under ASan. All of the CPU suites
+# run: under ASan they take about 45 s here, so no test case needs to be left out. The short run replays 1000
+# mutated inputs per target (2000 in the Release build), as each ASan run of OpenEXR's header allocations
+# costs a few milliseconds.
 sanitizer_stage() {
   local started=$SECONDS
   # Chained: `set -e` does not apply inside a function called as `sanitizer_stage || ...`.

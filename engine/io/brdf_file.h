@@ -4,7 +4,7 @@
 // `::begin NAME` / `::end NAME` sections that do not nest; blank lines and lines whose first non-blank
 // character is '#' are dropped everywhere, even inside the shader; parameter lines are
 // `float NAME MIN MAX DEFAULT`, `bool NAME 0|1` and `color NAME R G B`. Turning the GLSL into a part is
-// engine/render/analytic_brdf.cpp's job; this file only reads and writes text.
+// engine/scene/analytic_brdf.cpp's job; this file only reads and writes text.
 #pragma once
 
 #include "engine/core/params.h"

@@ -1,5 +1,5 @@
 // BRDF technique "isfunc": a .brdf file's own sampling routine (its ::begin isFunc section), with iblx's
-// contract (engine/render/analytic_brdf.h): sampleBRDF draws wi with its exact solid-angle density, pdfBRDF gives
+// contract (engine/scene/analytic_brdf.h): sampleBRDF draws wi with its exact solid-angle density, pdfBRDF gives
 // that density for any wi, and the view direction reaches both through the global iblxV. The routine's return
 // value (its weight f cos / pdf) is not used: the strategy computes f cos / pdf itself. A pdf that is not
 // positive and finite, or a direction that is not finite, drops the sample (pdf 0).

@@ -15,7 +15,7 @@
 #include "lib/frame_resources.glsl"
 
 #ifdef IBLX_RECORD_SAMPLES
-// After set 0's frame buffers (engine/render/kernel_assembly.h kSampleRecordBinding).
+// After set 0's frame buffers (engine/scene/kernel_prelude.h kSampleRecordBinding).
 layout(std430, set = 0, binding = SAMPLE_RECORD_BINDING) writeonly buffer SampleRecordData {
   SampleRecord sampleRecords[];
 };
