@@ -16,33 +16,20 @@
 namespace iblx::viewer {
 namespace {
 
-// The control (or, for what only the command line sets, the flag) that sets an engine setting.
+// The control (or, for what only the command line sets, the flag) that sets an engine setting, where its
+// label is not the engine's name.
 std::string_view settingControl(Setting setting) {
   switch (setting) {
-    case Setting::Environment:
-      return "environment";
     case Setting::EnvRotation:
       return "env rotation";
-    case Setting::Brdf:
-      return "BRDF";
     case Setting::BrdfParam:
       return "material parameter";
-    case Setting::Object:
-      return "object";
     case Setting::Orbit:
       return "orbit (drag)";
     case Setting::Zoom:
       return "zoom (wheel)";
     case Setting::ImageSize:
       return "--size";
-    case Setting::Method:
-      return "method";
-    case Setting::EnvSampler:
-      return "env technique";
-    case Setting::BrdfSampler:
-      return "BRDF technique";
-    case Setting::Sequence:
-      return "sequence";
     case Setting::MisHeuristic:
       return "power heuristic";
     case Setting::MisSplit:
@@ -53,8 +40,9 @@ std::string_view settingControl(Setting setting) {
       return "compensated env technique";
     case Setting::Device:
       return "--device";
+    default:
+      return settingName(setting);  // "method", "BRDF technique", ...: the panel's own labels
   }
-  return settingName(setting);
 }
 
 }  // namespace
