@@ -15,7 +15,8 @@ struct CameraSpec {
   double zoom = 1.0;          // > 0: the image half-height covers 1/zoom world units
 };
 
-// Throws iblx::Error naming the flag (--orbit, --zoom) when a value is out of range or not finite.
+// Throws a SettingError (the orbit or the zoom, engine/core/setting.h) when a value is out of range or not
+// finite.
 void checkCamera(const CameraSpec& camera);
 
 // The camera's orthonormal frame in world space: image x along `right`, image y along `up`; the camera looks

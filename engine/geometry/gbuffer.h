@@ -51,7 +51,7 @@ std::string objectNameList();
 // sphere) or a path ending in .obj (loadObjMesh). Throws iblx::Error for an unknown name or a bad file.
 TriMesh loadObjectMesh(const std::string& object);
 
-// The G-buffer of --object NAME|FILE seen by `camera`. Throws iblx::Error listing the valid names otherwise.
+// The G-buffer of --object NAME|FILE seen by `camera`. Throws a SettingError listing the valid names otherwise.
 GBuffer makeGBuffer(const std::string& object, const CameraSpec& camera, int width, int height);
 
 }  // namespace iblx

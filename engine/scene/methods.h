@@ -43,7 +43,7 @@ struct BrdfInfo {
   std::string description;
   std::string evalPart;  // shaders/ path implementing interfaces/brdf.glsl
   std::vector<ParamDecl> params;
-  std::string bestSampler;  // BRDF technique used when --brdf-sampler is not given
+  std::string bestSampler;  // BRDF technique used when the method spec names none
   // Angular width (radians) of the narrowest lobe of the scene's BRDF; 0 when the BRDF is smooth.
   // The reference uses it to refine its quadrature around the mirror direction.
   std::function<double(const Scene&, const GpuServices&)> lobeWidth;
@@ -94,7 +94,7 @@ struct MethodInfo {
   std::string name;
   std::string description;
   Strategy strategy;
-  // Fixed env technique of SingleEnv and the product methods; MIS and RIS take --env-sampler.
+  // Fixed env technique of SingleEnv and the product methods; MIS and RIS take the spec's env technique.
   std::string envTechnique;
   // The env technique's tables with more that the strategy reads, built in place of the technique's own
   // (the product strategies add their node tables to env-hier's); null = the technique's build.

@@ -94,7 +94,7 @@ struct ResolvedMethod {
   const EnvTechniqueInfo* envTechnique = nullptr;    // null when the strategy needs none
   const BrdfTechniqueInfo* brdfTechnique = nullptr;  // null when the strategy needs none
   const SequenceInfo* sequence = nullptr;
-  bool misOneSample = false;    // mis: one-sample MIS (--mis-split) instead of two-sample MIS
+  bool misOneSample = false;    // mis: one-sample MIS (a MIS split given) instead of two-sample MIS
   float misEnvFraction = 0.5f;  // one-sample MIS: the env technique's share of samples
   bool misPower = false;
   uint32_t risCandidates = 8;
