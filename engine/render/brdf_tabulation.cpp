@@ -3,6 +3,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
+#include "engine/io/utia.h"
 #include "engine/render/kernel_assembly.h"
 #include "engine/render/scene_gpu.h"
 #include "engine/scene/brdf_params.h"
@@ -216,6 +217,23 @@ MerlSynthResult tabulateMerl(const VulkanContext& context, ShaderCompiler& compi
     for (int c = 0; c < 3; ++c) result.values[std::size_t(c) * kMerlBins + bin] = invalid ? -1.0 : f[bin][c];
   }
   return result;
+}
+
+std::vector<double> tabulateUtia(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene) {
+  std::vector<glm::dvec3> wi(kUtiaEntries), wo(kUtiaEntries);
+  for (int ti = 0; ti < kUtiaThetaSteps; ++ti)
+    for (int pi = 0; pi < kUtiaPhiSteps; ++pi)
+      for (int tv = 0; tv < kUtiaThetaSteps; ++tv)
+        for (int pv = 0; pv < kUtiaPhiSteps; ++pv) {
+          const std::size_t index = utiaIndex(ti, pi, tv, pv);
+          wi[index] = utiaDirection(ti, pi);  // theta at most 75 deg: always above the horizon
+          wo[index] = utiaDirection(tv, pv);
+        }
+  const std::vector<glm::dvec3> f = evaluateBrdf(context, compiler, scene, wi, wo);
+  std::vector<double> values(3 * kUtiaEntries);
+  for (std::size_t index = 0; index < kUtiaEntries; ++index)
+    for (int c = 0; c < 3; ++c) values[std::size_t(c) * kUtiaEntries + index] = f[index][c];
+  return values;
 }
 
 std::shared_ptr<const MerlTableData> VulkanServices::tabulateBrdf(const Scene& scene) const {

@@ -76,4 +76,8 @@ struct MerlSynthResult {
 MerlSynthResult tabulateMerl(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                              const MerlSynthOptions& options = {});
 
+// A BRDF tabulated in UTIA's .bin layout (engine/io/utia.h): its values at every grid pair of (theta_i,
+// phi_i) x (theta_v, phi_v), planar, as writeUtia stores them.
+std::vector<double> tabulateUtia(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene);
+
 }  // namespace iblx

@@ -9,6 +9,7 @@
 #include "engine/core/log.h"
 #include "engine/io/brdf_file.h"
 #include "engine/scene/analytic_brdf.h"
+#include "engine/scene/utia_brdf.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/merl_sampling.h"
 #include "engine/scene/brdf_params.h"
@@ -61,6 +62,14 @@ double MeasuredBrdf::lobeWidth() const {
 }
 
 LoadedBrdf loadBrdfArgument(const std::string& nameOrPath) {
+  // Files are recognised by their content where their layout allows it: a UTIA .bin has no header but a
+  // fixed size, whatever its name.
+  const std::string extension = std::filesystem::path(nameOrPath).extension().string();
+  if (extension == ".bin" || (extension != ".brdf" && extension != ".bparam" && looksLikeUtia(nameOrPath))) {
+    if (!std::filesystem::exists(nameOrPath))
+      throw SettingError(Setting::Brdf, "", " " + nameOrPath + ": no such file");
+    return {makeUtiaBrdf(loadUtia(nameOrPath), nameOrPath), nullptr, nameOrPath};
+  }
   if (const BrdfInfo* registered = findBrdfForArgument(nameOrPath)) {
     LoadedBrdf loaded;
     loaded.info =
@@ -123,9 +132,22 @@ LoadedBrdf loadBrdfArgument(const std::string& nameOrPath) {
     } catch (const Error& e) {
       throw asBparamError(e);
     }
-    for (const BrdfFileParam& saved : file.params)
-      warn(nameOrPath + ":" + std::to_string(saved.line) + ": " + source + " has no parameters; '" +
-           saved.decl.name + "' is ignored");
+    // A measured file's parameters (a UTIA file's colour convention) take the saved values, by name.
+    auto info = std::make_shared<BrdfInfo>(*loaded.info);
+    for (const BrdfFileParam& saved : file.params) {
+      auto it = std::find_if(info->params.begin(), info->params.end(),
+                             [&](const ParamDecl& p) { return p.name == saved.decl.name; });
+      if (it == info->params.end() || it->type != saved.decl.type) {
+        warn(nameOrPath + ":" + std::to_string(saved.line) + ": " + source + " has no " +
+             (it == info->params.end() ? "parameter" : "parameter of that type") + " '" + saved.decl.name +
+             "'; its saved value is ignored");
+        continue;
+      }
+      for (int c = 0; c < (it->type == ParamType::Color ? 3 : 1); ++c)
+        it->defaultValue[std::size_t(c)] =
+            std::clamp(saved.decl.defaultValue[std::size_t(c)], it->min, it->max);
+    }
+    if (!file.params.empty()) loaded.info = std::move(info);
   }
   return loaded;
 }

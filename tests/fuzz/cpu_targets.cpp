@@ -10,6 +10,7 @@
 #include "engine/io/env_image.h"
 #include "engine/io/image_write.h"
 #include "engine/io/merl.h"
+#include "engine/io/utia.h"
 #include "engine/io/reference_cache.h"
 #include "engine/sampling/ot_cache.h"
 #include "tests/io/exr_encoder.h"
@@ -174,6 +175,32 @@ std::vector<Bytes> merlSeeds() {
   return {expanded, shortFile, withPrefix({0}, merlHeader())};
 }
 
+// ---- UTIA .bin -------------------------------------------------------------------------------------------
+
+// Input byte 0 selects the layout: 1 repeats the rest to fill a full-size file (UTIA has no header: only a
+// file of the exact size reaches the value checks); anything else writes the rest as it is (the size check).
+void runUtia(std::span<const std::uint8_t> input) {
+  if (!input.empty() && input[0] == 1 && input.size() > 1) {
+    Bytes file(kUtiaFileBytes);
+    const auto pattern = input.subspan(1);
+    for (std::size_t at = 0; at < file.size(); at += pattern.size())
+      std::copy_n(pattern.begin(), std::min(pattern.size(), file.size() - at),
+                  file.begin() + std::ptrdiff_t(at));
+    loadUtia(writeScratchFile("input.bin", file));
+    return;
+  }
+  loadUtia(writeScratchFile("input.bin", input.empty() ? input : input.subspan(1)));
+}
+
+std::vector<Bytes> utiaSeeds() {
+  Bytes pattern;
+  for (double v : {0.5, 1.0, -1.0, 2.5, 0.0, 1e20}) {
+    const auto bits = std::bit_cast<std::array<std::uint8_t, 8>>(v);
+    pattern.insert(pattern.end(), bits.begin(), bits.end());
+  }
+  return {withPrefix({1}, pattern), withPrefix({0}, pattern)};
+}
+
 // ---- BRDF Explorer .brdf / .bparam ----------------------------------------------------------------------
 
 constexpr std::string_view kBrdfSeed = R"(analytic
@@ -330,6 +357,7 @@ std::vector<FuzzTarget> cpuFuzzTargets() {
       {"hdr", "Radiance .hdr environment map (loadEnvImage)", runHdr, hdrSeeds},
       // One input in three or so expands to a 35 MB file.
       {"merl", "MERL .binary measured BRDF (loadMerl)", runMerl, merlSeeds, 8.0},
+      {"utia", "UTIA .bin measured BRDF (loadUtia)", runUtia, utiaSeeds},
       {"brdf", "BRDF Explorer .brdf file (readBrdfFile)", runBrdf, brdfSeeds},
       {"bparam", "BRDF Explorer .bparam file (readBrdfFile)", runBparam, bparamSeeds},
       {"obj", "Wavefront OBJ mesh (readObj)", runObj, objSeeds},

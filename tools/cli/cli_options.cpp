@@ -8,6 +8,7 @@
 #include "engine/core/log.h"
 #include "tools/cli/registry_listing.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -119,8 +120,8 @@ void addSceneFlags(ArgParser& p, RenderSpec& s) {
   });
   p.value(
       "--brdf", "NAME|FILE",
-      "built-in BRDF (lambert | ggx, default ggx), a BRDF Explorer .brdf / .bparam file, or a MERL .binary "
-      "file",
+      "built-in BRDF (lambert | ggx, default ggx), a BRDF Explorer .brdf / .bparam file, a MERL .binary or a "
+      "UTIA .bin file",
       [&](const std::string& v) { s.scene.brdf = v; });
   addParamFlag(p, s.scene.params);
   p.value("--object", "NAME|FILE", objectNameList() + " (default sphere), or an .obj file",
@@ -270,10 +271,15 @@ ResolvedMethod resolveMethodAndWarn(const MethodSpec& spec, const BrdfInfo& brdf
 
 void printRegistry(const RenderSpec& spec) {
   std::fputs(describeRegistry().c_str(), stdout);
-  if (spec.scene.brdf != SceneSpec{}.brdf && !findBrdfForArgument(spec.scene.brdf)) {
-    std::printf("--brdf %s:\n", spec.scene.brdf.c_str());
-    std::fputs(describeBrdf(*loadBrdfArgument(spec.scene.brdf).info).c_str(), stdout);
-  }
+  if (spec.scene.brdf == SceneSpec{}.brdf) return;
+  // A BRDF made from a file (a .brdf, a .bparam, a UTIA file) is not in the listing above: it follows.
+  const LoadedBrdf loaded = loadBrdfArgument(spec.scene.brdf);
+  const auto registry = brdfRegistry();
+  if (std::any_of(registry.begin(), registry.end(),
+                  [&](const BrdfInfo& b) { return &b == loaded.info.get(); }))
+    return;
+  std::printf("--brdf %s:\n", spec.scene.brdf.c_str());
+  std::fputs(describeBrdf(*loaded.info).c_str(), stdout);
 }
 
 std::pair<long long, long long> parsePixel(const std::string& flag, const std::string& text) {

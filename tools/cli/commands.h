@@ -15,6 +15,7 @@ int cmdDevices(const Args& args);
 int cmdMakeSky(const Args& args);
 int cmdMakeTeapot(const Args& args);
 int cmdMerlSynth(const Args& args);
+int cmdMeasuredSynth(const Args& args);
 int cmdConverge(const Args& args);
 int cmdHardCases(const Args& args);
 int cmdSamples(const Args& args);

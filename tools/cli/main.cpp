@@ -26,7 +26,8 @@ constexpr const char* kUsage =
     "  devices     list the Vulkan devices and whether iblx can use them\n"
     "  make-sky    write the procedural sky used as the default environment map\n"
     "  make-teapot tessellate the Utah teapot's Bezier patches into an .obj (assets/teapot.obj)\n"
-    "  merl-synth  tabulate a BRDF into a MERL .binary file (synthetic measured materials)\n";
+    "  merl-synth  tabulate a BRDF into a MERL .binary file (synthetic measured materials)\n"
+    "  measured-synth  tabulate a BRDF into a measured format: UTIA .bin or MERL .binary\n";
 
 }  // namespace
 
@@ -51,6 +52,7 @@ int main(int argc, char** argv) {
     if (command == "make-sky") return cmdMakeSky(args);
     if (command == "make-teapot") return cmdMakeTeapot(args);
     if (command == "merl-synth") return cmdMerlSynth(args);
+    if (command == "measured-synth") return cmdMeasuredSynth(args);
     std::fprintf(stderr, "iblx: unknown command '%s'\n%s", command.c_str(), kUsage);
     return 2;
   } catch (const iblx::Interrupted& e) {

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Measured formats beyond MERL: load time and equal-time error of the BRDF techniques on UTIA fixtures written
+# by `iblx measured-synth` (BRDF Explorer's anisotropic Ward, and GGX alpha = 0.3 metal) under the default
+# environment; for each method, the MSE and relMSE over object pixels after the same wall time, median over
+# seeds.
+# Usage: tools/bench_measured.sh [SECONDS_PER_RUN (default 10)] [SEEDS (default 3)] [SIZE (default 128)]
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+iblx="$root/build/iblx"
+seconds="${1:-10}"
+seeds="${2:-3}"
+size="${3:-128}"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+"$iblx" measured-synth --format utia --brdf "$root/assets/brdf/ward.brdf" --out "$work/ward.bin" > /dev/null
+"$iblx" measured-synth --format utia --brdf ggx --param roughness=0.3 --param metallic=1 --out "$work/ggx.bin" > /dev/null
+
+# shellcheck source=tools/bench_common.sh
+source "$(dirname "$0")/bench_common.sh"
+
+# Load time: --list-methods with the file against the same with a built-in BRDF (both start the process and
+# print the registry), median of 5.
+elapsed() { local s; s=$(date +%s.%N); "$@" > /dev/null 2>&1; awk -v s="$s" -v e="$(date +%s.%N)" 'BEGIN {print e - s}'; }
+for k in 1 2 3 4 5; do elapsed "$iblx" render --list-methods --brdf "$work/ward.bin"; done | median > "$work/file"
+for k in 1 2 3 4 5; do elapsed "$iblx" render --list-methods --brdf lambert; done | median > "$work/builtin"
+echo "UTIA load (1,990,656 bytes, checked and converted): $(awk -v f="$(cat "$work/file")" -v b="$(cat "$work/builtin")" 'BEGIN {printf "%.1f ms", 1000 * (f - b)}') (median of 5, process start subtracted)"
+
+methods=(
+  "brdf --brdf-sampler cosine"
+  "brdf --brdf-sampler brdf-tab"
+  "env-cdf"
+  "mis --env-sampler env-cdf --brdf-sampler brdf-tab"
+)
+for material in ward ggx; do
+  brdf="$work/$material.bin"
+  "$iblx" reference --brdf "$brdf" --size "${size}x${size}" --out "$work/$material-ref.exr" > /dev/null 2>&1
+  echo "== UTIA $material under the default sky, ${size}x${size}, ${seconds} s per run, median of $seeds seeds"
+  printf '%-55s %10s %12s %12s\n' "method" "spp" "MSE" "relMSE"
+  for m in "${methods[@]}"; do
+    : > "$work/runs"
+    for seed in $(seq 1 "$seeds"); do
+      # shellcheck disable=SC2086
+      "$iblx" render --brdf "$brdf" --method $m --size "${size}x${size}" --spp 8 --time "$seconds" --seed "$seed" \
+        --reference-file "$work/$material-ref.exr" --json --out "$work/out.exr" 2>/dev/null >> "$work/runs"
+    done
+    printf '%-55s %10s %12s %12s\n' "$(head -1 "$work/runs" | sed -E 's/.*"method": "([^"]*)".*/\1/')" \
+      "$(field spp < "$work/runs" | median)" "$(field mse < "$work/runs" | median)" \
+      "$(field relmse < "$work/runs" | median)"
+  done
+done
