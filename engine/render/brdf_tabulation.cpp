@@ -3,6 +3,7 @@
 
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
+#include "engine/io/mit_brdf.h"
 #include "engine/io/utia.h"
 #include "engine/render/kernel_assembly.h"
 #include "engine/render/scene_gpu.h"
@@ -233,6 +234,25 @@ std::vector<double> tabulateUtia(const VulkanContext& context, ShaderCompiler& c
   std::vector<double> values(3 * kUtiaEntries);
   for (std::size_t index = 0; index < kUtiaEntries; ++index)
     for (int c = 0; c < 3; ++c) values[std::size_t(c) * kUtiaEntries + index] = f[index][c];
+  return values;
+}
+
+std::vector<float> tabulateMit(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                               const MitDims& dims) {
+  const std::size_t bins = dims.bins();
+  std::vector<glm::dvec3> wi(bins), wo(bins);
+  for (int ti = 0; ti < dims.thetaIn; ++ti)
+    for (int to = 0; to < dims.thetaOut; ++to)
+      for (int pd = 0; pd < dims.phiDiff; ++pd)
+        for (int pi = 0; pi < dims.phiIn; ++pi) {
+          const std::size_t index = dims.index(ti, to, pd, pi);
+          const MitDirectionPair pair = mitBinCenter(dims, ti, to, pd, pi);  // bin centres: above the horizon
+          wi[index] = pair.wi, wo[index] = pair.wo;
+        }
+  const std::vector<glm::dvec3> f = evaluateBrdf(context, compiler, scene, wi, wo);
+  std::vector<float> values(3 * bins);
+  for (std::size_t index = 0; index < bins; ++index)
+    for (int c = 0; c < 3; ++c) values[std::size_t(c) * bins + index] = float(f[index][c]);
   return values;
 }
 

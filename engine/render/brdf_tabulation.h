@@ -3,6 +3,7 @@
 // evaluations with CPU ones.
 #pragma once
 
+#include "engine/io/mit_brdf.h"
 #include "engine/scene/scene.h"
 #include "engine/vk/context.h"
 #include "engine/sampling/merl_sampling.h"
@@ -79,5 +80,10 @@ MerlSynthResult tabulateMerl(const VulkanContext& context, ShaderCompiler& compi
 // A BRDF tabulated in UTIA's .bin layout (engine/io/utia.h): its values at every grid pair of (theta_i,
 // phi_i) x (theta_v, phi_v), planar, as writeUtia stores them.
 std::vector<double> tabulateUtia(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene);
+
+// A BRDF tabulated in MIT CSAIL's .dat layout (engine/io/mit_brdf.h) at every bin centre of `dims`, planar,
+// as writeMitBrdf stores them.
+std::vector<float> tabulateMit(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                               const MitDims& dims);
 
 }  // namespace iblx

@@ -200,7 +200,7 @@ const BrdfInfo* findBrdfForArgument(const std::string& nameOrPath) {
                                b.fileExtension + " file");
       valid += ", a " + b.fileExtension + " file (" + b.name + ")";
     }
-  valid += ", a UTIA .bin file, a .brdf or .bparam file (BRDF Explorer)";
+  valid += ", a UTIA .bin or MIT .dat file, a .brdf or .bparam file (BRDF Explorer)";
   throw SettingError(Setting::Brdf, "unknown ", " '" + nameOrPath + "'; valid: " + valid);
 }
 const EnvTechniqueInfo& findEnvTechnique(const std::string& name) {

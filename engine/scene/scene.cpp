@@ -9,7 +9,7 @@
 #include "engine/core/log.h"
 #include "engine/io/brdf_file.h"
 #include "engine/scene/analytic_brdf.h"
-#include "engine/scene/utia_brdf.h"
+#include "engine/scene/measured_brdfs.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/merl_sampling.h"
 #include "engine/scene/brdf_params.h"
@@ -63,12 +63,19 @@ double MeasuredBrdf::lobeWidth() const {
 
 LoadedBrdf loadBrdfArgument(const std::string& nameOrPath) {
   // Files are recognised by their content where their layout allows it: a UTIA .bin has no header but a
-  // fixed size, whatever its name.
+  // fixed size, an MIT .dat a header; whatever their names.
   const std::string extension = std::filesystem::path(nameOrPath).extension().string();
-  if (extension == ".bin" || (extension != ".brdf" && extension != ".bparam" && looksLikeUtia(nameOrPath))) {
+  const bool explorerFile = extension == ".brdf" || extension == ".bparam";
+  if (extension == ".bin" || (!explorerFile && looksLikeUtia(nameOrPath))) {
     if (!std::filesystem::exists(nameOrPath))
       throw SettingError(Setting::Brdf, "", " " + nameOrPath + ": no such file");
     return {makeUtiaBrdf(loadUtia(nameOrPath), nameOrPath), nullptr, nameOrPath};
+  }
+  // An MIT .dat starts with a header of its own, checked field by field.
+  if (extension == ".dat" || (!explorerFile && looksLikeMitBrdf(nameOrPath))) {
+    if (!std::filesystem::exists(nameOrPath))
+      throw SettingError(Setting::Brdf, "", " " + nameOrPath + ": no such file");
+    return {makeMitBrdf(loadMitBrdf(nameOrPath), nameOrPath), nullptr, nameOrPath};
   }
   if (const BrdfInfo* registered = findBrdfForArgument(nameOrPath)) {
     LoadedBrdf loaded;

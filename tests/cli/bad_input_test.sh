@@ -148,8 +148,19 @@ head -c 1000 "$tmp/lambert.bin" > "$tmp/truncated.bin"
 expect_error "truncated utia file" "truncated UTIA file: 1000 bytes" render --brdf "$tmp/truncated.bin" --out "$tmp/b.png"
 expect_error "missing utia file" "none.bin: no such file" render --brdf "$tmp/none.bin" --out "$tmp/b.png"
 expect_error "utia params" "has no parameter 'roughness'" render --brdf "$tmp/lambert.bin" --param roughness=0.1
-expect_error "measured-synth format" "--format bogus: unknown; valid: utia, merl" measured-synth --format bogus --out "$tmp/c.bin"
+expect_error "measured-synth format" "--format bogus: unknown; valid: utia, mit, merl" measured-synth --format bogus --out "$tmp/c.bin"
 expect_error "measured-synth extension" "must end in .bin" measured-synth --out "$tmp/c.binary"
+# MIT CSAIL .dat materials: recognised by their header whatever their name.
+expect_ok "measured-synth mit" measured-synth --format mit --brdf lambert --param albedo=0.5 --out "$tmp/lambert.dat"
+[ "$(stat -c %s "$tmp/lambert.dat" 2>/dev/null)" = 10077760 ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: measured-synth mit file size"; }
+expect_ok "mit render" render --brdf "$tmp/lambert.dat" --param scale=2 --size 8x8 --spp 2 --passes 1 --out "$tmp/d.png"
+cp "$tmp/lambert.dat" "$tmp/lambert-mit.measured"
+expect_ok "mit recognised by its header" render --brdf "$tmp/lambert-mit.measured" --size 8x8 --spp 2 --passes 1 --out "$tmp/d.png"
+head -c 100000 "$tmp/lambert.dat" > "$tmp/truncated.dat"
+expect_error "truncated mit file" "truncated MIT .dat file: 100000 bytes, expected 10077760" render --brdf "$tmp/truncated.dat" --out "$tmp/b.png"
+{ printf '\22\0\0\0\22\0\0\0\110\0\0\0\44\0\0\0\0\0\0\0\0\0\0\0\2\0\0\0'; tail -c +29 "$tmp/lambert.dat"; } > "$tmp/param.dat"
+expect_error "mit header" "header field 6 (parameterisation) is 2, expected 1" render --brdf "$tmp/param.dat" --out "$tmp/b.png"
+expect_error "missing mit file" "none.dat: no such file" render --brdf "$tmp/none.dat" --out "$tmp/b.png"
 expect_error "merl-synth extension" "must end in .binary" merl-synth --out "$tmp/c.bin"
 expect_error "merl-synth fraction" "--invalid-fraction" merl-synth --invalid-fraction 2 --out "$tmp/c.binary"
 warning=$("$iblx" merl-synth --brdf lambert --seed 3 --out "$tmp/seed.binary" 2>&1 >/dev/null)

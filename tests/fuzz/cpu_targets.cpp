@@ -10,6 +10,7 @@
 #include "engine/io/env_image.h"
 #include "engine/io/image_write.h"
 #include "engine/io/merl.h"
+#include "engine/io/mit_brdf.h"
 #include "engine/io/utia.h"
 #include "engine/io/reference_cache.h"
 #include "engine/sampling/ot_cache.h"
@@ -201,6 +202,24 @@ std::vector<Bytes> utiaSeeds() {
   return {withPrefix({1}, pattern), withPrefix({0}, pattern)};
 }
 
+// ---- MIT CSAIL .dat -------------------------------------------------------------------------------------
+
+void runMit(std::span<const std::uint8_t> input) {
+  loadMitBrdf(writeScratchFile("input.dat", input));
+}
+
+std::vector<Bytes> mitSeeds() {
+  const auto file = [](const MitDims& dims, float value) {
+    const auto path = std::filesystem::temp_directory_path() / "iblx-fuzz-mit-seed.dat";
+    writeMitBrdf(path, dims, std::vector<float>(3 * dims.bins(), value));
+    std::ifstream in(path, std::ios::binary);
+    Bytes bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    std::filesystem::remove(path);
+    return bytes;
+  };
+  return {file({2, 2, 4, 4, false}, 0.5f), file({3, 1, 2, 2, true}, -1.0f), file({1, 1, 1, 1, false}, 2.0f)};
+}
+
 // ---- BRDF Explorer .brdf / .bparam ----------------------------------------------------------------------
 
 constexpr std::string_view kBrdfSeed = R"(analytic
@@ -358,6 +377,7 @@ std::vector<FuzzTarget> cpuFuzzTargets() {
       // One input in three or so expands to a 35 MB file.
       {"merl", "MERL .binary measured BRDF (loadMerl)", runMerl, merlSeeds, 8.0},
       {"utia", "UTIA .bin measured BRDF (loadUtia)", runUtia, utiaSeeds},
+      {"mit", "MIT CSAIL .dat measured BRDF (loadMitBrdf)", runMit, mitSeeds},
       {"brdf", "BRDF Explorer .brdf file (readBrdfFile)", runBrdf, brdfSeeds},
       {"bparam", "BRDF Explorer .bparam file (readBrdfFile)", runBparam, bparamSeeds},
       {"obj", "Wavefront OBJ mesh (readObj)", runObj, objSeeds},

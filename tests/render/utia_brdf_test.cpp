@@ -1,4 +1,4 @@
-// UTIA files as BRDFs (engine/scene/utia_brdf.h): recognised by their content whatever their name, their
+// UTIA files as BRDFs (engine/scene/measured_brdfs.h): recognised by their content whatever their name, their
 // colour convention as parameters, and a .bparam that saves it.
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
@@ -6,7 +6,7 @@
 #include "engine/io/utia.h"
 #include "engine/scene/brdf_params.h"
 #include "engine/scene/scene.h"
-#include "engine/scene/utia_brdf.h"
+#include "engine/scene/measured_brdfs.h"
 
 #include <doctest/doctest.h>
 

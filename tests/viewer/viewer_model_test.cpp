@@ -92,7 +92,8 @@ TEST_CASE("viewer model: a file it cannot open is an error naming it, and the sc
   const auto scene = model.scene();
   model.openFile("notes.txt");
   CHECK(model.error() ==
-        "notes.txt: not an environment (.exr, .hdr), BRDF (.brdf, .binary, .bin, .bparam) or object (.obj)");
+        "notes.txt: not an environment (.exr, .hdr), BRDF (.brdf, .binary, .bin, .dat, .bparam) or object "
+        "(.obj)");
   CHECK(model.scene() == scene);
 }
 

@@ -120,8 +120,8 @@ void addSceneFlags(ArgParser& p, RenderSpec& s) {
   });
   p.value(
       "--brdf", "NAME|FILE",
-      "built-in BRDF (lambert | ggx, default ggx), a BRDF Explorer .brdf / .bparam file, a MERL .binary or a "
-      "UTIA .bin file",
+      "built-in BRDF (lambert | ggx, default ggx), a BRDF Explorer .brdf / .bparam file, a MERL .binary, a "
+      "UTIA .bin or an MIT .dat file",
       [&](const std::string& v) { s.scene.brdf = v; });
   addParamFlag(p, s.scene.params);
   p.value("--object", "NAME|FILE", objectNameList() + " (default sphere), or an .obj file",

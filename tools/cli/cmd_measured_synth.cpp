@@ -1,8 +1,10 @@
 // `iblx measured-synth`: tabulates any BRDF (a built-in, a .brdf file, another measured file) into a measured
-// format (UTIA .bin, MERL .binary), evaluating its GLSL part on the GPU at the format's grid, so tests and
-// benchmarks have files of every format with known answers (the project ships no foreign measured data).
+// format (UTIA .bin, MIT CSAIL .dat, MERL .binary), evaluating its GLSL part on the GPU at the format's grid,
+// so tests and benchmarks have files of every format with known answers (the project ships no foreign
+// measured data).
 #include "engine/core/error.h"
 #include "engine/io/merl.h"
+#include "engine/io/mit_brdf.h"
 #include "engine/io/utia.h"
 #include "engine/render/brdf_tabulation.h"
 #include "tools/cli/cli_options.h"
@@ -19,19 +21,20 @@ int cmdMeasuredSynth(const Args& args) {
   std::string out;
   ArgParser parser("measured-synth");
   parser.value("--format", "NAME",
-               "utia (.bin: 6 x 48 x 6 x 48 anisotropic grid, the default) or merl (.binary)",
+               "utia (.bin: a 6 x 48 x 6 x 48 anisotropic grid, the default), mit (.dat: 18 theta_in x 18 "
+               "theta_out x 72 phi_diff x 36 phi_in bins) or merl (.binary)",
                [&](const std::string& v) { format = v; });
   parser.value("--brdf", "NAME|FILE",
                "BRDF to tabulate: any --brdf argument, measured files included (default ggx)",
                [&](const std::string& v) { spec.scene.brdf = v; });
   addParamFlag(parser, spec.scene.params);
-  parser.value("--out", "FILE", "output file (default material.bin, or material.binary for merl)",
+  parser.value("--out", "FILE", "output file (default material.bin, .dat or .binary by format)",
                [&](const std::string& v) { out = v; });
   addDeviceFlags(parser, spec);
   if (parser.parseOrShowHelp(args)) return 0;
-  if (format != "utia" && format != "merl")
-    throw Error("--format " + format + ": unknown; valid: utia, merl");
-  const std::string extension = format == "utia" ? ".bin" : ".binary";
+  if (format != "utia" && format != "mit" && format != "merl")
+    throw Error("--format " + format + ": unknown; valid: utia, mit, merl");
+  const std::string extension = format == "utia" ? ".bin" : format == "mit" ? ".dat" : ".binary";
   if (out.empty()) out = "material" + extension;
   if (std::filesystem::path(out).extension() != extension)
     throw Error("--out " + out + ": a " + format + " file must end in " + extension);
@@ -50,6 +53,10 @@ int cmdMeasuredSynth(const Args& args) {
   if (format == "utia") {
     writeUtia(out, tabulateUtia(context, compiler, scene));
     entries = kUtiaEntries;
+  } else if (format == "mit") {
+    const MitDims dims{18, 18, 72, 36, false};
+    writeMitBrdf(out, dims, tabulateMit(context, compiler, scene, dims));
+    entries = dims.bins();
   } else {
     writeMerl(out, tabulateMerl(context, compiler, scene).values);
     entries = kMerlBins;

@@ -114,13 +114,13 @@ void ViewerModel::openFile(const std::filesystem::path& path) {
   SceneSpec next = options_.scene;
   if (ext == ".exr" || ext == ".hdr")
     next.envPath = path;
-  else if (ext == ".brdf" || ext == ".binary" || ext == ".bin" || ext == ".bparam")
+  else if (ext == ".brdf" || ext == ".binary" || ext == ".bin" || ext == ".dat" || ext == ".bparam")
     next.brdf = path.string(), next.params.clear();
   else if (ext == ".obj")
     next.object = path.string();
   else {
     error_ = path.string() +
-             ": not an environment (.exr, .hdr), BRDF (.brdf, .binary, .bin, .bparam) or object (.obj)";
+             ": not an environment (.exr, .hdr), BRDF (.brdf, .binary, .bin, .dat, .bparam) or object (.obj)";
     return;
   }
   startLoad(next, path.filename().string());

@@ -279,7 +279,7 @@ void ViewerPanels::drawSceneSection(ViewerModel& model) {
   if (ImGui::Combo("object", &object, kObjectNames, objectCount)) model.setObject(kObjectNames[object]);
   if (ImGui::Button("open environment...")) browser_.open("environment map", {".exr", ".hdr"});
   ImGui::SameLine();
-  if (ImGui::Button("open BRDF...")) browser_.open("BRDF", {".brdf", ".binary", ".bin", ".bparam"});
+  if (ImGui::Button("open BRDF...")) browser_.open("BRDF", {".brdf", ".binary", ".bin", ".dat", ".bparam"});
   ImGui::SameLine();
   if (ImGui::Button("open OBJ...")) browser_.open("object", {".obj"});
   if (const auto file = browser_.draw()) model.openFile(*file);

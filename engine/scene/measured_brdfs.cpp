@@ -1,0 +1,65 @@
+// UTIA files as BRDFs (utia_brdf.h).
+#include "engine/scene/measured_brdfs.h"
+
+#include "engine/sampling/technique_data.h"
+
+namespace iblx {
+
+std::shared_ptr<const BrdfInfo> makeUtiaBrdf(UtiaBrdf brdf, const std::filesystem::path& file) {
+  auto table = std::make_shared<const std::vector<float>>(std::move(brdf.rgb));
+  auto info = std::make_shared<BrdfInfo>();
+  info->name = file.stem().string();
+  info->description = "UTIA measured anisotropic BRDF " + file.string() +
+                      " (6 theta x 48 phi per direction, RGB; quadrilinear lookup)";
+  info->evalPart = "brdf/utia.glsl";
+  info->params = {
+      {"prescale", ParamType::Float, 0.0, 1e6, {1.0, 0, 0}, "stored values are multiplied by this first"},
+      {"srgb", ParamType::Bool, 0.0, 1.0, {0.0, 0, 0}, "then decoded from sRGB to linear (1) or kept (0)"},
+      {"scale", ParamType::Float, 0.0, 1e6, {1.0, 0, 0}, "then multiplied by this, giving 1/sr"}};
+  info->bestSampler = "brdf-tab";
+  info->lobeWidth = [](const Scene& scene, const GpuServices& gpu) { return gpu.measureLobeWidth(scene); };
+  info->data = [table](const Scene&) {
+    TechniqueData data;
+    data.add("utiaRgb", *table);
+    return data;
+  };
+  return info;
+}
+
+std::shared_ptr<const BrdfInfo> makeMitBrdf(MitBrdf brdf, const std::filesystem::path& file) {
+  const MitDims dims = brdf.dims;
+  auto table = std::make_shared<const std::vector<float>>(std::move(brdf.rgb));
+  auto info = std::make_shared<BrdfInfo>();
+  info->name = file.stem().string();
+  info->description = "MIT CSAIL measured anisotropic BRDF " + file.string() + " (" +
+                      std::to_string(dims.thetaIn) + " theta_in x " + std::to_string(dims.thetaOut) +
+                      " theta_out x " + std::to_string(dims.phiDiff) + " phi_diff" +
+                      (dims.halfData ? " over [0, pi]" : "") + " x " + std::to_string(dims.phiIn) +
+                      " phi_in bins, RGB; nearest bin)";
+  info->evalPart = "brdf/mit.glsl";
+  info->params = {{"scale",
+                   ParamType::Float,
+                   0.0,
+                   1e6,
+                   {1.0, 0, 0},
+                   "stored values are multiplied by this, giving 1/sr (BRDF Explorer shows them x 10)"}};
+  info->bestSampler = "brdf-tab";
+  info->lobeWidth = [](const Scene& scene, const GpuServices& gpu) { return gpu.measureLobeWidth(scene); };
+  info->data = [table, dims](const Scene&) {
+    TechniqueData data;
+    data.add("mitRgb", *table);
+    data.define("MIT_THETA_IN", std::uint32_t(dims.thetaIn));
+    data.define("MIT_THETA_OUT", std::uint32_t(dims.thetaOut));
+    data.define("MIT_PHI_DIFF", std::uint32_t(dims.phiDiff));
+    data.define("MIT_PHI_IN", std::uint32_t(dims.phiIn));
+    data.define("MIT_HALF_DATA", dims.halfData ? "1" : "0");
+    return data;
+  };
+  return info;
+}
+
+UtiaConvention utiaConvention(const ParamValues& values) {
+  return {values.at("prescale")[0], values.at("srgb")[0] != 0.0, values.at("scale")[0]};
+}
+
+}  // namespace iblx
