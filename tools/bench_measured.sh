@@ -43,14 +43,7 @@ for material in ward.bin ggx.bin ward.dat; do
   echo "== $material under the default sky, ${size}x${size}, ${seconds} s per run, median of $seeds seeds"
   printf '%-55s %10s %12s %12s\n' "method" "spp" "MSE" "relMSE"
   for m in "${methods[@]}"; do
-    : > "$work/runs"
-    for seed in $(seq 1 "$seeds"); do
-      # shellcheck disable=SC2086
-      "$iblx" render --brdf "$brdf" --method $m --size "${size}x${size}" --spp 8 --time "$seconds" --seed "$seed" \
-        --reference-file "$work/$material-ref.exr" --json --out "$work/out.exr" 2>/dev/null >> "$work/runs"
-    done
-    printf '%-55s %10s %12s %12s\n' "$(head -1 "$work/runs" | sed -E 's/.*"method": "([^"]*)".*/\1/')" \
-      "$(field spp < "$work/runs" | median)" "$(field mse < "$work/runs" | median)" \
-      "$(field relmse < "$work/runs" | median)"
+    equal_time_row "$work" "$seeds" "$m" --brdf "$brdf" --size "${size}x${size}" --spp 8 --time "$seconds" \
+      --reference-file "$work/$material-ref.exr"
   done
 done

@@ -35,14 +35,7 @@ for material in glossy diffuse; do
        "(reference $(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN {printf "%.1f", e - s}') s)"
   printf '%-55s %10s %12s %12s\n' "method" "spp" "MSE" "relMSE"
   for m in "${methods[@]}"; do
-    : > "$work/runs"
-    for seed in $(seq 1 "$seeds"); do
-      # shellcheck disable=SC2086
-      "$iblx" render "${env[@]}" --brdf "$brdf" --method $m --size "${size}x${size}" --spp 8 --time "$seconds" --seed "$seed" \
-        --reference-file "$work/$material-ref.exr" --json --out "$work/out.exr" 2>/dev/null >> "$work/runs"
-    done
-    printf '%-55s %10s %12s %12s\n' "$(head -1 "$work/runs" | sed -E 's/.*"method": "([^"]*)".*/\1/')" \
-      "$(field spp < "$work/runs" | median)" "$(field mse < "$work/runs" | median)" \
-      "$(field relmse < "$work/runs" | median)"
+    equal_time_row "$work" "$seeds" "$m" "${env[@]}" --brdf "$brdf" --size "${size}x${size}" --spp 8 \
+      --time "$seconds" --reference-file "$work/$material-ref.exr"
   done
 done

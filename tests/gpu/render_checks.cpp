@@ -163,4 +163,19 @@ void checkConvergesToReference(const Scene& scene, const std::string& name, doub
   checkNoNewValidationErrors();
 }
 
+ReferenceComparison compareReferences(const Scene& a, const Scene& b) {
+  const ReferenceImage ra = computeReference(gpuContext(), gpuCompiler(), a);
+  const ReferenceImage rb = computeReference(gpuContext(), gpuCompiler(), b);
+  double sumA = 0.0, sumB = 0.0, worst = 0.0;
+  for (std::size_t i = 0; i < a.gbuffer.pixels.size(); ++i) {
+    if (a.gbuffer.pixels[i].normal.w == 0.0f) continue;
+    for (std::size_t c = 0; c < 3; ++c) {
+      sumA += ra.rgb[3 * i + c];
+      sumB += rb.rgb[3 * i + c];
+      worst = std::max(worst, std::abs(rb.rgb[3 * i + c] - ra.rgb[3 * i + c]) / (ra.rgb[3 * i + c] + 1e-2));
+    }
+  }
+  return {sumB / sumA, worst};
+}
+
 }  // namespace iblx::test

@@ -38,6 +38,14 @@ MeanErrorZTest zTest(const Scene& scene, const Renderer& renderer, const std::ve
 // pixels are reported with their method.
 void checkWhiteFurnace(const Scene& scene, double albedo, int passes, double sigmas);
 
+// The ground truths of two scenes of one geometry (a tabulated material against its analytic source) over the
+// object pixels: the ratio of their sums, b over a, and the largest channel difference relative to a's value
+// (plus 0.01).
+struct ReferenceComparison {
+  double sumRatio = 0.0, worstRelative = 0.0;
+};
+ReferenceComparison compareReferences(const Scene& a, const Scene& b);
+
 // Chi-square of a BRDF technique's sampled directions (those with pdf > 0) against its own pdf, on cells fine
 // enough for the slivers next to the horizon (the harness refines narrow lobes itself), and the pdf
 // integrating to 1 over the sphere. `testCount` is the family size for the Sidak correction.

@@ -269,6 +269,19 @@ ResolvedMethod resolveMethodAndWarn(const MethodSpec& spec, const BrdfInfo& brdf
   return method;
 }
 
+void checkTableOutput(const std::string& out, const std::string& extension, const std::string& kind) {
+  if (std::filesystem::path(out).extension() != extension)
+    throw Error("--out " + out + ": a " + kind + " file must end in " + extension);
+  const auto outDir = std::filesystem::path(out).parent_path();
+  if (!outDir.empty() && !std::filesystem::is_directory(outDir))
+    throw Error("--out " + out + ": directory " + outDir.string() + " does not exist");
+}
+
+Scene tabulationScene(SceneSpec spec, LoadedBrdf brdf) {
+  spec.width = spec.height = 1;
+  return makeScene(EnvImage{2, 1, std::vector<float>(6, 0.0f)}, spec, std::move(brdf));
+}
+
 void printRegistry(const RenderSpec& spec) {
   std::fputs(describeRegistry().c_str(), stdout);
   if (spec.scene.brdf == SceneSpec{}.brdf) return;

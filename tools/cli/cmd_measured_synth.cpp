@@ -36,17 +36,12 @@ int cmdMeasuredSynth(const Args& args) {
     throw Error("--format " + format + ": unknown; valid: utia, mit, merl");
   const std::string extension = format == "utia" ? ".bin" : format == "mit" ? ".dat" : ".binary";
   if (out.empty()) out = "material" + extension;
-  if (std::filesystem::path(out).extension() != extension)
-    throw Error("--out " + out + ": a " + format + " file must end in " + extension);
-  const auto outDir = std::filesystem::path(out).parent_path();
-  if (!outDir.empty() && !std::filesystem::is_directory(outDir))
-    throw Error("--out " + out + ": directory " + outDir.string() + " does not exist");
+  checkTableOutput(out, extension, format);
   LoadedBrdf loaded = loadBrdfArgument(spec.scene.brdf);
   const std::string brdfName = loaded.info->name;
 
   const auto start = std::chrono::steady_clock::now();
-  spec.scene.width = spec.scene.height = 1;
-  const Scene scene = makeScene(EnvImage{2, 1, std::vector<float>(6, 0.0f)}, spec.scene, std::move(loaded));
+  const Scene scene = tabulationScene(spec.scene, std::move(loaded));
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
   ShaderCompiler compiler;
   std::size_t entries = 0;

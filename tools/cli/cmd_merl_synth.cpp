@@ -39,11 +39,7 @@ int cmdMerlSynth(const Args& args) {
   addDeviceFlags(parser, spec);
   if (parser.parseOrShowHelp(args)) return 0;
   if (seedGiven && options.invalidFraction == 0.0) warn("--seed is ignored without --invalid-fraction");
-  if (std::filesystem::path(out).extension() != ".binary")
-    throw Error("--out " + out + ": a MERL file must end in .binary");
-  const auto outDir = std::filesystem::path(out).parent_path();
-  if (!outDir.empty() && !std::filesystem::is_directory(outDir))
-    throw Error("--out " + out + ": directory " + outDir.string() + " does not exist");
+  checkTableOutput(out, ".binary", "MERL");
   LoadedBrdf loaded = loadBrdfArgument(spec.scene.brdf);
   if (loaded.measured)
     throw Error("--brdf " + spec.scene.brdf +
@@ -51,8 +47,7 @@ int cmdMerlSynth(const Args& args) {
   const std::string brdfName = loaded.info->name;
 
   const auto start = std::chrono::steady_clock::now();
-  spec.scene.width = spec.scene.height = 1;
-  const Scene scene = makeScene(EnvImage{2, 1, std::vector<float>(6, 0.0f)}, spec.scene, std::move(loaded));
+  const Scene scene = tabulationScene(spec.scene, std::move(loaded));
   VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
   ShaderCompiler compiler;
   const MerlSynthResult table = tabulateMerl(context, compiler, scene, options);
