@@ -1,4 +1,4 @@
-// UTIA files as BRDFs (utia_brdf.h).
+// Measured files as BRDFs (measured_brdfs.h).
 #include "engine/scene/measured_brdfs.h"
 
 #include "engine/sampling/technique_data.h"

@@ -97,37 +97,47 @@ void checkFiniteForEveryMethod(const Scene& scene, const std::string& name, uint
     }
 }
 
-void checkWhiteFurnace(const Scene& scene, double albedo, int passes, double sigmas) {
+std::vector<MethodSpec> methodSpecs(const BrdfInfo& brdf, MethodSet set) {
+  std::vector<MethodSpec> specs;
+  if (set == MethodSet::EveryMethod) {
+    for (MethodSpec spec : defaultMethodSpecs(brdf)) specs.push_back((spec.sequence = "sobol", spec));
+    return specs;
+  }
   for (const char* sequence : {"random", "sobol"})
-    for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {
-      const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
-      INFO(method.label());
-      Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 3);
-      for (int pass = 0; pass < passes; ++pass) renderer.runPass(64);
-      const auto mean = renderer.meanRgb();
-      const auto var = renderer.varianceRgb();
-      const double n = double(renderer.samplesPerPixel());
-      // A pixel's own variance estimate is low exactly when its mean is high for weights with a point mass at
-      // 0 (samples that reflect below the horizon, as with brdf-tab): the mean and variance estimates are
-      // correlated. So the bound uses the larger of the pixel's variance and the median over the object.
-      std::vector<double> variances;
-      for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i)
-        if (scene.gbuffer.pixels[i].normal.w != 0.0f) variances.push_back(var[3 * i]);
-      std::nth_element(variances.begin(), variances.begin() + std::ptrdiff_t(variances.size() / 2),
-                       variances.end());
-      const double medianVariance = variances[variances.size() / 2];
-      int failures = 0;
-      for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i) {
-        if (scene.gbuffer.pixels[i].normal.w == 0.0f) continue;
-        const double bound = sigmas * std::sqrt(std::max(double(var[3 * i]), medianVariance) / n) + 1e-4;
-        if (std::abs(mean[3 * i] - albedo) > bound) {
-          ++failures;
-          MESSAGE(method.label() << ": pixel " << i << " mean " << mean[3 * i] << ", bound " << bound);
-        }
+    for (const MethodSpec& spec : allMethodSpecs(brdf, sequence)) specs.push_back(spec);
+  return specs;
+}
+
+void checkWhiteFurnace(const Scene& scene, double albedo, int passes, double sigmas, MethodSet set) {
+  for (const auto& spec : methodSpecs(*scene.brdf, set)) {
+    const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+    INFO(method.label());
+    Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 3);
+    for (int pass = 0; pass < passes; ++pass) renderer.runPass(64);
+    const auto mean = renderer.meanRgb();
+    const auto var = renderer.varianceRgb();
+    const double n = double(renderer.samplesPerPixel());
+    // A pixel's own variance estimate is low exactly when its mean is high for weights with a point mass at
+    // 0 (samples that reflect below the horizon, as with brdf-tab): the mean and variance estimates are
+    // correlated. So the bound uses the larger of the pixel's variance and the median over the object.
+    std::vector<double> variances;
+    for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i)
+      if (scene.gbuffer.pixels[i].normal.w != 0.0f) variances.push_back(var[3 * i]);
+    std::nth_element(variances.begin(), variances.begin() + std::ptrdiff_t(variances.size() / 2),
+                     variances.end());
+    const double medianVariance = variances[variances.size() / 2];
+    int failures = 0;
+    for (size_t i = 0; i < scene.gbuffer.pixels.size(); ++i) {
+      if (scene.gbuffer.pixels[i].normal.w == 0.0f) continue;
+      const double bound = sigmas * std::sqrt(std::max(double(var[3 * i]), medianVariance) / n) + 1e-4;
+      if (std::abs(mean[3 * i] - albedo) > bound) {
+        ++failures;
+        MESSAGE(method.label() << ": pixel " << i << " mean " << mean[3 * i] << ", bound " << bound);
       }
-      CHECK(failures == 0);
-      CHECK(renderer.nonFiniteSamples() == 0);
     }
+    CHECK(failures == 0);
+    CHECK(renderer.nonFiniteSamples() == 0);
+  }
   checkNoNewValidationErrors();
 }
 
@@ -144,22 +154,21 @@ void checkChi2AgainstPdf(BrdfTechniqueProbe& probe, std::span<const glm::dvec3> 
   CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(5e-3));
 }
 
-void checkConvergesToReference(const Scene& scene, const std::string& name, double zBound) {
+void checkConvergesToReference(const Scene& scene, const std::string& name, double zBound, MethodSet set) {
   const ReferenceImage ref = computeReference(gpuContext(), gpuCompiler(), scene);
-  for (const char* sequence : {"random", "sobol"})
-    for (const auto& spec : allMethodSpecs(*scene.brdf, sequence)) {
-      const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
-      INFO(name << ": " << method.label());
-      Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 17);
-      for (int pass = 0; pass < 8; ++pass) renderer.runPass(64);
-      const MeanErrorZTest t = zTest(scene, renderer, ref.rgb);
-      for (int ch = 0; ch < 3; ++ch) {
-        INFO("channel " << ch << ": mean error " << t.meanError[ch] << ", standard error "
-                        << t.standardError[ch]);
-        CHECK(std::abs(t.z[ch]) < zBound);
-      }
-      CHECK(renderer.nonFiniteSamples() == 0);
+  for (const auto& spec : methodSpecs(*scene.brdf, set)) {
+    const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+    INFO(name << ": " << method.label());
+    Renderer renderer(gpuContext(), gpuCompiler(), scene, method, 17);
+    for (int pass = 0; pass < 8; ++pass) renderer.runPass(64);
+    const MeanErrorZTest t = zTest(scene, renderer, ref.rgb);
+    for (int ch = 0; ch < 3; ++ch) {
+      INFO("channel " << ch << ": mean error " << t.meanError[ch] << ", standard error "
+                      << t.standardError[ch]);
+      CHECK(std::abs(t.z[ch]) < zBound);
     }
+    CHECK(renderer.nonFiniteSamples() == 0);
+  }
   checkNoNewValidationErrors();
 }
 

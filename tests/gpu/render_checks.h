@@ -32,11 +32,18 @@ Scene sceneWith(EnvImage env, const std::string& brdf,
 // The engine's z-test (engine/render/metrics.h) of a renderer's current image.
 MeanErrorZTest zTest(const Scene& scene, const Renderer& renderer, const std::vector<float>& reference);
 
+// Which methods the checks below render: every combination of env and BRDF technique the registry offers for
+// the scene's BRDF, under both sequences (the default); or, for a BRDF part that is new beside techniques
+// tested elsewhere, every registry method once with its default techniques, under sobol.
+enum class MethodSet { EveryCombination, EveryMethod };
+std::vector<MethodSpec> methodSpecs(const BrdfInfo& brdf, MethodSet set);
+
 // White furnace (constant environment 1): renders every method the registry offers for the scene's BRDF with
-// both sequences, `passes` x 64 spp each, and checks that every object pixel's mean is within `sigmas`
-// standard errors (plus 1e-4 of float rounding) of `albedo` and that no estimate was NaN or Inf. Failing
-// pixels are reported with their method.
-void checkWhiteFurnace(const Scene& scene, double albedo, int passes, double sigmas);
+// both sequences (or `set`), `passes` x 64 spp each, and checks that every object pixel's mean is within
+// `sigmas` standard errors (plus 1e-4 of float rounding) of `albedo` and that no estimate was NaN or Inf.
+// Failing pixels are reported with their method.
+void checkWhiteFurnace(const Scene& scene, double albedo, int passes, double sigmas,
+                       MethodSet set = MethodSet::EveryCombination);
 
 // The ground truths of two scenes of one geometry (a tabulated material against its analytic source) over the
 // object pixels: the ratio of their sums, b over a, and the largest channel difference relative to a's value
@@ -59,6 +66,7 @@ void checkFiniteForEveryMethod(const Scene& scene, const std::string& name, uint
 // Computes the scene's reference and checks every method the registry offers for its BRDF (both sequences,
 // 8 x 64 spp) against it: |z| < zBound per channel (see zTest) and no NaN/Inf estimate. `name` labels
 // failures.
-void checkConvergesToReference(const Scene& scene, const std::string& name, double zBound);
+void checkConvergesToReference(const Scene& scene, const std::string& name, double zBound,
+                               MethodSet set = MethodSet::EveryCombination);
 
 }  // namespace iblx::test
