@@ -4,12 +4,15 @@
 # under the default environment; for each method, the MSE and relMSE over object pixels after the same wall time, median over
 # seeds.
 # Usage: tools/bench_measured.sh [SECONDS_PER_RUN (default 10)] [SEEDS (default 3)] [SIZE (default 128)]
+# IBLX_BENCH_ENV=FILE uses another environment map (default: assets/default_sky.exr).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 iblx="$root/build/iblx"
 seconds="${1:-10}"
 seeds="${2:-3}"
 size="${3:-128}"
+env=()
+[ -n "${IBLX_BENCH_ENV:-}" ] && env=(--env "$IBLX_BENCH_ENV")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
@@ -39,11 +42,11 @@ methods=(
 )
 for material in ward.bin ggx.bin ward.dat; do
   brdf="$work/$material"
-  "$iblx" reference --brdf "$brdf" --size "${size}x${size}" --out "$work/$material-ref.exr" > /dev/null 2>&1
-  echo "== $material under the default sky, ${size}x${size}, ${seconds} s per run, median of $seeds seeds"
+  "$iblx" reference "${env[@]}" --brdf "$brdf" --size "${size}x${size}" --out "$work/$material-ref.exr" > /dev/null 2>&1
+  echo "== $material under ${IBLX_BENCH_ENV:-the default sky}, ${size}x${size}, ${seconds} s per run, median of $seeds seeds"
   printf '%-55s %10s %12s %12s\n' "method" "spp" "MSE" "relMSE"
   for m in "${methods[@]}"; do
-    equal_time_row "$work" "$seeds" "$m" --brdf "$brdf" --size "${size}x${size}" --spp 8 --time "$seconds" \
+    equal_time_row "$work" "$seeds" "$m" "${env[@]}" --brdf "$brdf" --size "${size}x${size}" --spp 8 --time "$seconds" \
       --reference-file "$work/$material-ref.exr"
   done
 done
