@@ -38,6 +38,10 @@ void checkImageSize(const fs::path& path, int width, int height, std::span<const
 
 }  // namespace
 
+double srgbToLinear(double x) {
+  return x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4);
+}
+
 double linearToSrgb(double x) {
   return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
 }

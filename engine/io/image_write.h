@@ -37,6 +37,8 @@ std::vector<unsigned char> encodeExr(int width, int height, std::span<const floa
 
 // The exact sRGB OETF (IEC 61966-2-1) for linear x in [0, 1].
 double linearToSrgb(double x);
+// Its inverse, the sRGB EOTF (IEC 61966-2-1), for encoded x in [0, 1].
+double srgbToLinear(double x);
 
 // Radiance to display code values, shared by PNG output, the viewer and every figure showing an image, so all
 // show the same bytes.

@@ -5,6 +5,7 @@
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/core/log.h"
+#include "engine/io/image_write.h"
 
 #include <algorithm>
 #include <bit>
@@ -40,10 +41,6 @@ std::string describeEntry(int c, std::size_t index) {
                 thetaI * kUtiaThetaStepDeg, phiI * kUtiaPhiStepDeg, thetaV * kUtiaThetaStepDeg,
                 phiV * kUtiaPhiStepDeg);
   return text;
-}
-
-double srgbToLinear(double x) {  // IEC 61966-2-1
-  return x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4);
 }
 
 // The lower grid index and the weight of the upper one of a direction's theta (clamped to the last sample)

@@ -41,11 +41,6 @@ std::filesystem::path synthesize(const std::string& name, const std::string& brd
   return made[name] = path;
 }
 
-glm::dvec3 hemisphere(glm::dvec2 u) {
-  const double z = u.x, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = 2.0 * kPiD * u.y;
-  return {r * std::cos(phi), r * std::sin(phi), z};
-}
-
 }  // namespace
 
 // Pairs on the hemisphere: uniform ones, and ones whose half vector lies within [thetaMin, thetaMax] of the

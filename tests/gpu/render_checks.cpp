@@ -60,6 +60,11 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
   return specs;
 }
 
+glm::dvec3 hemisphere(glm::dvec2 u) {
+  const double z = u.x, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = 2.0 * 3.14159265358979323846 * u.y;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
 glm::dvec3 viewAt(double thetaDegrees, double phiDegrees) {
   const double t = thetaDegrees * 3.14159265358979323846 / 180.0,
                p = phiDegrees * 3.14159265358979323846 / 180.0;

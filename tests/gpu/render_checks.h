@@ -22,6 +22,9 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
 
 // The unit view direction at polar angle theta and azimuth phi (degrees) in the local shading frame (n = +z).
 glm::dvec3 viewAt(double thetaDegrees, double phiDegrees = 0.0);
+// A direction of the upper hemisphere from a uniform point: cos theta = u.x, phi = 2 pi u.y (uniform over the
+// hemisphere's solid angle).
+glm::dvec3 hemisphere(glm::dvec2 u);
 
 // A square scene of `object` (default the sphere) seen by `camera`; `brdf` is a built-in name or a file (e.g.
 // a MERL .binary).

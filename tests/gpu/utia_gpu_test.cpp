@@ -55,16 +55,6 @@ std::filesystem::path synthesizeMit(const std::string& name, const std::string& 
   return made[name] = path;
 }
 
-glm::dvec3 hemisphere(glm::dvec2 u) {
-  const double z = u.x, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = 2.0 * std::numbers::pi * u.y;
-  return {r * std::cos(phi), r * std::sin(phi), z};
-}
-
-glm::dvec3 rotateZ(glm::dvec3 v, double degrees) {
-  const double a = degrees * std::numbers::pi / 180.0, c = std::cos(a), s = std::sin(a);
-  return {c * v.x - s * v.y, s * v.x + c * v.y, v.z};
-}
-
 }  // namespace
 
 TEST_CASE("utia: the GPU lookup agrees with the CPU reference lookup, under the colour convention too") {
@@ -128,7 +118,8 @@ TEST_CASE("utia: a tabulated anisotropic material follows the tangent frame") {
   // tangent; then both turned by 90 degrees about the normal, so it leans towards the bitangent: Ward's
   // alphaX 0.15 x alphaY 0.4 lobe falls off faster along the tangent. All four are grid directions.
   const glm::dvec3 wo = utiaDirection(3, 0), wi = utiaDirection(2, 24);
-  const std::vector<glm::dvec3> wis{wi, rotateZ(wi, 90.0)}, wos{wo, rotateZ(wo, 90.0)};
+  // Turned by 90 degrees: 12 steps of 7.5 degrees in phi.
+  const std::vector<glm::dvec3> wis{wi, utiaDirection(2, 36)}, wos{wo, utiaDirection(3, 12)};
   const auto f = evaluateBrdf(gpuContext(), gpuCompiler(), analytic, wis, wos);
   const auto g = evaluateBrdf(gpuContext(), gpuCompiler(), measured, wis, wos);
   INFO("Ward " << f[0].x << " / " << f[1].x << ", tabulated " << g[0].x << " / " << g[1].x);
