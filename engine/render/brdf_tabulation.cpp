@@ -256,6 +256,18 @@ std::vector<float> tabulateMit(const VulkanContext& context, ShaderCompiler& com
   return values;
 }
 
+RglTables tabulateRgl(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                      RglSynthLayout layout) {
+  if (!(layout.alpha > 0.0)) {
+    // The lobe's full width at half maximum is about 2 atan(alpha) for GGX (estimateLobeWidth).
+    const double width = estimateLobeWidth(VulkanServices(context, compiler), scene);
+    layout.alpha = width > 0.0 ? std::clamp(std::tan(0.5 * width), 0.02, 1.0) : 0.6;
+  }
+  RglSynthPlan plan = planRglSynth(layout);
+  const std::vector<glm::dvec3> f = evaluateBrdf(context, compiler, scene, plan.wi, plan.wo);
+  return finishRglSynth(std::move(plan), f);
+}
+
 std::shared_ptr<const MerlTableData> VulkanServices::tabulateBrdf(const Scene& scene) const {
   return tabulateBrdfTable(*this, scene);
 }

@@ -7,6 +7,7 @@
 #include "engine/scene/scene.h"
 #include "engine/vk/context.h"
 #include "engine/sampling/merl_sampling.h"
+#include "engine/sampling/rgl_sampling.h"
 #include "engine/vk/shader_compiler.h"
 
 #include <glm/glm.hpp>
@@ -85,5 +86,11 @@ std::vector<double> tabulateUtia(const VulkanContext& context, ShaderCompiler& c
 // as writeMitBrdf stores them.
 std::vector<float> tabulateMit(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                const MitDims& dims);
+
+// A BRDF tabulated in the RGL-EPFL .bsdf layout (engine/sampling/rgl_sampling.h, planRglSynth). A layout
+// whose alpha is 0 takes the warps' GGX width from the BRDF's measured lobe (0.6 for a lobe-less BRDF, where
+// a Lambert fixture is then within 1 % on average, 8 % at worst).
+RglTables tabulateRgl(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                      RglSynthLayout layout);
 
 }  // namespace iblx

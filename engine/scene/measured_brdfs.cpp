@@ -4,6 +4,9 @@
 #include "engine/sampling/technique_data.h"
 
 namespace iblx {
+namespace {
+constexpr const char* kRglEvalPart = "brdf/rgl.glsl";
+}  // namespace
 
 std::shared_ptr<const BrdfInfo> makeUtiaBrdf(UtiaBrdf brdf, const std::filesystem::path& file) {
   auto table = std::make_shared<const std::vector<float>>(std::move(brdf.rgb));
@@ -56,6 +59,38 @@ std::shared_ptr<const BrdfInfo> makeMitBrdf(MitBrdf brdf, const std::filesystem:
     return data;
   };
   return info;
+}
+
+std::shared_ptr<const BrdfInfo> makeRglBrdf(const RglTables& tables, const std::filesystem::path& file) {
+  auto material = std::make_shared<const RglBsdf>(tables);
+  auto info = std::make_shared<BrdfInfo>();
+  info->name = file.stem().string();
+  std::string description = "RGL-EPFL measured " +
+                            std::string(tables.isotropic() ? "isotropic" : "anisotropic") + " BRDF " +
+                            file.string();
+  if (!tables.description.empty()) description.append(" ('").append(tables.description).append("')");
+  description.append(" (").append(std::to_string(tables.phiI.size())).append(" phi_i x ");
+  description.append(std::to_string(tables.thetaI.size())).append(" theta_i views; VNDF ");
+  description.append(std::to_string(tables.vndf.height))
+      .append(" x ")
+      .append(std::to_string(tables.vndf.width));
+  description.append(", colour ").append(std::to_string(tables.rgb.width)).append(" x ");
+  description.append(std::to_string(tables.rgb.width));
+  if (tables.spectralBands > 0)
+    description.append(", from ").append(std::to_string(tables.spectralBands)).append(" wavelengths");
+  if (tables.reduction() > 1)
+    description.append(", 1/").append(std::to_string(tables.reduction())).append(" of the azimuths stored");
+  description.append("; bilinear warps)");
+  info->description = description;
+  info->evalPart = kRglEvalPart;
+  info->bestSampler = "rgl-vndf";
+  info->lobeWidth = [](const Scene& scene, const GpuServices& gpu) { return gpu.measureLobeWidth(scene); };
+  info->data = [material](const Scene&) { return material->techniqueData(); };
+  return info;
+}
+
+bool isRglBrdf(const BrdfInfo& brdf) {
+  return brdf.evalPart == kRglEvalPart;
 }
 
 UtiaConvention utiaConvention(const ParamValues& values) {

@@ -8,6 +8,7 @@
 #include "engine/sampling/env_ot.h"
 #include "engine/sampling/env_product.h"
 #include "engine/sampling/merl_sampling.h"
+#include "engine/scene/measured_brdfs.h"
 #include "engine/scene/scene.h"
 
 #include <cmath>
@@ -97,6 +98,8 @@ const BrdfTechniqueInfo kBrdfTechniques[] = {
     {"isfunc", "the .brdf file's own sampleBRDF and pdfBRDF (its ::begin isFunc section)",
      "brdf_sampler/isfunc.glsl", ".brdf files whose isFunc defines sampleBRDF and pdfBRDF",
      [](const BrdfInfo& b) { return b.hasSampleHook; }, nullptr},
+    {"rgl-vndf", "the .bsdf file's own luminance and VNDF warps (Dupuy & Jakob 2018)",
+     "brdf_sampler/rgl_vndf.glsl", "RGL-EPFL .bsdf files", isRglBrdf, nullptr},
 };
 
 const SequenceInfo kSequences[] = {

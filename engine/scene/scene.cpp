@@ -77,6 +77,12 @@ LoadedBrdf loadBrdfArgument(const std::string& nameOrPath) {
       throw SettingError(Setting::Brdf, "", " " + nameOrPath + ": no such file");
     return {makeMitBrdf(loadMitBrdf(nameOrPath), nameOrPath), nullptr, nameOrPath};
   }
+  // An RGL-EPFL .bsdf is a tensor file, recognised by its magic.
+  if (extension == ".bsdf" || (!explorerFile && looksLikeRglBsdf(nameOrPath))) {
+    if (!std::filesystem::exists(nameOrPath))
+      throw SettingError(Setting::Brdf, "", " " + nameOrPath + ": no such file");
+    return {makeRglBrdf(loadRglBsdf(nameOrPath), nameOrPath), nullptr, nameOrPath};
+  }
   if (const BrdfInfo* registered = findBrdfForArgument(nameOrPath)) {
     LoadedBrdf loaded;
     loaded.info =

@@ -1,10 +1,11 @@
 // `iblx measured-synth`: tabulates any BRDF (a built-in, a .brdf file, another measured file) into a measured
-// format (UTIA .bin, MIT CSAIL .dat, MERL .binary), evaluating its GLSL part on the GPU at the format's grid,
-// so tests and benchmarks have files of every format with known answers (the project ships no foreign
-// measured data).
+// format (UTIA .bin, MIT CSAIL .dat, RGL-EPFL .bsdf, MERL .binary), evaluating its GLSL part on the GPU at
+// the format's grid, so tests and benchmarks have files of every format with known answers (the project ships
+// no foreign measured data).
 #include "engine/core/error.h"
 #include "engine/io/merl.h"
 #include "engine/io/mit_brdf.h"
+#include "engine/io/rgl_bsdf.h"
 #include "engine/io/utia.h"
 #include "engine/render/brdf_tabulation.h"
 #include "tools/cli/cli_options.h"
@@ -20,21 +21,35 @@ int cmdMeasuredSynth(const Args& args) {
   std::string format = "utia";
   std::string out;
   ArgParser parser("measured-synth");
-  parser.value("--format", "NAME",
-               "utia (.bin: a 6 x 48 x 6 x 48 anisotropic grid, the default), mit (.dat: 18 theta_in x 18 "
-               "theta_out x 72 phi_diff x 36 phi_in bins) or merl (.binary)",
-               [&](const std::string& v) { format = v; });
+  parser.value(
+      "--format", "NAME",
+      "utia (.bin: a 6 x 48 x 6 x 48 anisotropic grid, the default), mit (.dat: 18 theta_in x 18 "
+      "theta_out x 72 phi_diff x 36 phi_in bins), rgl (.bsdf: RGL-EPFL tensor file, 10 views, 32 x 32 "
+      "warps) or merl (.binary)",
+      [&](const std::string& v) { format = v; });
   parser.value("--brdf", "NAME|FILE",
                "BRDF to tabulate: any --brdf argument, measured files included (default ggx)",
                [&](const std::string& v) { spec.scene.brdf = v; });
   addParamFlag(parser, spec.scene.params);
+  RglSynthLayout rglLayout;
+  rglLayout.alpha = 0.0;
+  bool anisotropic = false;
+  parser.toggle("--anisotropic",
+                "rgl: tabulate 17 view azimuths (phi_i from -pi to pi) instead of one (an isotropic file)",
+                [&] { anisotropic = true; });
+  parser.value("--rgl-alpha", "A",
+               "rgl: GGX width of the file's warps (default: from the BRDF's measured lobe, 0.6 without one)",
+               [&](const std::string& v) { rglLayout.alpha = parseDouble("--rgl-alpha", v, 1e-3, 4.0); });
   parser.value("--out", "FILE", "output file (default material.bin, .dat or .binary by format)",
                [&](const std::string& v) { out = v; });
   addDeviceFlags(parser, spec);
   if (parser.parseOrShowHelp(args)) return 0;
-  if (format != "utia" && format != "mit" && format != "merl")
-    throw Error("--format " + format + ": unknown; valid: utia, mit, merl");
-  const std::string extension = format == "utia" ? ".bin" : format == "mit" ? ".dat" : ".binary";
+  if (format != "utia" && format != "mit" && format != "rgl" && format != "merl")
+    throw Error("--format " + format + ": unknown; valid: utia, mit, rgl, merl");
+  const std::string extension = format == "utia"  ? ".bin"
+                                : format == "mit" ? ".dat"
+                                : format == "rgl" ? ".bsdf"
+                                                  : ".binary";
   if (out.empty()) out = "material" + extension;
   checkTableOutput(out, extension, format);
   LoadedBrdf loaded = loadBrdfArgument(spec.scene.brdf);
@@ -52,6 +67,11 @@ int cmdMeasuredSynth(const Args& args) {
     const MitDims dims{18, 18, 72, 36, false};
     writeMitBrdf(out, dims, tabulateMit(context, compiler, scene, dims));
     entries = dims.bins();
+  } else if (format == "rgl") {
+    if (anisotropic) rglLayout.phiViews = 17;
+    const RglTables tables = tabulateRgl(context, compiler, scene, rglLayout);
+    writeRglBsdf(out, tables);
+    entries = tables.rgb.values.size() / 3;
   } else {
     writeMerl(out, tabulateMerl(context, compiler, scene).values);
     entries = kMerlBins;
