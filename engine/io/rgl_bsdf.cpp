@@ -80,6 +80,18 @@ void checkIncreasing(const std::vector<float>& v, const std::string& field, cons
                   std::to_string(v[k]) + " after " + std::to_string(v[k - 1]));
 }
 
+// A warp's density must be positive somewhere in every slice (one view of the material) to be sampled.
+void checkSlicesPositive(const RglGrid& g, const std::string& field, const std::string& name) {
+  const std::size_t size = std::size_t(g.width) * g.height;
+  for (std::size_t slice = 0; slice * size < g.values.size(); ++slice) {
+    double sum = 0.0;
+    for (std::size_t k = 0; k < size; ++k) sum += g.values[slice * size + k];
+    if (!(sum > 0.0))
+      throw Error(name + ": field '" + field + "' is 0 everywhere in slice " + std::to_string(slice) +
+                  " (one view), which cannot be sampled");
+  }
+}
+
 RglGrid grid(const TensorField& field, std::vector<float> values) {
   const std::size_t n = field.shape.size();
   return {std::uint32_t(field.shape[n - 1]), std::uint32_t(field.shape[n - 2]), std::move(values)};
@@ -191,6 +203,7 @@ RglTables loadRglBsdf(const fs::path& path) {
     throw Error(name + ": field 'vndf' has shape " + shapeText(vndf.shape) +
                 ", expected a grid of at least 2 x 2");
   t.vndf = grid(vndf, fields.floats("vndf", 4, false));
+  checkSlicesPositive(t.vndf, "vndf", name);
 
   const TensorField& luminance = fields.get("luminance", TensorType::Float32, 4);
   const std::uint64_t n = luminance.shape[3];
@@ -199,6 +212,7 @@ RglTables loadRglBsdf(const fs::path& path) {
     throw Error(name + ": field 'luminance' has shape " + shapeText(luminance.shape) +
                 ", expected a grid of at least 2 x 2");
   t.luminance = grid(luminance, fields.floats("luminance", 4, false));
+  checkSlicesPositive(t.luminance, "luminance", name);
 
   std::vector<float> rgb;
   if (fields.has("rgb")) {

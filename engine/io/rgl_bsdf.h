@@ -51,7 +51,8 @@ bool looksLikeRglBsdf(const std::filesystem::path& path);
 // Throws iblx::Error "FILE: problem" naming the field for a missing field, a wrong dtype or shape, values
 // that are not finite or above 1e15, negative ndf, sigma, vndf or luminance values, a sigma of 0, theta_i or
 // phi_i not increasing, a phi_i range that is not a whole, half or quarter turn, and everything
-// readTensorFile refuses. Negative rgb (or spectral) values are zeroed with one warning giving their count.
+// readTensorFile refuses, and a vndf or luminance slice that is 0 everywhere. Negative rgb (or spectral)
+// values are zeroed with one warning giving their count.
 RglTables loadRglBsdf(const std::filesystem::path& path);
 
 // Writes the tables as a .bsdf tensor file (RGB, with description and jacobian fields).

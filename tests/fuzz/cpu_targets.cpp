@@ -11,6 +11,8 @@
 #include "engine/io/image_write.h"
 #include "engine/io/merl.h"
 #include "engine/io/mit_brdf.h"
+#include "engine/io/rgl_bsdf.h"
+#include "engine/sampling/rgl_sampling.h"
 #include "engine/io/utia.h"
 #include "engine/io/reference_cache.h"
 #include "engine/sampling/ot_cache.h"
@@ -220,6 +222,35 @@ std::vector<Bytes> mitSeeds() {
   return {file({2, 2, 4, 4, false}, 0.5f), file({3, 1, 2, 2, true}, -1.0f), file({1, 1, 1, 1, false}, 2.0f)};
 }
 
+// ---- RGL-EPFL .bsdf
+// ----------------------------------------------------------------------------------------
+
+// A file that loads must also build its warps and evaluate and sample without a NaN.
+void runRgl(std::span<const std::uint8_t> input) {
+  const RglBsdf material(loadRglBsdf(writeScratchFile("input.bsdf", input)));
+  const glm::dvec3 wo = glm::normalize(glm::dvec3(0.3, 0.2, 0.9));
+  const RglBsdf::Sample s = material.sample(glm::dvec2(0.3, 0.7), wo);
+  if (!std::isfinite(s.pdf) || s.pdf < 0.0) throw Error("rgl-vndf sampled a pdf of " + std::to_string(s.pdf));
+  const glm::dvec3 f = material.eval(glm::normalize(glm::dvec3(-0.2, 0.1, 0.8)), wo);
+  if (!std::isfinite(f.x + f.y + f.z)) throw Error("an RGL material evaluated to a non-finite value");
+}
+
+std::vector<Bytes> rglSeeds() {
+  const auto file = [](std::uint32_t phiViews, float rgb) {
+    RglSynthLayout layout;
+    layout.thetaViews = 3, layout.phiViews = phiViews, layout.vndfSize = 4, layout.sampleSize = 3;
+    RglSynthPlan plan = planRglSynth(layout);
+    const std::vector<glm::dvec3> f(plan.wi.size(), glm::dvec3(rgb));
+    const auto path = std::filesystem::temp_directory_path() / "iblx-fuzz-rgl-seed.bsdf";
+    writeRglBsdf(path, finishRglSynth(std::move(plan), f));
+    std::ifstream in(path, std::ios::binary);
+    Bytes bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    std::filesystem::remove(path);
+    return bytes;
+  };
+  return {file(1, 0.3f), file(3, 0.5f)};
+}
+
 // ---- BRDF Explorer .brdf / .bparam ----------------------------------------------------------------------
 
 constexpr std::string_view kBrdfSeed = R"(analytic
@@ -378,6 +409,7 @@ std::vector<FuzzTarget> cpuFuzzTargets() {
       {"merl", "MERL .binary measured BRDF (loadMerl)", runMerl, merlSeeds, 8.0},
       {"utia", "UTIA .bin measured BRDF (loadUtia)", runUtia, utiaSeeds},
       {"mit", "MIT CSAIL .dat measured BRDF (loadMitBrdf)", runMit, mitSeeds},
+      {"rgl", "RGL-EPFL .bsdf tensor file (loadRglBsdf, then its warps)", runRgl, rglSeeds},
       {"brdf", "BRDF Explorer .brdf file (readBrdfFile)", runBrdf, brdfSeeds},
       {"bparam", "BRDF Explorer .bparam file (readBrdfFile)", runBparam, bparamSeeds},
       {"obj", "Wavefront OBJ mesh (readObj)", runObj, objSeeds},
