@@ -175,7 +175,7 @@ expect_ok "alta-func render" render --brdf "$tmp/lambert.func" --param diffuse_k
 expect_ok "alta-func rational render" render --brdf "$tmp/ggx.func" --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png"
 cp "$tmp/lambert.func" "$tmp/lambert-alta.txt"
 expect_ok "alta-func recognised by its first line" render --brdf "$tmp/lambert-alta.txt" --method brdf --brdf-sampler isfunc --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png"
-listing=$("$iblx" --list-methods --brdf "$tmp/ggx.func" 2>&1)
+listing=$("$iblx" render --list-methods --brdf "$tmp/ggx.func" 2>&1)
 if printf '%s' "$listing" | grep -q "ALTA function file .*rational (RUSIN_TH_TD_PD, Chebyshev" &&
    printf '%s' "$listing" | grep -q "rational_scale"; then
   passed=$((passed + 1))

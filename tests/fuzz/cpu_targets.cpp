@@ -251,7 +251,7 @@ std::vector<Bytes> altaFuncSeeds() {
           textBytes(header + "#FUNC rational_function\n#MIN 0 0 0\n#MAX 1.5707963 1.5707963 3.1415927\n"
                              "#NP 2\n#NQ 2\n0 0 0 1\n1 0 2 0.5\n0 0 0 1\n0 1 0 -0.25\n"
                              "#NP 1\n#NQ 1\n0 0 0 2\n0 0 0 1\n#NP 1\n#NQ 1\n3 2 1 0.5\n0 0 0 1\n"),
-          textBytes("#ALTA FUNC HEADER\n#DIM 2 1\n#PARAM_IN ISOTROPIC_TV_TL_DPHI\n#ALTA HEADER END\n"
+          textBytes("#ALTA FUNC HEADER\n#DIM 2 1\n#PARAM_IN COS_TH_TD\n#ALTA HEADER END\n"
                     "#FUNC rational_function_legendre\n#MIN 0 0\n#MAX 1 1\n#NP 1\n#NQ 1\n0 0 1\n0 0 1\n")};
 }
 
