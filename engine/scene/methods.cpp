@@ -95,8 +95,12 @@ const BrdfTechniqueInfo kBrdfTechniques[] = {
     {"brdf-tab",
      "merl-table's tables of f cos over the half vector, tabulated on the GPU from the compiled BRDF",
      "brdf_sampler/half_vector_table.glsl", "any BRDF", nullptr, makeBrdfTab},
-    {"isfunc", "the .brdf file's own sampleBRDF and pdfBRDF (its ::begin isFunc section)",
-     "brdf_sampler/isfunc.glsl", ".brdf files whose isFunc defines sampleBRDF and pdfBRDF",
+    {"isfunc",
+     "the file's own sampling routine: a .brdf file's sampleBRDF and pdfBRDF (its ::begin isFunc section) or "
+     "an ALTA function's closed-form lobes",
+     "brdf_sampler/isfunc.glsl",
+     ".brdf files whose isFunc defines sampleBRDF and pdfBRDF; ALTA function files without a rational "
+     "function",
      [](const BrdfInfo& b) { return b.hasSampleHook; }, nullptr},
     {"rgl-vndf", "the .bsdf file's own luminance and VNDF warps (Dupuy & Jakob 2018)",
      "brdf_sampler/rgl_vndf.glsl", "RGL-EPFL .bsdf files", isRglBrdf, nullptr},
@@ -203,7 +207,7 @@ const BrdfInfo* findBrdfForArgument(const std::string& nameOrPath) {
                                b.fileExtension + " file");
       valid += ", a " + b.fileExtension + " file (" + b.name + ")";
     }
-  valid += ", a UTIA .bin or MIT .dat file, a .brdf or .bparam file (BRDF Explorer)";
+  valid += ", a UTIA .bin or MIT .dat file, an ALTA function file, a .brdf or .bparam file (BRDF Explorer)";
   throw SettingError(Setting::Brdf, "unknown ", " '" + nameOrPath + "'; valid: " + valid);
 }
 const EnvTechniqueInfo& findEnvTechnique(const std::string& name) {

@@ -7,7 +7,9 @@
 #include "engine/core/file_io.h"
 #include "engine/core/join.h"
 #include "engine/core/log.h"
+#include "engine/io/alta_func.h"
 #include "engine/io/brdf_file.h"
+#include "engine/scene/alta_func_brdf.h"
 #include "engine/scene/analytic_brdf.h"
 #include "engine/scene/measured_brdfs.h"
 #include "engine/sampling/latlong_texel.h"
@@ -82,6 +84,13 @@ LoadedBrdf loadBrdfArgument(const std::string& nameOrPath) {
     if (!std::filesystem::exists(nameOrPath))
       throw SettingError(Setting::Brdf, "", " " + nameOrPath + ": no such file");
     return {makeRglBrdf(loadRglBsdf(nameOrPath), nameOrPath), nullptr, nameOrPath};
+  }
+  // An ALTA function file starts with `#ALTA FUNC HEADER`, whatever its name (.func, or .brdf in ALTA's
+  // docs).
+  if (extension == ".func" || looksLikeAltaFunc(nameOrPath)) {
+    if (!std::filesystem::exists(nameOrPath))
+      throw SettingError(Setting::Brdf, "", " " + nameOrPath + ": no such file");
+    return {makeAltaFuncBrdf(loadAltaFunc(nameOrPath), nameOrPath), nullptr, nameOrPath};
   }
   if (const BrdfInfo* registered = findBrdfForArgument(nameOrPath)) {
     LoadedBrdf loaded;

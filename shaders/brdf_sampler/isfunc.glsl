@@ -1,6 +1,7 @@
-// BRDF technique "isfunc": a .brdf file's own sampling routine (its ::begin isFunc section), with iblx's
-// contract (engine/scene/analytic_brdf.h): sampleBRDF draws wi with its exact solid-angle density, pdfBRDF gives
-// that density for any wi, and the view direction reaches both through the global iblxV. The routine's return
+// BRDF technique "isfunc": the file's own sampling routine, a .brdf file's ::begin isFunc section or an ALTA
+// function file's closed-form lobes (engine/scene/alta_func_brdf.h), with iblx's contract
+// (engine/scene/analytic_brdf.h): sampleBRDF draws wi with its exact solid-angle density, pdfBRDF gives that
+// density for any wi, and the view direction reaches both through the global iblxV. The routine's return
 // value (its weight f cos / pdf) is not used: the strategy computes f cos / pdf itself. A pdf that is not
 // positive and finite, or a direction that is not finite, drops the sample (pdf 0).
 const vec3 kIsFuncN = vec3(0.0, 0.0, 1.0), kIsFuncX = vec3(1.0, 0.0, 0.0), kIsFuncY = vec3(0.0, 1.0, 0.0);

@@ -148,7 +148,7 @@ head -c 1000 "$tmp/lambert.bin" > "$tmp/truncated.bin"
 expect_error "truncated utia file" "truncated UTIA file: 1000 bytes" render --brdf "$tmp/truncated.bin" --out "$tmp/b.png"
 expect_error "missing utia file" "none.bin: no such file" render --brdf "$tmp/none.bin" --out "$tmp/b.png"
 expect_error "utia params" "has no parameter 'roughness'" render --brdf "$tmp/lambert.bin" --param roughness=0.1
-expect_error "measured-synth format" "--format bogus: unknown; valid: utia, mit, merl" measured-synth --format bogus --out "$tmp/c.bin"
+expect_error "measured-synth format" "--format bogus: unknown; valid: utia, mit, merl, alta-func" measured-synth --format bogus --out "$tmp/c.bin"
 expect_error "measured-synth extension" "must end in .bin" measured-synth --out "$tmp/c.binary"
 # MIT CSAIL .dat materials: recognised by their header whatever their name.
 expect_ok "measured-synth mit" measured-synth --format mit --brdf lambert --param albedo=0.5 --out "$tmp/lambert.dat"
@@ -161,6 +161,39 @@ expect_error "truncated mit file" "truncated MIT .dat file: 100000 bytes, expect
 { printf '\22\0\0\0\22\0\0\0\110\0\0\0\44\0\0\0\0\0\0\0\0\0\0\0\2\0\0\0'; tail -c +29 "$tmp/lambert.dat"; } > "$tmp/param.dat"
 expect_error "mit header" "header field 6 (parameterisation) is 2, expected 1" render --brdf "$tmp/param.dat" --out "$tmp/b.png"
 expect_error "missing mit file" "none.dat: no such file" render --brdf "$tmp/none.dat" --out "$tmp/b.png"
+# ALTA function files: measured-synth writes an exact diffuse lobe for Lambert and a rational fit otherwise;
+# recognised by their first line whatever their name; bad files are refused naming FILE:LINE.
+expect_ok "measured-synth alta-func lambert" measured-synth --format alta-func --brdf lambert --param albedo=0.5 --out "$tmp/lambert.func"
+grep -q "^#FUNC nonlinear_function_diffuse" "$tmp/lambert.func" && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: measured-synth alta-func lambert wrote no diffuse lobe"; }
+fit=$("$iblx" measured-synth --format alta-func --brdf ggx --param roughness=0.6 --fit-degree 3,2 --out "$tmp/ggx.func" 2>&1)
+if printf '%s' "$fit" | grep -q "RMS relative error" && grep -q "^#FUNC rational_function" "$tmp/ggx.func"; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: measured-synth alta-func ggx: $fit"
+fi
+expect_ok "alta-func render" render --brdf "$tmp/lambert.func" --param diffuse_kd=0.2 --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png"
+expect_ok "alta-func rational render" render --brdf "$tmp/ggx.func" --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png"
+cp "$tmp/lambert.func" "$tmp/lambert-alta.txt"
+expect_ok "alta-func recognised by its first line" render --brdf "$tmp/lambert-alta.txt" --method brdf --brdf-sampler isfunc --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png"
+listing=$("$iblx" render --list-methods --brdf "$tmp/ggx.func" 2>&1)
+if printf '%s' "$listing" | grep -q "ALTA function file .*rational (RUSIN_TH_TD_PD, Chebyshev" &&
+   printf '%s' "$listing" | grep -q "rational_scale"; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: alta-func --list-methods: $listing"
+fi
+printf '#ALTA FUNC HEADER\n#DIM 3 3\n#ALTA HEADER END\n#FUNC nonlinear_function_lafortune\n' > "$tmp/plugin.func"
+expect_error "alta-func unknown plugin" "plugin.func:4: unknown plugin 'nonlinear_function_lafortune'" render --brdf "$tmp/plugin.func" --out "$tmp/b.png"
+printf '#ALTA FUNC HEADER\n#DIM 3 3\n#ALTA HEADER END\n#FUNC nonlinear_function_blinn\nKs 1\nKs 2\n' > "$tmp/count.func"
+expect_error "alta-func parameter count" "count.func:6: expected 'N <value>' (channel 1 of the blinn lobe)" render --brdf "$tmp/count.func" --out "$tmp/b.png"
+printf '#ALTA FUNC HEADER\n#DIM 1 1\n#PARAM_IN STARK_2D\n#ALTA HEADER END\n#FUNC rational_function\n#MIN 0\n#MAX 1\n' > "$tmp/param.func"
+expect_error "alta-func parametrisation" "param.func:3: #PARAM_IN STARK_2D: iblx evaluates rational functions over COS_TH" render --brdf "$tmp/param.func" --out "$tmp/b.png"
+head -n 12 "$tmp/ggx.func" > "$tmp/cut.func"
+expect_error "alta-func truncated" "cut.func:12: truncated file" render --brdf "$tmp/cut.func" --out "$tmp/b.png"
+expect_error "missing alta-func file" "none.func: no such file" render --brdf "$tmp/none.func" --out "$tmp/b.png"
+expect_error "alta-func params" "has no parameter 'roughness'" render --brdf "$tmp/lambert.func" --param roughness=0.1
+expect_error "measured-synth fit degree" "--fit-degree 3: expected two integers P,Q in [0, 10]" measured-synth --format alta-func --fit-degree 3 --out "$tmp/c.func"
+expect_error "measured-synth alta-func extension" "must end in .func" measured-synth --format alta-func --out "$tmp/c.bin"
 expect_error "merl-synth extension" "must end in .binary" merl-synth --out "$tmp/c.bin"
 expect_error "merl-synth fraction" "--invalid-fraction" merl-synth --invalid-fraction 2 --out "$tmp/c.binary"
 warning=$("$iblx" merl-synth --brdf lambert --seed 3 --out "$tmp/seed.binary" 2>&1 >/dev/null)

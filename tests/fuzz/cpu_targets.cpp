@@ -6,6 +6,7 @@
 #include "engine/core/cache_file.h"
 #include "engine/core/error.h"
 #include "engine/geometry/obj_file.h"
+#include "engine/io/alta_func.h"
 #include "engine/io/brdf_file.h"
 #include "engine/io/env_image.h"
 #include "engine/io/image_write.h"
@@ -222,8 +223,7 @@ std::vector<Bytes> mitSeeds() {
   return {file({2, 2, 4, 4, false}, 0.5f), file({3, 1, 2, 2, true}, -1.0f), file({1, 1, 1, 1, false}, 2.0f)};
 }
 
-// ---- RGL-EPFL .bsdf
-// ----------------------------------------------------------------------------------------
+// ---- RGL-EPFL .bsdf --------------------------------------------------------------------------------------
 
 // A file that loads must also build its warps and evaluate and sample without a NaN.
 void runRgl(std::span<const std::uint8_t> input) {
@@ -249,6 +249,40 @@ std::vector<Bytes> rglSeeds() {
     return bytes;
   };
   return {file(1, 0.3f), file(3, 0.5f)};
+}
+
+// ---- ALTA function files ----------------------------------------------------------------------------------
+
+// A parsed file is also evaluated at a few direction pairs and written back and re-read: the evaluation and
+// the writer meet every value the parser accepts.
+void runAltaFunc(std::span<const std::uint8_t> input) {
+  const AltaFunc f = parseAltaFunc(
+      std::string_view(reinterpret_cast<const char*>(input.data()), input.size()), "input.func");
+  const glm::dvec3 n(0.0, 0.0, 1.0), a(0.6, 0.0, 0.8), b(-0.28, 0.96, 0.0), c(0.0, -0.6, 0.8);
+  for (const auto& [wi, wo] : {std::pair{n, n}, std::pair{a, c}, std::pair{c, a}, std::pair{b, a}}) {
+    const glm::dvec3 v = evalAltaFunc(f, wi, wo);
+    if (!(v.x >= 0.0 && v.y >= 0.0 && v.z >= 0.0 && std::isfinite(v.x + v.y + v.z)))
+      throw std::logic_error("evalAltaFunc returned a negative or non-finite value");
+  }
+  if (parseAltaFunc(formatAltaFunc(f), "rewritten.func").lobes.size() != f.lobes.size())
+    throw std::logic_error("formatAltaFunc does not round-trip");
+}
+
+std::vector<Bytes> altaFuncSeeds() {
+  const std::string header =
+      "#ALTA FUNC HEADER\n#CMD ALTA --func rational_function_chebychev\n#DIM 3 3\n"
+      "#PARAM_IN RUSIN_TH_TD_PD\n#ALTA HEADER END\n\n";
+  return {textBytes(header +
+                    "#FUNC nonlinear_function_diffuse\nkd 0.1\nkd 0.2\nkd 0.3\n\n"
+                    "#FUNC nonlinear_function_blinn\nKs 1\nN 10\nKs 2\nN 20\nKs 3\nN 30\n"
+                    "#FUNC nonlinear_function_beckmann\nKs 0.5\na 0.2\nKs 0.5\na 0.3\nKs 0.5\na 0.4\n"
+                    "#FUNC nonlinear_function_ward\nKs 0.2\nax 0.1\nay 0.3\nKs 0.2\nax 0.1\nay 0.3\nKs 0.2\n"
+                    "ax 0.1\nay 0.3\n"),
+          textBytes(header + "#FUNC rational_function\n#MIN 0 0 0\n#MAX 1.5707963 1.5707963 3.1415927\n"
+                             "#NP 2\n#NQ 2\n0 0 0 1\n1 0 2 0.5\n0 0 0 1\n0 1 0 -0.25\n"
+                             "#NP 1\n#NQ 1\n0 0 0 2\n0 0 0 1\n#NP 1\n#NQ 1\n3 2 1 0.5\n0 0 0 1\n"),
+          textBytes("#ALTA FUNC HEADER\n#DIM 2 1\n#PARAM_IN COS_TH_TD\n#ALTA HEADER END\n"
+                    "#FUNC rational_function_legendre\n#MIN 0 0\n#MAX 1 1\n#NP 1\n#NQ 1\n0 0 1\n0 0 1\n")};
 }
 
 // ---- BRDF Explorer .brdf / .bparam ----------------------------------------------------------------------
@@ -410,6 +444,8 @@ std::vector<FuzzTarget> cpuFuzzTargets() {
       {"utia", "UTIA .bin measured BRDF (loadUtia)", runUtia, utiaSeeds},
       {"mit", "MIT CSAIL .dat measured BRDF (loadMitBrdf)", runMit, mitSeeds},
       {"rgl", "RGL-EPFL .bsdf tensor file (loadRglBsdf, then its warps)", runRgl, rglSeeds},
+      {"alta-func", "ALTA function file (parseAltaFunc, evalAltaFunc, formatAltaFunc)", runAltaFunc,
+       altaFuncSeeds},
       {"brdf", "BRDF Explorer .brdf file (readBrdfFile)", runBrdf, brdfSeeds},
       {"bparam", "BRDF Explorer .bparam file (readBrdfFile)", runBparam, bparamSeeds},
       {"obj", "Wavefront OBJ mesh (readObj)", runObj, objSeeds},

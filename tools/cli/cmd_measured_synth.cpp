@@ -1,12 +1,13 @@
 // `iblx measured-synth`: tabulates any BRDF (a built-in, a .brdf file, another measured file) into a measured
-// format (UTIA .bin, MIT CSAIL .dat, RGL-EPFL .bsdf, MERL .binary), evaluating its GLSL part on the GPU at
-// the format's grid, so tests and benchmarks have files of every format with known answers (the project ships
-// no foreign measured data).
+// format (UTIA .bin, MIT CSAIL .dat, RGL-EPFL .bsdf, MERL .binary) or fits it as an ALTA function file
+// (.func), evaluating its GLSL part on the GPU at the format's grid, so tests and benchmarks have files of every
+// format with known answers (the project ships no foreign measured data).
 #include "engine/core/error.h"
 #include "engine/io/merl.h"
 #include "engine/io/mit_brdf.h"
 #include "engine/io/rgl_bsdf.h"
 #include "engine/io/utia.h"
+#include "engine/render/alta_func_fit.h"
 #include "engine/render/brdf_tabulation.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
@@ -25,7 +26,8 @@ int cmdMeasuredSynth(const Args& args) {
       "--format", "NAME",
       "utia (.bin: a 6 x 48 x 6 x 48 anisotropic grid, the default), mit (.dat: 18 theta_in x 18 "
       "theta_out x 72 phi_diff x 36 phi_in bins), rgl (.bsdf: RGL-EPFL tensor file, 10 views, 32 x 32 "
-      "warps) or merl (.binary)",
+      "warps), merl (.binary) or alta-func (.func: lambert as an exact diffuse lobe, any other BRDF as a "
+      "rational function over RUSIN_TH_TD_PD fitted by linear least squares)",
       [&](const std::string& v) { format = v; });
   parser.value("--brdf", "NAME|FILE",
                "BRDF to tabulate: any --brdf argument, measured files included (default ggx)",
@@ -40,16 +42,34 @@ int cmdMeasuredSynth(const Args& args) {
   parser.value("--rgl-alpha", "A",
                "rgl: GGX width of the file's warps (default: from the BRDF's measured lobe, 0.6 without one)",
                [&](const std::string& v) { rglLayout.alpha = parseDouble("--rgl-alpha", v, 1e-3, 4.0); });
-  parser.value("--out", "FILE", "output file (default material.bin, .dat or .binary by format)",
+  AltaSynthOptions fit;
+  parser.value("--fit-degree", "P,Q",
+               "alta-func: total degrees of the rational function's numerator and denominator (default 5,5)",
+               [&](const std::string& v) {
+                 const auto comma = v.find(',');
+                 try {
+                   std::size_t used = 0;
+                   fit.degreeP = std::stoi(v.substr(0, comma), &used);
+                   if (comma == std::string::npos || used != comma) throw std::invalid_argument(v);
+                   fit.degreeQ = std::stoi(v.substr(comma + 1), &used);
+                   if (used != v.size() - comma - 1) throw std::invalid_argument(v);
+                 } catch (const std::logic_error&) {
+                   throw Error("--fit-degree " + v + ": expected two integers P,Q in [0, 10]");
+                 }
+                 if (fit.degreeP < 0 || fit.degreeQ < 0 || fit.degreeP > 10 || fit.degreeQ > 10)
+                   throw Error("--fit-degree " + v + ": expected two integers P,Q in [0, 10]");
+               });
+  parser.value("--out", "FILE", "output file (default material.bin, .dat, .bsdf, .binary or .func by format)",
                [&](const std::string& v) { out = v; });
   addDeviceFlags(parser, spec);
   if (parser.parseOrShowHelp(args)) return 0;
-  if (format != "utia" && format != "mit" && format != "rgl" && format != "merl")
-    throw Error("--format " + format + ": unknown; valid: utia, mit, rgl, merl");
-  const std::string extension = format == "utia"  ? ".bin"
-                                : format == "mit" ? ".dat"
-                                : format == "rgl" ? ".bsdf"
-                                                  : ".binary";
+  if (format != "utia" && format != "mit" && format != "rgl" && format != "merl" && format != "alta-func")
+    throw Error("--format " + format + ": unknown; valid: utia, mit, rgl, merl, alta-func");
+  const std::string extension = format == "utia"   ? ".bin"
+                                : format == "mit"  ? ".dat"
+                                : format == "rgl"  ? ".bsdf"
+                                : format == "merl" ? ".binary"
+                                                   : ".func";
   if (out.empty()) out = "material" + extension;
   checkTableOutput(out, extension, format);
   LoadedBrdf loaded = loadBrdfArgument(spec.scene.brdf);
@@ -72,9 +92,23 @@ int cmdMeasuredSynth(const Args& args) {
     const RglTables tables = tabulateRgl(context, compiler, scene, rglLayout);
     writeRglBsdf(out, tables);
     entries = tables.rgb.values.size() / 3;
-  } else {
+  } else if (format == "merl") {
     writeMerl(out, tabulateMerl(context, compiler, scene).values);
     entries = kMerlBins;
+  } else {
+    const AltaSynthResult result = synthesizeAltaFunc(context, compiler, scene, fit);
+    writeAltaFunc(out, result.func);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (result.exact)
+      std::printf("wrote %s: %s as an exact ALTA diffuse lobe, %.2f s\n", out.c_str(), brdfName.c_str(),
+                  seconds);
+    else
+      std::printf(
+          "wrote %s: %s fitted by an ALTA rational function (Chebyshev, total degrees %d / %d, "
+          "RUSIN_TH_TD_PD) at %zu grid points, RMS relative error %.4f, %.2f s\n",
+          out.c_str(), brdfName.c_str(), fit.degreeP, fit.degreeQ, result.samples, result.rmsRelative,
+          seconds);
+    return 0;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("wrote %s: %s tabulated in the %s layout at %zu grid points per channel, %.2f s\n", out.c_str(),

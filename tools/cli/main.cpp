@@ -27,7 +27,8 @@ constexpr const char* kUsage =
     "  make-sky    write the procedural sky used as the default environment map\n"
     "  make-teapot tessellate the Utah teapot's Bezier patches into an .obj (assets/teapot.obj)\n"
     "  merl-synth  tabulate a BRDF into a MERL .binary file (synthetic measured materials)\n"
-    "  measured-synth  tabulate a BRDF into a measured format: UTIA .bin, MIT .dat or MERL .binary\n";
+    "  measured-synth  tabulate a BRDF into a measured format (UTIA .bin, MIT .dat, MERL .binary)\n"
+    "                  or fit it as an ALTA function file (.func)\n";
 
 }  // namespace
 

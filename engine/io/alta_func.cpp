@@ -1,0 +1,732 @@
+// ALTA function files: the parser, the writer, the CPU evaluation of every lobe and the rational fit
+// (alta_func.h).
+#include "engine/io/alta_func.h"
+
+#include "engine/core/error.h"
+#include "engine/core/file_io.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+namespace iblx {
+namespace {
+
+constexpr double kPiD = std::numbers::pi;
+constexpr std::uint64_t kMaxAltaFileBytes = 64ull << 20;
+
+struct ParamEntry {
+  AltaParam param;
+  const char* name;
+  int dimension;
+};
+constexpr ParamEntry kParams[] = {
+    {AltaParam::CosTh, "COS_TH", 1},
+    {AltaParam::CosThTd, "COS_TH_TD", 2},
+    {AltaParam::RusinThTd, "RUSIN_TH_TD", 2},
+    {AltaParam::RusinThTdPd, "RUSIN_TH_TD_PD", 3},
+    {AltaParam::IsotropicTvTlDphi, "ISOTROPIC_TV_TL_DPHI", 3},
+};
+
+// Each nonlinear plugin's parameter names, in ALTA's file order.
+std::vector<std::string> lobeParamNames(AltaLobeKind k) {
+  switch (k) {
+    case AltaLobeKind::Diffuse:
+      return {"kd"};
+    case AltaLobeKind::Blinn:
+      return {"Ks", "N"};
+    case AltaLobeKind::Beckmann:
+      return {"Ks", "a"};
+    case AltaLobeKind::Ward:
+      return {"Ks", "ax", "ay"};
+    case AltaLobeKind::Rational:
+      return {};
+  }
+  return {};
+}
+
+struct Line {
+  int number;
+  std::vector<std::string> tokens;
+  std::string text;  // trimmed
+};
+
+std::vector<std::string> splitTokens(std::string_view s) {
+  std::vector<std::string> out;
+  std::size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
+    std::size_t j = i;
+    while (j < s.size() && s[j] != ' ' && s[j] != '\t') ++j;
+    if (j > i) out.emplace_back(s.substr(i, j - i));
+    i = j;
+  }
+  return out;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+class Parser {
+ public:
+  Parser(std::string_view text, std::string name) : name_(std::move(name)) {
+    int number = 0;
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+      const std::size_t end = std::min(text.find('\n', pos), text.size());
+      std::string_view raw = text.substr(pos, end - pos);
+      ++number;
+      pos = end + 1;
+      while (!raw.empty() && (raw.back() == '\r' || raw.back() == ' ' || raw.back() == '\t'))
+        raw.remove_suffix(1);
+      while (!raw.empty() && (raw.front() == ' ' || raw.front() == '\t')) raw.remove_prefix(1);
+      if (raw.find('\0') != std::string_view::npos) fail(number, "a NUL byte: not a text file");
+      lines_.push_back({number, splitTokens(raw), std::string(raw)});
+    }
+    lastLine_ = std::max(1, number);
+  }
+
+  AltaFunc parse() {
+    if (lines_.empty() || lines_[0].text != "#ALTA FUNC HEADER")
+      fail(1, "not an ALTA function file: the first line must be '#ALTA FUNC HEADER'");
+    AltaFunc f;
+    std::size_t i = 1;
+    int dimLine = 0, paramInLine = 0;
+    std::string paramInName;
+    bool ended = false;
+    for (; i < lines_.size(); ++i) {
+      const Line& l = lines_[i];
+      if (l.text.empty()) continue;
+      if (l.text == "#ALTA HEADER END") {
+        ended = true;
+        ++i;
+        break;
+      }
+      if (l.text[0] != '#') fail(l.number, "'" + clip(l.text) + "' in the header: header lines start with #");
+      const std::string key = l.tokens[0].substr(1);
+      if (key == "CMD") {
+        const std::size_t start = l.text.find_first_not_of(" \t", 4);
+        f.command = start == std::string::npos ? "" : l.text.substr(start);
+      } else if (key == "DIM") {
+        if (l.tokens.size() != 3) fail(l.number, "#DIM needs two integers: nX nY");
+        f.dimX = parseInt(l, 1, "#DIM nX");
+        f.dimY = parseInt(l, 2, "#DIM nY");
+        if (f.dimX < 1 || f.dimX > 6) fail(l.number, "#DIM nX = " + l.tokens[1] + ": must be in [1, 6]");
+        if (f.dimY != 1 && f.dimY != 3)
+          fail(l.number, "#DIM nY = " + l.tokens[2] + ": iblx reads 1 (grey) or 3 (RGB) output channels");
+        dimLine = l.number;
+      } else if (key == "PARAM_IN") {
+        if (l.tokens.size() != 2) fail(l.number, "#PARAM_IN needs one parametrisation name");
+        paramInName = l.tokens[1];
+        paramInLine = l.number;
+      } else if (key == "PARAM_OUT") {
+        if (l.tokens.size() != 2) fail(l.number, "#PARAM_OUT needs one output name");
+        f.paramOut = l.tokens[1];
+      }
+      // Other header keys (ALTA's export-append lines, comments) do not change the function.
+    }
+    if (!ended) fail(lastLine_, "truncated file: no '#ALTA HEADER END' line");
+    if (dimLine == 0) fail(lastLine_, "missing header line '#DIM nX nY'");
+    // The basis of rational functions: the plugin #CMD names (--func rational_function_chebychev, ...).
+    const std::string cmd = lower(f.command);
+    if (cmd.find("chebychev") != std::string::npos || cmd.find("chebyshev") != std::string::npos)
+      f.basis = AltaBasis::Chebyshev;
+    else if (cmd.find("legendre") != std::string::npos)
+      f.basis = AltaBasis::Legendre;
+
+    i = nextContent(i);
+    if (i >= lines_.size()) fail(lastLine_, "truncated file: no '#FUNC' block after the header");
+    while (i < lines_.size()) {
+      const Line& l = lines_[i];
+      if (l.tokens[0] != "#FUNC" || l.tokens.size() != 2)
+        fail(l.number, "expected '#FUNC <plugin>', got '" + clip(l.text) + "'");
+      if (int(f.lobes.size()) == kAltaMaxLobes)
+        fail(l.number, "more than " + std::to_string(kAltaMaxLobes) + " lobes");
+      AltaLobe lobe;
+      lobe.line = l.number;
+      const std::string& plugin = l.tokens[1];
+      if (plugin == "nonlinear_function_diffuse") {
+        lobe.kind = AltaLobeKind::Diffuse;
+      } else if (plugin == "nonlinear_function_blinn") {
+        lobe.kind = AltaLobeKind::Blinn;
+      } else if (plugin == "nonlinear_function_beckmann") {
+        lobe.kind = AltaLobeKind::Beckmann;
+      } else if (plugin == "nonlinear_function_ward") {
+        lobe.kind = AltaLobeKind::Ward;
+      } else if (plugin == "rational_function" || plugin == "rational_function_chebychev" ||
+                 plugin == "rational_function_legendre") {
+        lobe.kind = AltaLobeKind::Rational;
+        if (plugin == "rational_function_chebychev") f.basis = AltaBasis::Chebyshev;
+        if (plugin == "rational_function_legendre") f.basis = AltaBasis::Legendre;
+      } else {
+        fail(l.number,
+             "unknown plugin '" + clip(plugin) +
+                 "'; iblx reads nonlinear_function_diffuse, nonlinear_function_blinn, "
+                 "nonlinear_function_beckmann, nonlinear_function_ward and rational_function (monomial, "
+                 "chebychev or legendre)");
+      }
+      if (lobe.kind == AltaLobeKind::Rational) {
+        if (paramInLine == 0) fail(l.number, "a rational function needs the header line '#PARAM_IN <name>'");
+        bool known = false;
+        for (const auto& p : kParams)
+          if (paramInName == p.name) {
+            f.paramIn = p.param;
+            known = true;
+          }
+        if (!known)
+          fail(paramInLine, "#PARAM_IN " + clip(paramInName) + ": iblx evaluates rational functions over " +
+                                altaSupportedParams());
+        if (f.dimX != altaParamDimension(f.paramIn))
+          fail(dimLine, "#DIM nX = " + std::to_string(f.dimX) + " but " + paramInName + " has " +
+                            std::to_string(altaParamDimension(f.paramIn)) + " dimensions");
+        i = parseRational(i + 1, f, lobe);
+      } else {
+        i = parseNonlinear(i + 1, f, lobe);
+      }
+      f.lobes.push_back(std::move(lobe));
+    }
+    return f;
+  }
+
+ private:
+  [[noreturn]] void fail(int line, const std::string& problem) const {
+    throw Error(name_ + ":" + std::to_string(line) + ": " + problem);
+  }
+  static std::string clip(const std::string& s) { return s.size() > 60 ? s.substr(0, 57) + "..." : s; }
+
+  // The next line holding something other than blanks and "# " comments.
+  std::size_t nextContent(std::size_t i) const {
+    while (i < lines_.size() &&
+           (lines_[i].text.empty() || lines_[i].text == "#" || lines_[i].text.rfind("# ", 0) == 0))
+      ++i;
+    return i;
+  }
+
+  double parseNumber(const Line& l, std::size_t token, const std::string& what) const {
+    if (token >= l.tokens.size()) fail(l.number, what + " is missing");
+    const std::string& t = l.tokens[token];
+    double v = 0.0;
+    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (ec != std::errc() || end != t.data() + t.size())
+      fail(l.number, what + " '" + clip(t) + "' is not a number");
+    if (!std::isfinite(v)) fail(l.number, what + " " + clip(t) + " is not finite");
+    return v;
+  }
+  int parseInt(const Line& l, std::size_t token, const std::string& what) const {
+    if (token >= l.tokens.size()) fail(l.number, what + " is missing");
+    const std::string& t = l.tokens[token];
+    long long v = 0;
+    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (ec != std::errc() || end != t.data() + t.size())
+      fail(l.number, what + " '" + clip(t) + "' is not an integer");
+    if (v < -1000000 || v > 1000000) fail(l.number, what + " " + t + " is absurdly large");
+    return int(v);
+  }
+
+  std::size_t parseNonlinear(std::size_t i, const AltaFunc& f, AltaLobe& lobe) const {
+    const auto names = lobeParamNames(lobe.kind);
+    const std::string lobeName = altaLobeName(lobe.kind);
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    for (int c = 0; c < f.dimY; ++c) {
+      std::vector<double> values;
+      for (std::size_t k = 0; k < names.size(); ++k) {
+        i = nextContent(i);
+        const std::string have = "the " + lobeName + " lobe (#FUNC at line " + std::to_string(lobe.line) +
+                                 ") has " + std::to_string(c * int(names.size()) + int(k)) + " of its " +
+                                 std::to_string(f.dimY * int(names.size())) + " values: " + list +
+                                 " for each of #DIM's " + std::to_string(f.dimY) + " channels";
+        if (i >= lines_.size()) fail(lastLine_, "truncated file: " + have);
+        const Line& l = lines_[i];
+        if (l.tokens[0] == "#FUNC") fail(l.number, have);
+        if (l.tokens.size() != 2 || lower(l.tokens[0]) != lower(names[k]))
+          fail(l.number, "expected '" + names[k] + " <value>' (channel " + std::to_string(c + 1) +
+                             " of the " + lobeName + " lobe), got '" + clip(l.text) + "'");
+        const double v = parseNumber(l, 1, lobeName + " " + names[k]);
+        if (names[k] != "Ks" && names[k] != "kd" && !(v > 0.0) && !(names[k] == "N" && v == 0.0))
+          fail(l.number, lobeName + " " + names[k] + " = " + l.tokens[1] + ": must be positive");
+        if (std::abs(v) > 1e12) fail(l.number, lobeName + " " + names[k] + " = " + l.tokens[1] + ": absurd");
+        values.push_back(v);
+        ++i;
+      }
+      lobe.values.push_back(std::move(values));
+    }
+    i = nextContent(i);
+    if (i < lines_.size() && lines_[i].tokens[0] != "#FUNC")
+      fail(lines_[i].number, "'" + clip(lines_[i].text) + "' after the " + lobeName + " lobe's " +
+                                 std::to_string(f.dimY * int(names.size())) + " values (" + list +
+                                 " for each of " + std::to_string(f.dimY) + " channels): too many values");
+    return i;
+  }
+
+  std::size_t parseRational(std::size_t i, const AltaFunc& f, AltaLobe& lobe) const {
+    AltaRational& r = lobe.rational;
+    const auto box = [&](const char* key, std::vector<double>& out) {
+      i = nextContent(i);
+      if (i >= lines_.size()) fail(lastLine_, std::string("truncated file: no ") + key + " line");
+      const Line& l = lines_[i];
+      if (l.tokens[0] != key)
+        fail(l.number, std::string("expected '") + key + " x1 .. xnX', got '" + clip(l.text) + "'");
+      if (int(l.tokens.size()) != f.dimX + 1)
+        fail(l.number, std::string(key) + " has " + std::to_string(l.tokens.size() - 1) +
+                           " values; #DIM nX is " + std::to_string(f.dimX));
+      for (int k = 0; k < f.dimX; ++k) out.push_back(parseNumber(l, std::size_t(k) + 1, key));
+      ++i;
+      return l.number;
+    };
+    box("#MIN", r.min);
+    const int maxLine = box("#MAX", r.max);
+    for (int k = 0; k < f.dimX; ++k)
+      if (!(r.max[std::size_t(k)] > r.min[std::size_t(k)]))
+        fail(maxLine, "#MAX must exceed #MIN in every dimension (dimension " + std::to_string(k + 1) + ")");
+    for (int c = 0; c < f.dimY; ++c) {
+      AltaRationalChannel ch;
+      const auto count = [&](const char* key, int least) {
+        i = nextContent(i);
+        if (i >= lines_.size())
+          fail(lastLine_, std::string("truncated file: no ") + key + " line for channel " +
+                              std::to_string(c + 1) + " of #DIM's " + std::to_string(f.dimY));
+        const Line& l = lines_[i];
+        if (l.tokens[0] != key || l.tokens.size() != 2)
+          fail(l.number, std::string("expected '") + key + " <count>' for channel " + std::to_string(c + 1) +
+                             ", got '" + clip(l.text) + "'");
+        const int n = parseInt(l, 1, key);
+        if (n < least || n > kAltaMaxTerms)
+          fail(l.number, std::string(key) + " " + l.tokens[1] + ": must be in [" + std::to_string(least) +
+                             ", " + std::to_string(kAltaMaxTerms) + "]");
+        ++i;
+        return n;
+      };
+      const int np = count("#NP", 0);
+      const int nq = count("#NQ", 1);
+      for (int t = 0; t < np + nq; ++t) {
+        i = nextContent(i);
+        const std::string which = std::string(t < np ? "P" : "Q") + " term " +
+                                  std::to_string(t < np ? t + 1 : t - np + 1) + " of channel " +
+                                  std::to_string(c + 1);
+        if (i >= lines_.size()) fail(lastLine_, "truncated file: " + which + " is missing");
+        const Line& l = lines_[i];
+        if (l.tokens[0][0] == '#')
+          fail(l.number, which + " is missing (#NP " + std::to_string(np) + ", #NQ " + std::to_string(nq) +
+                             "), got '" + clip(l.text) + "'");
+        if (int(l.tokens.size()) != f.dimX + 1)
+          fail(l.number, which + " has " + std::to_string(l.tokens.size()) +
+                             " numbers; #DIM nX = " + std::to_string(f.dimX) + " needs " +
+                             std::to_string(f.dimX) + " degrees and a coefficient");
+        AltaTerm term;
+        for (int k = 0; k < f.dimX; ++k) {
+          const int d = parseInt(l, std::size_t(k), "degree");
+          if (d < 0 || d > kAltaMaxDegree)
+            fail(l.number, "degree " + l.tokens[std::size_t(k)] + ": must be in [0, " +
+                               std::to_string(kAltaMaxDegree) + "]");
+          term.degrees.push_back(d);
+        }
+        term.coefficient = parseNumber(l, std::size_t(f.dimX), "coefficient");
+        (t < np ? ch.p : ch.q).push_back(std::move(term));
+        ++i;
+      }
+      r.channels.push_back(std::move(ch));
+    }
+    i = nextContent(i);
+    if (i < lines_.size() && lines_[i].tokens[0] != "#FUNC")
+      fail(lines_[i].number, "'" + clip(lines_[i].text) + "' after the rational function's " +
+                                 std::to_string(f.dimY) + " channels: too many terms for their #NP and #NQ");
+    return i;
+  }
+
+  std::string name_;
+  std::vector<Line> lines_;
+  int lastLine_ = 1;
+};
+
+double clampTo(double x, double lo, double hi) {
+  return std::min(std::max(x, lo), hi);
+}
+
+double dot3(const glm::dvec3& a, const glm::dvec3& b) {
+  return glm::dot(a, b);
+}
+
+// The angle folded into [lo, hi] when an equivalent one lies there: a - 2 pi (a box over [-pi, pi]), else the
+// image under the BRDF's symmetry `mirror` (phi_d - pi by reciprocity; 2 pi - dphi by isotropy); then
+// clamped.
+double foldAngle(double a, double lo, double hi, bool reciprocity) {
+  if (a > hi) {
+    if (a - 2.0 * kPiD >= lo)
+      a -= 2.0 * kPiD;
+    else
+      a = reciprocity ? a - kPiD : 2.0 * kPiD - a;
+  }
+  return clampTo(a, lo, hi);
+}
+
+double wrap2Pi(double a) {
+  a = std::fmod(a, 2.0 * kPiD);
+  return a < 0.0 ? a + 2.0 * kPiD : a;
+}
+
+// Householder QR least squares: the x minimising |A x - b| for A with rows x cols entries, row-major.
+std::vector<double> leastSquares(std::vector<double> a, std::vector<double> b, std::size_t rows,
+                                 std::size_t cols) {
+  for (std::size_t k = 0; k < cols; ++k) {
+    double norm = 0.0;
+    for (std::size_t r = k; r < rows; ++r) norm += a[r * cols + k] * a[r * cols + k];
+    norm = std::sqrt(norm);
+    if (norm == 0.0) continue;
+    const double alpha = a[k * cols + k] > 0.0 ? -norm : norm;
+    std::vector<double> v(rows - k);
+    for (std::size_t r = k; r < rows; ++r) v[r - k] = a[r * cols + k];
+    v[0] -= alpha;
+    double vv = 0.0;
+    for (double e : v) vv += e * e;
+    if (vv == 0.0) continue;
+    for (std::size_t c = k; c < cols; ++c) {
+      double s = 0.0;
+      for (std::size_t r = k; r < rows; ++r) s += v[r - k] * a[r * cols + c];
+      s = 2.0 * s / vv;
+      for (std::size_t r = k; r < rows; ++r) a[r * cols + c] -= s * v[r - k];
+    }
+    double s = 0.0;
+    for (std::size_t r = k; r < rows; ++r) s += v[r - k] * b[r];
+    s = 2.0 * s / vv;
+    for (std::size_t r = k; r < rows; ++r) b[r] -= s * v[r - k];
+  }
+  std::vector<double> x(cols, 0.0);
+  for (std::size_t k = cols; k-- > 0;) {
+    double s = b[k];
+    for (std::size_t c = k + 1; c < cols; ++c) s -= a[k * cols + c] * x[c];
+    const double d = a[k * cols + k];
+    x[k] = d != 0.0 ? s / d : 0.0;
+  }
+  return x;
+}
+
+// Every degree vector of total degree <= n in dims dimensions, by total degree.
+std::vector<std::vector<int>> monomials(int dims, int n) {
+  std::vector<std::vector<int>> out;
+  for (int total = 0; total <= n; ++total) {
+    std::vector<int> d(std::size_t(dims), 0);
+    // Enumerate compositions of `total` into dims parts.
+    const auto rec = [&](auto&& self, int k, int left) -> void {
+      if (k == dims - 1) {
+        d[std::size_t(k)] = left;
+        out.push_back(d);
+        return;
+      }
+      for (int v = left; v >= 0; --v) {
+        d[std::size_t(k)] = v;
+        self(self, k + 1, left - v);
+      }
+    };
+    rec(rec, 0, total);
+  }
+  return out;
+}
+
+double termBasis(AltaBasis basis, const std::vector<int>& degrees, std::span<const double> xs) {
+  double v = 1.0;
+  for (std::size_t k = 0; k < degrees.size(); ++k) v *= altaBasisValue(basis, degrees[k], xs[k]);
+  return v;
+}
+
+std::string number(double v) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g", v);
+  return text;
+}
+
+}  // namespace
+
+std::string altaParamName(AltaParam p) {
+  for (const auto& e : kParams)
+    if (e.param == p) return e.name;
+  return "?";
+}
+int altaParamDimension(AltaParam p) {
+  for (const auto& e : kParams)
+    if (e.param == p) return e.dimension;
+  return 0;
+}
+std::string altaBasisName(AltaBasis b) {
+  return b == AltaBasis::Monomial ? "monomial" : b == AltaBasis::Chebyshev ? "Chebyshev" : "Legendre";
+}
+std::string altaSupportedParams() {
+  std::string s;
+  for (const auto& e : kParams) s += (s.empty() ? "" : ", ") + std::string(e.name);
+  return s;
+}
+std::string altaLobeName(AltaLobeKind k) {
+  switch (k) {
+    case AltaLobeKind::Diffuse:
+      return "diffuse";
+    case AltaLobeKind::Blinn:
+      return "blinn";
+    case AltaLobeKind::Beckmann:
+      return "beckmann";
+    case AltaLobeKind::Ward:
+      return "ward";
+    case AltaLobeKind::Rational:
+      return "rational";
+  }
+  return "?";
+}
+
+AltaFunc parseAltaFunc(std::string_view text, const std::string& displayName) {
+  return Parser(text, displayName).parse();
+}
+
+AltaFunc loadAltaFunc(const std::filesystem::path& path) {
+  return parseAltaFunc(readInputText(path, kMaxAltaFileBytes), path.string());
+}
+
+bool looksLikeAltaFunc(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
+  std::ifstream in(path, std::ios::binary);
+  char head[18] = {};
+  in.read(head, sizeof head);
+  return in.gcount() >= 17 && std::string_view(head, 17) == "#ALTA FUNC HEADER" &&
+         (in.gcount() == 17 || head[17] == '\n' || head[17] == '\r');
+}
+
+std::string formatAltaFunc(const AltaFunc& f) {
+  std::ostringstream s;
+  s << "#ALTA FUNC HEADER\n#CMD " << f.command << "\n#DIM " << f.dimX << " " << f.dimY << "\n";
+  s << "#PARAM_IN " << altaParamName(f.paramIn) << "\n";
+  if (!f.paramOut.empty()) s << "#PARAM_OUT " << f.paramOut << "\n";
+  s << "#ALTA HEADER END\n\n";
+  for (const AltaLobe& lobe : f.lobes) {
+    if (lobe.kind == AltaLobeKind::Rational) {
+      s << "#FUNC rational_function\n#MIN";
+      for (double v : lobe.rational.min) s << " " << number(v);
+      s << "\n#MAX";
+      for (double v : lobe.rational.max) s << " " << number(v);
+      s << "\n";
+      for (const auto& ch : lobe.rational.channels) {
+        s << "#NP " << ch.p.size() << "\n#NQ " << ch.q.size() << "\n";
+        for (const auto* terms : {&ch.p, &ch.q})
+          for (const AltaTerm& t : *terms) {
+            for (int d : t.degrees) s << d << "\t";
+            s << number(t.coefficient) << "\n";
+          }
+      }
+    } else {
+      s << "#FUNC nonlinear_function_" << altaLobeName(lobe.kind) << "\n";
+      const auto names = lobeParamNames(lobe.kind);
+      for (const auto& channel : lobe.values)
+        for (std::size_t k = 0; k < names.size(); ++k) s << names[k] << " " << number(channel[k]) << "\n";
+    }
+    s << "\n";
+  }
+  return s.str();
+}
+
+void writeAltaFunc(const std::filesystem::path& path, const AltaFunc& func) {
+  writeFileAtomically(path, formatAltaFunc(func));
+}
+
+double altaBasisValue(AltaBasis basis, int degree, double x) {
+  if (basis == AltaBasis::Monomial) return std::pow(x, degree);
+  // T_{n+1} = 2x T_n - T_{n-1}; (n+1) P_{n+1} = (2n+1) x P_n - n P_{n-1}.
+  double prev = 1.0, cur = x;
+  if (degree == 0) return 1.0;
+  for (int n = 1; n < degree; ++n) {
+    const double next = basis == AltaBasis::Chebyshev ? 2.0 * x * cur - prev
+                                                      : ((2.0 * n + 1.0) * x * cur - n * prev) / (n + 1.0);
+    prev = cur;
+    cur = next;
+  }
+  return cur;
+}
+
+double evalAltaRational(const AltaRational& r, AltaBasis basis, int channel, std::span<const double> x) {
+  std::vector<double> xs(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    const double lo = r.min[k], hi = r.max[k];
+    xs[k] = 2.0 * ((clampTo(x[k], lo, hi) - lo) / (hi - lo) - 0.5);
+  }
+  const AltaRationalChannel& ch = r.channels[std::size_t(channel)];
+  double p = 0.0, q = 0.0;
+  for (const AltaTerm& t : ch.p) p += t.coefficient * termBasis(basis, t.degrees, xs);
+  for (const AltaTerm& t : ch.q) q += t.coefficient * termBasis(basis, t.degrees, xs);
+  return q != 0.0 ? p / q : 0.0;
+}
+
+void altaRusinDirections(double thetaH, double thetaD, double phiD, glm::dvec3& wi, glm::dvec3& wo) {
+  // Rusinkiewicz 1998, "A New Change of Variables for Efficient BRDF Representation": the difference
+  // vector (theta_d, phi_d) in the frame of h, rotated by theta_h about y (phi_h = 0).
+  const glm::dvec3 d(std::sin(thetaD) * std::cos(phiD), std::sin(thetaD) * std::sin(phiD), std::cos(thetaD));
+  const double c = std::cos(thetaH), s = std::sin(thetaH);
+  wi = glm::dvec3(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
+  const glm::dvec3 h(s, 0.0, c);
+  wo = 2.0 * glm::dot(wi, h) * h - wi;
+}
+
+std::vector<double> altaCoordinates(AltaParam p, const glm::dvec3& wi, const glm::dvec3& wo,
+                                    std::span<const double> min, std::span<const double> max) {
+  const glm::dvec3 h = glm::normalize(wi + wo);
+  const double cosH = clampTo(h.z, -1.0, 1.0), cosD = clampTo(dot3(wi, h), -1.0, 1.0);
+  std::vector<double> x;
+  switch (p) {
+    case AltaParam::CosTh:
+      x = {cosH};
+      break;
+    case AltaParam::CosThTd:
+      x = {cosH, cosD};
+      break;
+    case AltaParam::RusinThTd:
+      x = {std::acos(cosH), std::acos(cosD)};
+      break;
+    case AltaParam::RusinThTdPd: {
+      // wi in h's frame: rotate by -phi_h about n, then by -theta_h about the bitangent.
+      const double phiH = std::atan2(h.y, h.x), thetaH = std::acos(cosH);
+      const double cp = std::cos(phiH), sp = std::sin(phiH);
+      const glm::dvec3 r1(cp * wi.x + sp * wi.y, -sp * wi.x + cp * wi.y, wi.z);
+      const double ct = std::cos(thetaH), st = std::sin(thetaH);
+      const glm::dvec3 d(ct * r1.x - st * r1.z, r1.y, st * r1.x + ct * r1.z);
+      x = {thetaH, std::acos(cosD), foldAngle(wrap2Pi(std::atan2(d.y, d.x)), min[2], max[2], true)};
+      break;
+    }
+    case AltaParam::IsotropicTvTlDphi: {
+      const double dphi = wrap2Pi(std::atan2(wi.y, wi.x) - std::atan2(wo.y, wo.x));
+      x = {std::acos(clampTo(wo.z, -1.0, 1.0)), std::acos(clampTo(wi.z, -1.0, 1.0)),
+           foldAngle(dphi, min[2], max[2], false)};
+      break;
+    }
+  }
+  return x;
+}
+
+glm::dvec3 evalAltaLobe(const AltaFunc& f, const AltaLobe& lobe, const glm::dvec3& wi, const glm::dvec3& wo) {
+  if (wi.z <= 0.0 || wo.z <= 0.0) return glm::dvec3(0.0);
+  const glm::dvec3 h = glm::normalize(wi + wo);
+  glm::dvec3 out(0.0);
+  for (int c = 0; c < 3; ++c) {
+    const int ch = f.dimY == 1 ? 0 : c;
+    const std::vector<double>* v = lobe.values.empty() ? nullptr : &lobe.values[std::size_t(ch)];
+    double value = 0.0;
+    switch (lobe.kind) {
+      case AltaLobeKind::Diffuse:
+        value = (*v)[0];
+        break;
+      // ALTA's nonlinear_function_blinn: Ks cos^N theta_h (Blinn 1977, unnormalised).
+      case AltaLobeKind::Blinn:
+        value = h.z > 0.0 ? (*v)[0] * std::pow(h.z, (*v)[1]) : 0.0;
+        break;
+      // ALTA's nonlinear_function_beckmann: Ks D(h) / 4 with Beckmann's D (Cook & Torrance 1982), no
+      // shadowing and no 1 / (cos theta_i cos theta_o).
+      case AltaLobeKind::Beckmann: {
+        const double a2 = (*v)[1] * (*v)[1], c2 = h.z * h.z;
+        value = h.z > 0.0 ? (*v)[0] * std::exp((c2 - 1.0) / (a2 * c2)) / (4.0 * kPiD * a2 * c2 * c2) : 0.0;
+        break;
+      }
+      // ALTA's nonlinear_function_ward: Ward 1992's anisotropic Gaussian lobe.
+      case AltaLobeKind::Ward: {
+        const double ax = (*v)[1], ay = (*v)[2];
+        const double e = ((h.x / ax) * (h.x / ax) + (h.y / ay) * (h.y / ay)) / (h.z * h.z);
+        value = (*v)[0] / (4.0 * kPiD * ax * ay * std::sqrt(wi.z * wo.z)) * std::exp(-e);
+        break;
+      }
+      case AltaLobeKind::Rational: {
+        const auto x = altaCoordinates(f.paramIn, wi, wo, lobe.rational.min, lobe.rational.max);
+        value = evalAltaRational(lobe.rational, f.basis, ch, x);
+        break;
+      }
+    }
+    out[c] = value;
+  }
+  return out;
+}
+
+glm::dvec3 evalAltaFunc(const AltaFunc& f, const glm::dvec3& wi, const glm::dvec3& wo) {
+  glm::dvec3 sum(0.0);
+  for (const AltaLobe& lobe : f.lobes) sum += evalAltaLobe(f, lobe, wi, wo);
+  for (int c = 0; c < 3; ++c) sum[c] = std::isfinite(sum[c]) && sum[c] > 0.0 ? sum[c] : 0.0;
+  return sum;
+}
+
+AltaFitResult fitAltaRational(int dimX, std::span<const double> x, std::span<const std::vector<double>> y,
+                              std::span<const double> min, std::span<const double> max, int degreeP,
+                              int degreeQ) {
+  if (dimX < 1 || x.size() % std::size_t(dimX) != 0 || y.empty())
+    throw Error("fitAltaRational: inconsistent sample arrays");
+  const std::size_t n = x.size() / std::size_t(dimX);
+  const auto pTerms = monomials(dimX, degreeP), qTerms = monomials(dimX, degreeQ);
+  // Basis values at every sample, on the box mapped to [-1, 1].
+  std::vector<double> xs(x.size());
+  for (std::size_t s = 0; s < n; ++s)
+    for (int k = 0; k < dimX; ++k) {
+      const std::size_t i = s * std::size_t(dimX) + std::size_t(k);
+      xs[i] = 2.0 * ((clampTo(x[i], min[std::size_t(k)], max[std::size_t(k)]) - min[std::size_t(k)]) /
+                         (max[std::size_t(k)] - min[std::size_t(k)]) -
+                     0.5);
+    }
+  const auto basisAt = [&](const std::vector<int>& d, std::size_t s) {
+    return termBasis(AltaBasis::Chebyshev, d,
+                     std::span<const double>(xs).subspan(s * std::size_t(dimX), std::size_t(dimX)));
+  };
+  AltaFitResult result;
+  result.rational.min.assign(min.begin(), min.end());
+  result.rational.max.assign(max.begin(), max.end());
+  double squared = 0.0;
+  std::size_t counted = 0;
+  for (const std::vector<double>& values : y) {
+    double mean = 0.0;
+    for (double v : values) mean += v;
+    mean /= double(n);
+    const double floor = 0.01 * mean + 1e-12;
+    AltaRationalChannel channel;
+    for (const bool rational : {true, false}) {
+      const std::size_t qCount = rational ? qTerms.size() - 1 : 0, cols = pTerms.size() + qCount;
+      // Rows: w (P(x) - y Q'(x)) = w y, plus a light ridge (1e-9 of each column's scale) against rank loss.
+      std::vector<double> a((n + cols) * cols, 0.0), b(n + cols, 0.0), scale(cols, 0.0);
+      for (std::size_t s = 0; s < n; ++s) {
+        const double w = 1.0 / (std::max(values[s], 0.0) + floor);
+        for (std::size_t t = 0; t < pTerms.size(); ++t) a[s * cols + t] = w * basisAt(pTerms[t], s);
+        for (std::size_t t = 0; t < qCount; ++t)
+          a[s * cols + pTerms.size() + t] = -w * values[s] * basisAt(qTerms[t + 1], s);
+        b[s] = w * values[s];
+      }
+      for (std::size_t c = 0; c < cols; ++c) {
+        for (std::size_t s = 0; s < n; ++s) scale[c] += a[s * cols + c] * a[s * cols + c];
+        scale[c] = scale[c] > 0.0 ? std::sqrt(scale[c]) : 1.0;
+        for (std::size_t s = 0; s < n; ++s) a[s * cols + c] /= scale[c];
+        a[(n + c) * cols + c] = 1e-9;
+      }
+      std::vector<double> coef = leastSquares(std::move(a), std::move(b), n + cols, cols);
+      for (std::size_t c = 0; c < cols; ++c) coef[c] /= scale[c];
+      channel.p.clear();
+      channel.q.clear();
+      for (std::size_t t = 0; t < pTerms.size(); ++t) channel.p.push_back({pTerms[t], coef[t]});
+      channel.q.push_back({qTerms[0], 1.0});
+      for (std::size_t t = 0; t < qCount; ++t) channel.q.push_back({qTerms[t + 1], coef[pTerms.size() + t]});
+      // A Q that is not positive at a sample has a pole inside the data: use the polynomial instead.
+      bool positive = true;
+      for (std::size_t s = 0; s < n && positive; ++s) {
+        double q = 0.0;
+        for (const AltaTerm& t : channel.q) q += t.coefficient * basisAt(t.degrees, s);
+        positive = q > 1e-6;
+      }
+      if (positive) break;
+    }
+    for (std::size_t s = 0; s < n; ++s) {
+      double p = 0.0, q = 0.0;
+      for (const AltaTerm& t : channel.p) p += t.coefficient * basisAt(t.degrees, s);
+      for (const AltaTerm& t : channel.q) q += t.coefficient * basisAt(t.degrees, s);
+      const double fit = q != 0.0 ? p / q : 0.0, r = values[s];
+      squared += (fit - r) * (fit - r) / (r * r + 0.01);
+      ++counted;
+    }
+    result.rational.channels.push_back(std::move(channel));
+  }
+  result.rmsRelative = std::sqrt(squared / double(std::max<std::size_t>(counted, 1)));
+  return result;
+}
+
+}  // namespace iblx
