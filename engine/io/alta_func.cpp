@@ -19,18 +19,9 @@ namespace {
 constexpr double kPiD = std::numbers::pi;
 constexpr std::uint64_t kMaxAltaFileBytes = 64ull << 20;
 
-struct ParamEntry {
-  AltaParam param;
-  const char* name;
-  int dimension;
-};
-constexpr ParamEntry kParams[] = {
-    {AltaParam::CosTh, "COS_TH", 1},
-    {AltaParam::CosThTd, "COS_TH_TD", 2},
-    {AltaParam::RusinThTd, "RUSIN_TH_TD", 2},
-    {AltaParam::RusinThTdPd, "RUSIN_TH_TD_PD", 3},
-    {AltaParam::IsotropicTvTlDphi, "ISOTROPIC_TV_TL_DPHI", 3},
-};
+// The parametrisations a rational function may be written over.
+constexpr AltaParam kFunctionParams[] = {AltaParam::CosTh, AltaParam::CosThTd, AltaParam::RusinThTd,
+                                         AltaParam::RusinThTdPd, AltaParam::IsotropicTvTlDphi};
 
 // Each nonlinear plugin's parameter names, in ALTA's file order.
 std::vector<std::string> lobeParamNames(AltaLobeKind k) {
@@ -174,9 +165,9 @@ class Parser {
       if (lobe.kind == AltaLobeKind::Rational) {
         if (paramInLine == 0) fail(l.number, "a rational function needs the header line '#PARAM_IN <name>'");
         bool known = false;
-        for (const auto& p : kParams)
-          if (paramInName == p.name) {
-            f.paramIn = p.param;
+        for (AltaParam p : kFunctionParams)
+          if (paramInName == altaParamName(p)) {
+            f.paramIn = p;
             known = true;
           }
         if (!known)
@@ -443,22 +434,12 @@ std::string number(double v) {
 
 }  // namespace
 
-std::string altaParamName(AltaParam p) {
-  for (const auto& e : kParams)
-    if (e.param == p) return e.name;
-  return "?";
-}
-int altaParamDimension(AltaParam p) {
-  for (const auto& e : kParams)
-    if (e.param == p) return e.dimension;
-  return 0;
-}
 std::string altaBasisName(AltaBasis b) {
   return b == AltaBasis::Monomial ? "monomial" : b == AltaBasis::Chebyshev ? "Chebyshev" : "Legendre";
 }
 std::string altaSupportedParams() {
   std::string s;
-  for (const auto& e : kParams) s += (s.empty() ? "" : ", ") + std::string(e.name);
+  for (AltaParam p : kFunctionParams) s += (s.empty() ? "" : ", ") + altaParamName(p);
   return s;
 }
 std::string altaLobeName(AltaLobeKind k) {
@@ -599,6 +580,9 @@ std::vector<double> altaCoordinates(AltaParam p, const glm::dvec3& wi, const glm
            foldAngle(dphi, min[2], max[2], false)};
       break;
     }
+    case AltaParam::SphericalTlPlTvPv:
+    case AltaParam::Cartesian:
+      break;  // data-file parametrisations: the function-file parser refuses them
   }
   return x;
 }

@@ -29,20 +29,14 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/io/alta_params.h"
+
 namespace iblx {
 
-// The input parametrisations a rational function may be written over (all cheap in GLSL). Angles in radians.
-enum class AltaParam {
-  CosTh,              // COS_TH: (cos theta_h)
-  CosThTd,            // COS_TH_TD: (cos theta_h, cos theta_d)
-  RusinThTd,          // RUSIN_TH_TD: (theta_h, theta_d)
-  RusinThTdPd,        // RUSIN_TH_TD_PD: (theta_h, theta_d, phi_d)
-  IsotropicTvTlDphi,  // ISOTROPIC_TV_TL_DPHI: (theta_v, theta_l, phi_l - phi_v)
-};
+// A rational function may be written over COS_TH, COS_TH_TD, RUSIN_TH_TD, RUSIN_TH_TD_PD and
+// ISOTROPIC_TV_TL_DPHI (all cheap in GLSL).
 enum class AltaBasis { Monomial, Chebyshev, Legendre };
 
-std::string altaParamName(AltaParam p);
-int altaParamDimension(AltaParam p);
 std::string altaBasisName(AltaBasis b);
 // "COS_TH, COS_TH_TD, RUSIN_TH_TD, RUSIN_TH_TD_PD, ISOTROPIC_TV_TL_DPHI"
 std::string altaSupportedParams();

@@ -268,6 +268,13 @@ RglTables tabulateRgl(const VulkanContext& context, ShaderCompiler& compiler, co
   return finishRglSynth(std::move(plan), f);
 }
 
+AltaData tabulateAltaData(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                          AltaParam param, AltaOutput output, std::size_t scattered) {
+  AltaSynthPlan plan = planAltaSynth(param, output, scattered);
+  const std::vector<glm::dvec3> f = evaluateBrdf(context, compiler, scene, plan.wi, plan.wo);
+  return finishAltaSynth(std::move(plan), f);
+}
+
 std::shared_ptr<const MerlTableData> VulkanServices::tabulateBrdf(const Scene& scene) const {
   return tabulateBrdfTable(*this, scene);
 }

@@ -7,6 +7,7 @@
 #include "engine/scene/scene.h"
 #include "engine/vk/context.h"
 #include "engine/sampling/merl_sampling.h"
+#include "engine/sampling/alta_grid.h"
 #include "engine/sampling/rgl_sampling.h"
 #include "engine/vk/shader_compiler.h"
 
@@ -92,5 +93,10 @@ std::vector<float> tabulateMit(const VulkanContext& context, ShaderCompiler& com
 // a Lambert fixture is then within 1 % on average, 8 % at worst).
 RglTables tabulateRgl(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                       RglSynthLayout layout);
+
+// A BRDF sampled for an ALTA data file (engine/sampling/alta_grid.h, planAltaSynth): on a regular grid of
+// `param`, or at `scattered` random direction pairs when that is > 0 (always for CARTESIAN).
+AltaData tabulateAltaData(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                          AltaParam param, AltaOutput output, std::size_t scattered);
 
 }  // namespace iblx

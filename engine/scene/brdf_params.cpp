@@ -33,9 +33,11 @@ ParamValues resolveParams(const BrdfInfo& brdf,
     auto decl = std::find_if(brdf.params.begin(), brdf.params.end(),
                              [&](const ParamDecl& p) { return p.name == name; });
     if (decl == brdf.params.end()) {
-      throw SettingError(Setting::BrdfParam, "",
-                         " " + name + ": BRDF '" + brdf.name + "' has no parameter '" + name +
-                             "'; its parameters: " + joinNames(brdf.params, &ParamDecl::name));
+      throw SettingError(
+          Setting::BrdfParam, "",
+          " " + name + ": BRDF '" + brdf.name + "' has no parameter '" + name +
+              (brdf.params.empty() ? "'; it has no parameters"
+                                   : "'; its parameters: " + joinNames(brdf.params, &ParamDecl::name)));
     }
     std::array<double, 3> v{0, 0, 0};
     const int count = decl->type == ParamType::Color ? 3 : 1;

@@ -1,7 +1,10 @@
 // Measured files as BRDFs (measured_brdfs.h).
 #include "engine/scene/measured_brdfs.h"
 
+#include "engine/io/alta_func.h"
+#include "engine/sampling/alta_grid.h"
 #include "engine/sampling/technique_data.h"
+#include "engine/scene/alta_func_brdf.h"
 
 namespace iblx {
 namespace {
@@ -87,6 +90,58 @@ std::shared_ptr<const BrdfInfo> makeRglBrdf(const RglTables& tables, const std::
   info->lobeWidth = [](const Scene& scene, const GpuServices& gpu) { return gpu.measureLobeWidth(scene); };
   info->data = [material](const Scene&) { return material->techniqueData(); };
   return info;
+}
+
+std::shared_ptr<const BrdfInfo> makeAltaDataBrdf(const AltaData& data, const std::filesystem::path& file) {
+  auto grid = std::make_shared<const AltaGrid>(makeAltaGrid(data, file.string()));
+  auto info = std::make_shared<BrdfInfo>();
+  info->name = file.stem().string();
+  std::string shape;
+  for (const auto& axis : grid->axes)
+    shape.append(shape.empty() ? "" : " x ").append(std::to_string(axis.size()));
+  std::string description = "ALTA data file " + file.string() + " (" + std::to_string(data.samples) + " " +
+                            altaParamName(data.param) + " samples of " + altaOutputName(data.output) + "; ";
+  description.append(grid->resampledFrom > 0 ? "resampled onto a " : "a ").append(shape).append(" ");
+  description.append(altaParamName(grid->param)).append(" grid, multilinear lookup)");
+  info->description = description;
+  info->evalPart = "brdf/alta_data.glsl";
+  info->bestSampler = "brdf-tab";
+  info->lobeWidth = [](const Scene& scene, const GpuServices& gpu) { return gpu.measureLobeWidth(scene); };
+  info->data = [grid](const Scene&) { return altaGridTechniqueData(*grid); };
+  return info;
+}
+
+std::span<const MaterialFileFormat> materialFileFormats() {
+  // Content first: a UTIA .bin by its exact size, an MIT .dat by its header, an RGL .bsdf by its magic, ALTA
+  // files by their first lines.
+  static const MaterialFileFormat formats[] = {
+      {"UTIA .bin",
+       {".bin"},
+       looksLikeUtia,
+       false,
+       [](const std::filesystem::path& p) { return makeUtiaBrdf(loadUtia(p), p); }},
+      {"ALTA data",
+       {".data", ".alta"},
+       looksLikeAltaData,
+       false,
+       [](const std::filesystem::path& p) { return makeAltaDataBrdf(loadAltaData(p), p); }},
+      {"MIT CSAIL .dat",
+       {".dat"},
+       looksLikeMitBrdf,
+       false,
+       [](const std::filesystem::path& p) { return makeMitBrdf(loadMitBrdf(p), p); }},
+      {"RGL-EPFL .bsdf",
+       {".bsdf"},
+       looksLikeRglBsdf,
+       false,
+       [](const std::filesystem::path& p) { return makeRglBrdf(loadRglBsdf(p), p); }},
+      {"ALTA function",
+       {".func"},
+       looksLikeAltaFunc,
+       true,
+       [](const std::filesystem::path& p) { return makeAltaFuncBrdf(loadAltaFunc(p), p); }},
+  };
+  return formats;
 }
 
 bool isRglBrdf(const BrdfInfo& brdf) {

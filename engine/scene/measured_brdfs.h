@@ -3,9 +3,14 @@
 // (engine/io/mit_brdf.h; shaders/brdf/mit.glsl) with a scale, so `--param` and the viewer's sliders change
 // how the stored values are read. Both are sampled by brdf-tab (its half-vector tables follow an anisotropic
 // lobe's azimuth). An RGL-EPFL .bsdf (engine/sampling/rgl_sampling.h; shaders/brdf/rgl.glsl) is sampled by
-// its own luminance and VNDF warps, technique rgl-vndf.
+// its own luminance and VNDF warps, technique rgl-vndf. An ALTA data file (engine/sampling/alta_grid.h;
+// shaders/brdf/alta_data.glsl) becomes a grid of its parametrisation, sampled by brdf-tab.
+//
+// materialFileFormats() lists every format read from a file by content (ALTA function files too), in the
+// order loadBrdfArgument (engine/scene/scene.h) tries them.
 #pragma once
 
+#include "engine/io/alta_data.h"
 #include "engine/io/mit_brdf.h"
 #include "engine/io/utia.h"
 #include "engine/sampling/rgl_sampling.h"
@@ -13,6 +18,9 @@
 
 #include <filesystem>
 #include <memory>
+#include <span>
+#include <string>
+#include <vector>
 
 namespace iblx {
 
@@ -20,6 +28,21 @@ namespace iblx {
 std::shared_ptr<const BrdfInfo> makeUtiaBrdf(UtiaBrdf brdf, const std::filesystem::path& file);
 std::shared_ptr<const BrdfInfo> makeMitBrdf(MitBrdf brdf, const std::filesystem::path& file);
 std::shared_ptr<const BrdfInfo> makeRglBrdf(const RglTables& tables, const std::filesystem::path& file);
+
+std::shared_ptr<const BrdfInfo> makeAltaDataBrdf(const AltaData& data, const std::filesystem::path& file);
+
+// A format of material files: recognised by its content whatever the file's name, or else by an extension
+// (which then reports that format's problems with the file).
+struct MaterialFileFormat {
+  const char* name;
+  std::vector<std::string> extensions;
+  bool (*recognise)(const std::filesystem::path&);
+  // Whether content recognition applies to files named .brdf or .bparam too (ALTA calls its function files
+  // .brdf; the other formats never look like BRDF Explorer's text).
+  bool evenWithExplorerNames;
+  std::shared_ptr<const BrdfInfo> (*load)(const std::filesystem::path&);
+};
+std::span<const MaterialFileFormat> materialFileFormats();
 
 // Whether a BRDF is an RGL-EPFL material (what technique rgl-vndf samples).
 bool isRglBrdf(const BrdfInfo& brdf);

@@ -207,7 +207,9 @@ const BrdfInfo* findBrdfForArgument(const std::string& nameOrPath) {
                                b.fileExtension + " file");
       valid += ", a " + b.fileExtension + " file (" + b.name + ")";
     }
-  valid += ", a UTIA .bin or MIT .dat file, an ALTA function file, a .brdf or .bparam file (BRDF Explorer)";
+  valid +=
+      ", a UTIA .bin, MIT .dat, RGL-EPFL .bsdf, ALTA data or ALTA function file, a .brdf or .bparam file "
+      "(BRDF Explorer)";
   throw SettingError(Setting::Brdf, "unknown ", " '" + nameOrPath + "'; valid: " + valid);
 }
 const EnvTechniqueInfo& findEnvTechnique(const std::string& name) {

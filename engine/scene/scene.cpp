@@ -7,9 +7,7 @@
 #include "engine/core/file_io.h"
 #include "engine/core/join.h"
 #include "engine/core/log.h"
-#include "engine/io/alta_func.h"
 #include "engine/io/brdf_file.h"
-#include "engine/scene/alta_func_brdf.h"
 #include "engine/scene/analytic_brdf.h"
 #include "engine/scene/measured_brdfs.h"
 #include "engine/sampling/latlong_texel.h"
@@ -64,34 +62,20 @@ double MeasuredBrdf::lobeWidth() const {
 }
 
 LoadedBrdf loadBrdfArgument(const std::string& nameOrPath) {
-  // Files are recognised by their content where their layout allows it: a UTIA .bin has no header but a
-  // fixed size, an MIT .dat a header; whatever their names.
-  const std::string extension = std::filesystem::path(nameOrPath).extension().string();
-  const bool explorerFile = extension == ".brdf" || extension == ".bparam";
-  if (extension == ".bin" || (!explorerFile && looksLikeUtia(nameOrPath))) {
-    if (!std::filesystem::exists(nameOrPath))
-      throw SettingError(Setting::Brdf, "", " " + nameOrPath + ": no such file");
-    return {makeUtiaBrdf(loadUtia(nameOrPath), nameOrPath), nullptr, nameOrPath};
-  }
-  // An MIT .dat starts with a header of its own, checked field by field.
-  if (extension == ".dat" || (!explorerFile && looksLikeMitBrdf(nameOrPath))) {
-    if (!std::filesystem::exists(nameOrPath))
-      throw SettingError(Setting::Brdf, "", " " + nameOrPath + ": no such file");
-    return {makeMitBrdf(loadMitBrdf(nameOrPath), nameOrPath), nullptr, nameOrPath};
-  }
-  // An RGL-EPFL .bsdf is a tensor file, recognised by its magic.
-  if (extension == ".bsdf" || (!explorerFile && looksLikeRglBsdf(nameOrPath))) {
-    if (!std::filesystem::exists(nameOrPath))
-      throw SettingError(Setting::Brdf, "", " " + nameOrPath + ": no such file");
-    return {makeRglBrdf(loadRglBsdf(nameOrPath), nameOrPath), nullptr, nameOrPath};
-  }
-  // An ALTA function file starts with `#ALTA FUNC HEADER`, whatever its name (.func, or .brdf in ALTA's
-  // docs).
-  if (extension == ".func" || looksLikeAltaFunc(nameOrPath)) {
-    if (!std::filesystem::exists(nameOrPath))
-      throw SettingError(Setting::Brdf, "", " " + nameOrPath + ": no such file");
-    return {makeAltaFuncBrdf(loadAltaFunc(nameOrPath), nameOrPath), nullptr, nameOrPath};
-  }
+  // Material files are recognised by their content whatever their names (materialFileFormats), then by
+  // their extension, so that a damaged file is reported as its format's.
+  const std::filesystem::path path(nameOrPath);
+  const std::string extension = path.extension().string();
+  const bool explorerName = extension == ".brdf" || extension == ".bparam";
+  for (const MaterialFileFormat& format : materialFileFormats())
+    if ((!explorerName || format.evenWithExplorerNames) && format.recognise(path))
+      return {format.load(path), nullptr, nameOrPath};
+  for (const MaterialFileFormat& format : materialFileFormats())
+    if (std::ranges::find(format.extensions, extension) != format.extensions.end()) {
+      if (!std::filesystem::exists(path))
+        throw SettingError(Setting::Brdf, "", " " + nameOrPath + ": no such file");
+      return {format.load(path), nullptr, nameOrPath};
+    }
   if (const BrdfInfo* registered = findBrdfForArgument(nameOrPath)) {
     LoadedBrdf loaded;
     loaded.info =

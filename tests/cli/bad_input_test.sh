@@ -148,7 +148,7 @@ head -c 1000 "$tmp/lambert.bin" > "$tmp/truncated.bin"
 expect_error "truncated utia file" "truncated UTIA file: 1000 bytes" render --brdf "$tmp/truncated.bin" --out "$tmp/b.png"
 expect_error "missing utia file" "none.bin: no such file" render --brdf "$tmp/none.bin" --out "$tmp/b.png"
 expect_error "utia params" "has no parameter 'roughness'" render --brdf "$tmp/lambert.bin" --param roughness=0.1
-expect_error "measured-synth format" "--format bogus: unknown; valid: utia, mit, merl, alta-func" measured-synth --format bogus --out "$tmp/c.bin"
+expect_error "measured-synth format" "--format bogus: unknown; valid: utia, mit, rgl, alta, merl, alta-func" measured-synth --format bogus --out "$tmp/c.bin"
 expect_error "measured-synth extension" "must end in .bin" measured-synth --out "$tmp/c.binary"
 # MIT CSAIL .dat materials: recognised by their header whatever their name.
 expect_ok "measured-synth mit" measured-synth --format mit --brdf lambert --param albedo=0.5 --out "$tmp/lambert.dat"
@@ -161,6 +161,55 @@ expect_error "truncated mit file" "truncated MIT .dat file: 100000 bytes, expect
 { printf '\22\0\0\0\22\0\0\0\110\0\0\0\44\0\0\0\0\0\0\0\0\0\0\0\2\0\0\0'; tail -c +29 "$tmp/lambert.dat"; } > "$tmp/param.dat"
 expect_error "mit header" "header field 6 (parameterisation) is 2, expected 1" render --brdf "$tmp/param.dat" --out "$tmp/b.png"
 expect_error "missing mit file" "none.dat: no such file" render --brdf "$tmp/none.dat" --out "$tmp/b.png"
+# RGL-EPFL .bsdf materials: recognised by the tensor_file magic whatever their name; a damaged container names
+# the field at fault.
+expect_ok "measured-synth rgl" measured-synth --format rgl --brdf lambert --param albedo=0.5 --out "$tmp/lambert.bsdf"
+[ "$(stat -c %s "$tmp/lambert.bsdf" 2>/dev/null)" = 213427 ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: measured-synth rgl file size"; }
+expect_ok "rgl render" render --brdf "$tmp/lambert.bsdf" --size 8x8 --spp 2 --passes 1 --out "$tmp/g.png"
+cp "$tmp/lambert.bsdf" "$tmp/lambert-rgl.measured"
+expect_ok "rgl recognised by its magic" render --brdf "$tmp/lambert-rgl.measured" --method brdf --brdf-sampler rgl-vndf --size 8x8 --spp 2 --passes 1 --out "$tmp/g.png"
+expect_ok "measured-synth rgl anisotropic" measured-synth --format rgl --anisotropic --rgl-alpha 0.3 --brdf ggx --out "$tmp/aniso.bsdf"
+listing=$("$iblx" render --list-methods --brdf "$tmp/aniso.bsdf" 2>&1)
+if printf '%s' "$listing" | grep -q "RGL-EPFL measured anisotropic BRDF .*(17 phi_i x 10 theta_i views" &&
+   printf '%s' "$listing" | grep -q "best sampler: rgl-vndf"; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: rgl --list-methods: $listing"
+fi
+head -c 200000 "$tmp/lambert.bsdf" > "$tmp/truncated.bsdf"
+expect_error "truncated rgl file" "truncated.bsdf: field 'vndf''s data (40960 bytes at offset 172467) lies outside the 200000-byte file" render --brdf "$tmp/truncated.bsdf" --out "$tmp/b.png"
+{ printf 'tensor_fila'; tail -c +12 "$tmp/lambert.bsdf"; } > "$tmp/magic.bsdf"
+expect_error "rgl magic" 'magic.bsdf: not a tensor file (an RGL-EPFL .bsdf starts with "tensor_file")' render --brdf "$tmp/magic.bsdf" --out "$tmp/b.png"
+# Byte 140 is the dtype of 'ndf' (the writer stores the fields in name order): 11, f64.
+cp "$tmp/lambert.bsdf" "$tmp/f64.bsdf"
+printf '\013' | dd of="$tmp/f64.bsdf" bs=1 seek=140 conv=notrunc status=none
+expect_error "rgl dtype" "f64.bsdf: field 'ndf' holds f64 values, expected f32" render --brdf "$tmp/f64.bsdf" --out "$tmp/b.png"
+expect_error "missing rgl file" "none.bsdf: no such file" render --brdf "$tmp/none.bsdf" --out "$tmp/b.png"
+expect_error "rgl technique on ggx" "--brdf-sampler rgl-vndf does not apply to BRDF 'ggx'" render --brdf ggx --method brdf --brdf-sampler rgl-vndf --out "$tmp/b.png"
+expect_error "measured-synth rgl extension" "must end in .bsdf" measured-synth --format rgl --out "$tmp/c.bin"
+expect_error "measured-synth rgl alpha" "--rgl-alpha 0: out of range [0.001, 4]" measured-synth --format rgl --rgl-alpha 0 --out "$tmp/c.bsdf"
+[ ! -e "$tmp/c.bsdf" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: measured-synth rgl wrote a file despite a bad flag"; }
+# ALTA data files: text and binary, every parametrisation measured-synth writes; scattered samples are
+# resampled with a warning; a .dat file that is ALTA text is not taken for an MIT file.
+expect_ok "measured-synth alta" measured-synth --format alta --brdf lambert --param albedo=0.5 --out "$tmp/lambert.data"
+expect_ok "alta render" render --brdf "$tmp/lambert.data" --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png"
+expect_ok "measured-synth alta binary" measured-synth --format alta --alta-param ISOTROPIC_TV_TL_DPHI --alta-output INV_STERADIAN_COSINE_FACTOR --alta-binary --brdf ggx --out "$tmp/ggx.data"
+expect_ok "alta binary render" render --brdf "$tmp/ggx.data" --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png"
+cp "$tmp/lambert.data" "$tmp/lambert-alta.dat"
+expect_ok "alta .dat recognised by its header" render --brdf "$tmp/lambert-alta.dat" --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png"
+expect_ok "measured-synth alta cartesian" measured-synth --format alta --alta-param CARTESIAN --alta-scattered 2000 --brdf lambert --out "$tmp/cart.data"
+warning=$("$iblx" render --brdf "$tmp/cart.data" --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png" 2>&1 >/dev/null)
+printf '%s' "$warning" | grep -q "the 2000 samples are CARTESIAN directions; resampled onto a 16 x 16 x 16 x 16 SPHERICAL_TL_PL_TV_PV grid" &&
+  passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: alta resampling warning: $warning"; }
+printf '#DIM 3 1\n#PARAM_IN STARK_3D\n0 0 0 1\n' > "$tmp/stark.data"
+expect_error "alta data parametrisation" "stark.data:2: #PARAM_IN STARK_3D is an ALTA parametrisation iblx does not read" render --brdf "$tmp/stark.data" --out "$tmp/b.png"
+printf '#DIM 3 1\n#PARAM_IN RUSIN_TH_TD_PD\n0 0 0 1\n0 0 zero 1\n' > "$tmp/nan.data"
+expect_error "alta data number" "nan.data:4: 'zero' is not a number" render --brdf "$tmp/nan.data" --out "$tmp/b.png"
+printf '#DIM 3 1\n#PARAM_IN RUSIN_TH_TD_PD\n#FORMAT binary\n#VERSION 0\n#PRECISION ieee754-double\n#ENDIAN little\n#SAMPLE_COUNT 9\n#BEGIN_STREAM\n12345678\n#END_STREAM\n' > "$tmp/short.data"
+expect_error "alta binary stream length" "but #SAMPLE_COUNT 9 x 4 doubles needs 288" render --brdf "$tmp/short.data" --out "$tmp/b.png"
+expect_error "missing alta data file" "none.data: no such file" render --brdf "$tmp/none.data" --out "$tmp/b.png"
+expect_error "measured-synth alta param" "--alta-param COS_TH: valid: RUSIN_TH_TD_PD" measured-synth --format alta --alta-param COS_TH --out "$tmp/c.data"
+
 # ALTA function files: measured-synth writes an exact diffuse lobe for Lambert and a rational fit otherwise;
 # recognised by their first line whatever their name; bad files are refused naming FILE:LINE.
 expect_ok "measured-synth alta-func lambert" measured-synth --format alta-func --brdf lambert --param albedo=0.5 --out "$tmp/lambert.func"

@@ -11,8 +11,10 @@
 #include "engine/io/env_image.h"
 #include "engine/io/image_write.h"
 #include "engine/io/merl.h"
+#include "engine/io/alta_data.h"
 #include "engine/io/mit_brdf.h"
 #include "engine/io/rgl_bsdf.h"
+#include "engine/sampling/alta_grid.h"
 #include "engine/sampling/rgl_sampling.h"
 #include "engine/io/utia.h"
 #include "engine/io/reference_cache.h"
@@ -251,6 +253,35 @@ std::vector<Bytes> rglSeeds() {
   return {file(1, 0.3f), file(3, 0.5f)};
 }
 
+// ---- ALTA data files --------------------------------------------------------------------------------------
+
+// A file that loads must also become a grid (found or resampled) whose lookup is finite and non-negative.
+void runAltaData(std::span<const std::uint8_t> input) {
+  const AltaData data = loadAltaData(writeScratchFile("input.data", input));
+  const AltaGrid grid = makeAltaGrid(data, "input.data");
+  const glm::dvec3 f = evalAltaGrid(grid, glm::normalize(glm::dvec3(-0.2, 0.1, 0.8)),
+                                    glm::normalize(glm::dvec3(0.3, 0.2, 0.9)));
+  if (!(f.x >= 0.0 && f.y >= 0.0 && f.z >= 0.0 && std::isfinite(f.x + f.y + f.z)))
+    throw Error("an ALTA data grid evaluated to a negative or non-finite value");
+}
+
+std::vector<Bytes> altaDataSeeds() {
+  const auto file = [](AltaParam param, std::size_t scattered, bool binary) {
+    AltaSynthPlan plan = planAltaSynth(param, AltaOutput::RgbColor, scattered);
+    const std::vector<glm::dvec3> f(plan.wi.size(), glm::dvec3(0.25));
+    const auto path = std::filesystem::temp_directory_path() / "iblx-fuzz-alta-seed.data";
+    writeAltaData(path, finishAltaSynth(std::move(plan), f), binary);
+    std::ifstream in(path, std::ios::binary);
+    Bytes bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    std::filesystem::remove(path);
+    return bytes;
+  };
+  return {
+      file(AltaParam::RusinThTd, 40, false), file(AltaParam::Cartesian, 30, true),
+      textBytes("#DIM 2 3\n#PARAM_IN RUSIN_TH_TD\n#PARAM_OUT RGB_COLOR\n#VS 1\n0 0 1 1 1 0.1\n0 1 2 2 2 0.1\n"
+                "1 0 3 3 3 0.1\n1 1 4 4 4 0.1\n")};
+}
+
 // ---- ALTA function files ----------------------------------------------------------------------------------
 
 // A parsed file is also evaluated at a few direction pairs and written back and re-read: the evaluation and
@@ -444,6 +475,7 @@ std::vector<FuzzTarget> cpuFuzzTargets() {
       {"utia", "UTIA .bin measured BRDF (loadUtia)", runUtia, utiaSeeds},
       {"mit", "MIT CSAIL .dat measured BRDF (loadMitBrdf)", runMit, mitSeeds},
       {"rgl", "RGL-EPFL .bsdf tensor file (loadRglBsdf, then its warps)", runRgl, rglSeeds},
+      {"alta-data", "ALTA data file (loadAltaData, then its grid)", runAltaData, altaDataSeeds},
       {"alta-func", "ALTA function file (parseAltaFunc, evalAltaFunc, formatAltaFunc)", runAltaFunc,
        altaFuncSeeds},
       {"brdf", "BRDF Explorer .brdf file (readBrdfFile)", runBrdf, brdfSeeds},

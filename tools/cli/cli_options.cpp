@@ -120,8 +120,8 @@ void addSceneFlags(ArgParser& p, RenderSpec& s) {
   });
   p.value(
       "--brdf", "NAME|FILE",
-      "built-in BRDF (lambert | ggx, default ggx), a BRDF Explorer .brdf / .bparam file, a MERL .binary, a "
-      "UTIA .bin or an MIT .dat file",
+      "built-in BRDF (lambert | ggx, default ggx), a BRDF Explorer .brdf / .bparam file, or a measured or "
+      "fitted material: MERL .binary, UTIA .bin, MIT .dat, RGL-EPFL .bsdf, ALTA data or ALTA function file",
       [&](const std::string& v) { s.scene.brdf = v; });
   addParamFlag(p, s.scene.params);
   p.value("--object", "NAME|FILE", objectNameList() + " (default sphere), or an .obj file",
@@ -271,7 +271,7 @@ ResolvedMethod resolveMethodAndWarn(const MethodSpec& spec, const BrdfInfo& brdf
 
 void checkTableOutput(const std::string& out, const std::string& extension, const std::string& kind) {
   if (std::filesystem::path(out).extension() != extension)
-    throw Error("--out " + out + ": a " + kind + " file must end in " + extension);
+    throw Error("--out " + out + ": " + kind + " files must end in " + extension);
   const auto outDir = std::filesystem::path(out).parent_path();
   if (!outDir.empty() && !std::filesystem::is_directory(outDir))
     throw Error("--out " + out + ": directory " + outDir.string() + " does not exist");

@@ -1,7 +1,8 @@
 // `iblx measured-synth`: tabulates any BRDF (a built-in, a .brdf file, another measured file) into a measured
-// format (UTIA .bin, MIT CSAIL .dat, RGL-EPFL .bsdf, MERL .binary) or fits it as an ALTA function file
-// (.func), evaluating its GLSL part on the GPU at the format's grid, so tests and benchmarks have files of every
-// format with known answers (the project ships no foreign measured data).
+// format (UTIA .bin, MIT CSAIL .dat, RGL-EPFL .bsdf, ALTA data, MERL .binary) or fits it as an ALTA function
+// file
+// (.func), evaluating its GLSL part on the GPU at the format's grid, so tests and benchmarks have files of
+// every format with known answers (the project ships no foreign measured data).
 #include "engine/core/error.h"
 #include "engine/io/merl.h"
 #include "engine/io/mit_brdf.h"
@@ -26,7 +27,8 @@ int cmdMeasuredSynth(const Args& args) {
       "--format", "NAME",
       "utia (.bin: a 6 x 48 x 6 x 48 anisotropic grid, the default), mit (.dat: 18 theta_in x 18 "
       "theta_out x 72 phi_diff x 36 phi_in bins), rgl (.bsdf: RGL-EPFL tensor file, 10 views, 32 x 32 "
-      "warps), merl (.binary) or alta-func (.func: lambert as an exact diffuse lobe, any other BRDF as a "
+      "warps), alta (.data: an ALTA data file), merl (.binary) or alta-func (.func: lambert as an exact "
+      "diffuse lobe, any other BRDF as a "
       "rational function over RUSIN_TH_TD_PD fitted by linear least squares)",
       [&](const std::string& v) { format = v; });
   parser.value("--brdf", "NAME|FILE",
@@ -42,6 +44,41 @@ int cmdMeasuredSynth(const Args& args) {
   parser.value("--rgl-alpha", "A",
                "rgl: GGX width of the file's warps (default: from the BRDF's measured lobe, 0.6 without one)",
                [&](const std::string& v) { rglLayout.alpha = parseDouble("--rgl-alpha", v, 1e-3, 4.0); });
+  AltaParam altaParam = AltaParam::RusinThTdPd;
+  AltaOutput altaOutput = AltaOutput::RgbColor;
+  bool altaBinary = false;
+  std::size_t altaScattered = 0;
+  parser.value("--alta-param", "NAME",
+               "alta: RUSIN_TH_TD_PD (the default, 24^3 nodes), RUSIN_TH_TD (48^2), ISOTROPIC_TV_TL_DPHI "
+               "(24^3), SPHERICAL_TL_PL_TV_PV (12 x 24 x 12 x 24) or CARTESIAN (scattered)",
+               [&](const std::string& v) {
+                 const auto p = findAltaParam(v);
+                 if (!p || *p == AltaParam::CosTh || *p == AltaParam::CosThTd)
+                   throw Error("--alta-param " + v +
+                               ": valid: RUSIN_TH_TD_PD, RUSIN_TH_TD, ISOTROPIC_TV_TL_DPHI, "
+                               "SPHERICAL_TL_PL_TV_PV, CARTESIAN");
+                 altaParam = *p;
+               });
+  parser.value("--alta-output", "NAME",
+               "alta: RGB_COLOR (the default), INV_STERADIAN (grey) or INV_STERADIAN_COSINE_FACTOR (grey, "
+               "times cos theta_L)",
+               [&](const std::string& v) {
+                 if (v == "RGB_COLOR")
+                   altaOutput = AltaOutput::RgbColor;
+                 else if (v == "INV_STERADIAN")
+                   altaOutput = AltaOutput::InvSteradian;
+                 else if (v == "INV_STERADIAN_COSINE_FACTOR")
+                   altaOutput = AltaOutput::InvSteradianCosine;
+                 else
+                   throw Error("--alta-output " + v +
+                               ": valid: RGB_COLOR, INV_STERADIAN, INV_STERADIAN_COSINE_FACTOR");
+               });
+  parser.toggle("--alta-binary", "alta: write ALTA's binary stream instead of text",
+                [&] { altaBinary = true; });
+  parser.value(
+      "--alta-scattered", "N",
+      "alta: N random direction pairs instead of the grid (scattered samples, which iblx resamples)",
+      [&](const std::string& v) { altaScattered = std::size_t(parseDouble("--alta-scattered", v, 1, 1e7)); });
   AltaSynthOptions fit;
   parser.value("--fit-degree", "P,Q",
                "alta-func: total degrees of the rational function's numerator and denominator (default 5,5)",
@@ -59,15 +96,18 @@ int cmdMeasuredSynth(const Args& args) {
                  if (fit.degreeP < 0 || fit.degreeQ < 0 || fit.degreeP > 10 || fit.degreeQ > 10)
                    throw Error("--fit-degree " + v + ": expected two integers P,Q in [0, 10]");
                });
-  parser.value("--out", "FILE", "output file (default material.bin, .dat, .bsdf, .binary or .func by format)",
+  parser.value("--out", "FILE",
+               "output file (default material.bin, .dat, .bsdf, .data, .binary or .func by format)",
                [&](const std::string& v) { out = v; });
   addDeviceFlags(parser, spec);
   if (parser.parseOrShowHelp(args)) return 0;
-  if (format != "utia" && format != "mit" && format != "rgl" && format != "merl" && format != "alta-func")
-    throw Error("--format " + format + ": unknown; valid: utia, mit, rgl, merl, alta-func");
+  if (format != "utia" && format != "mit" && format != "rgl" && format != "alta" && format != "merl" &&
+      format != "alta-func")
+    throw Error("--format " + format + ": unknown; valid: utia, mit, rgl, alta, merl, alta-func");
   const std::string extension = format == "utia"   ? ".bin"
                                 : format == "mit"  ? ".dat"
                                 : format == "rgl"  ? ".bsdf"
+                                : format == "alta" ? ".data"
                                 : format == "merl" ? ".binary"
                                                    : ".func";
   if (out.empty()) out = "material" + extension;
@@ -92,6 +132,10 @@ int cmdMeasuredSynth(const Args& args) {
     const RglTables tables = tabulateRgl(context, compiler, scene, rglLayout);
     writeRglBsdf(out, tables);
     entries = tables.rgb.values.size() / 3;
+  } else if (format == "alta") {
+    const AltaData data = tabulateAltaData(context, compiler, scene, altaParam, altaOutput, altaScattered);
+    writeAltaData(out, data, altaBinary);
+    entries = data.samples;
   } else if (format == "merl") {
     writeMerl(out, tabulateMerl(context, compiler, scene).values);
     entries = kMerlBins;

@@ -30,8 +30,9 @@ std::string describeRegistry() {
   }
   s << "sequences (--seq):\n";
   for (const auto& q : sequenceRegistry()) s << "  " << column(q.name) << q.description << "\n";
-  s << "BRDFs (--brdf NAME, a .brdf / .bparam file, a MERL .binary, UTIA .bin or MIT .dat file) and "
-       "parameters "
+  s << "BRDFs (--brdf NAME, a .brdf / .bparam file, a MERL .binary, UTIA .bin, MIT .dat, RGL .bsdf, ALTA "
+       "data or "
+       "ALTA function file) and parameters "
        "(--param "
        "NAME=VALUE):\n";
   for (const auto& b : brdfRegistry()) s << describeBrdf(b);

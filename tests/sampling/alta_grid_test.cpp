@@ -1,0 +1,97 @@
+// Tests of ALTA data on a grid (engine/sampling/alta_grid.h): regular grids found as they are (uneven axes
+// included) and reproduced at their nodes, scattered samples resampled with a warning, the coordinates of
+// each parametrisation, and the symmetry folds of azimuths.
+#include "engine/sampling/alta_grid.h"
+
+#include "tests/io/scratch_files.h"
+#include "tests/support/chi2.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+
+using namespace iblx;
+using namespace iblx::test;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+glm::dvec3 direction(double theta, double phi) {
+  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+}
+
+// A smooth reciprocal, isotropic test function of the pair, per channel.
+glm::dvec3 smooth(glm::dvec3 wi, glm::dvec3 wo) {
+  const glm::dvec3 h = glm::normalize(wi + wo);
+  return glm::dvec3(1.0 + h.z, 1.0 + wi.z * wo.z, 2.0 - glm::dot(wi, wo)) * 0.2;
+}
+
+AltaData synthesize(AltaParam param, std::size_t scattered) {
+  AltaSynthPlan plan = planAltaSynth(param, AltaOutput::RgbColor, scattered);
+  std::vector<glm::dvec3> f;
+  for (std::size_t i = 0; i < plan.wi.size(); ++i) f.push_back(smooth(plan.wi[i], plan.wo[i]));
+  return finishAltaSynth(std::move(plan), f);
+}
+
+}  // namespace
+
+TEST_CASE("alta grid: the writer's grids are found as grids and reproduce the function") {
+  for (AltaParam param :
+       {AltaParam::RusinThTdPd, AltaParam::IsotropicTvTlDphi, AltaParam::SphericalTlPlTvPv}) {
+    CAPTURE(altaParamName(param));
+    WarningCapture warnings;
+    const AltaGrid grid = makeAltaGrid(synthesize(param, 0), "test");
+    CHECK(warnings.messages.empty());
+    CHECK(grid.resampledFrom == 0);
+    CHECK(grid.axes.size() == std::size_t(altaParamDimension(param)));
+    double worst = 0.0;
+    for (const glm::dvec2 u : uniformPoints(500, 3)) {
+      const glm::dvec3 wi = direction(std::acos(0.2 + 0.8 * u.x), 6.0 * u.y);
+      const glm::dvec3 wo = direction(std::acos(0.2 + 0.8 * u.y), 1.0 + 4.0 * u.x);
+      const glm::dvec3 f = evalAltaGrid(grid, wi, wo), g = smooth(wi, wo);
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(f[c] / g[c] - 1.0));
+    }
+    INFO("worst relative error " << worst);
+    CHECK(worst < 0.03);  // multilinear interpolation of a smooth function on 12 to 24 nodes per axis
+    CHECK(evalAltaGrid(grid, direction(0.3, 0.0), direction(1.7, 0.0)) == glm::dvec3(0.0));
+  }
+}
+
+TEST_CASE("alta grid: RUSIN_TH_TD_PD's theta_h axis is uneven and phi_d folds by reciprocity") {
+  const AltaGrid grid = makeAltaGrid(synthesize(AltaParam::RusinThTdPd, 0), "test");
+  const auto& thetaH = grid.axes[0];
+  CHECK(thetaH[1] - thetaH[0] < 0.1 * (thetaH.back() - thetaH[thetaH.size() - 2]));
+  CHECK(grid.folds[2] == AltaFold::Reciprocity);
+  // Swapping light and view adds pi to phi_d: the same value after the fold.
+  const glm::dvec3 a = direction(0.4, 0.3), b = direction(0.9, 2.1);
+  const auto k = altaGridCoordinates(AltaParam::RusinThTdPd, a, b);
+  const auto swapped = altaGridCoordinates(AltaParam::RusinThTdPd, b, a);
+  CHECK(k[0] == doctest::Approx(swapped[0]));
+  CHECK(k[1] == doctest::Approx(swapped[1]));
+  CHECK(std::abs(std::remainder(k[2] - swapped[2], 2.0 * kPi)) == doctest::Approx(kPi).epsilon(1e-9));
+  CHECK(evalAltaGrid(grid, a, b).x == doctest::Approx(evalAltaGrid(grid, b, a).x).epsilon(1e-6));
+}
+
+TEST_CASE("alta grid: scattered and Cartesian samples are resampled, with a warning") {
+  for (AltaParam param : {AltaParam::IsotropicTvTlDphi, AltaParam::Cartesian}) {
+    CAPTURE(altaParamName(param));
+    WarningCapture warnings;
+    const AltaGrid grid = makeAltaGrid(synthesize(param, 20000), "m.data");
+    REQUIRE(warnings.messages.size() == 1);
+    CHECK(contains(warnings.messages[0], "m.data: the 20000 samples"));
+    CHECK(contains(warnings.messages[0], "inverse-distance weighting of the 8 nearest samples"));
+    CHECK(grid.resampledFrom == 20000);
+    CHECK(grid.param == (param == AltaParam::Cartesian ? AltaParam::SphericalTlPlTvPv : param));
+    double mean = 0.0;
+    const std::size_t pairs = 400;
+    for (const glm::dvec2 u : uniformPoints(pairs, 9)) {
+      const glm::dvec3 wi = direction(std::acos(0.2 + 0.7 * u.x), 6.0 * u.y);
+      const glm::dvec3 wo = direction(std::acos(0.2 + 0.7 * u.y), 1.0 + 4.0 * u.x);
+      mean += std::abs(evalAltaGrid(grid, wi, wo).x / smooth(wi, wo).x - 1.0) / double(pairs);
+    }
+    INFO("mean relative error " << mean);
+    CHECK(mean < 0.05);
+  }
+}
