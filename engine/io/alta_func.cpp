@@ -340,10 +340,6 @@ double clampTo(double x, double lo, double hi) {
   return std::min(std::max(x, lo), hi);
 }
 
-double dot3(const glm::dvec3& a, const glm::dvec3& b) {
-  return glm::dot(a, b);
-}
-
 // The angle folded into [lo, hi] when an equivalent one lies there: a - 2 pi (a box over [-pi, pi]), else the
 // image under the BRDF's symmetry `mirror` (phi_d - pi by reciprocity; 2 pi - dphi by isotropy); then
 // clamped.
@@ -539,52 +535,24 @@ double evalAltaRational(const AltaRational& r, AltaBasis basis, int channel, std
   return q != 0.0 ? p / q : 0.0;
 }
 
-void altaRusinDirections(double thetaH, double thetaD, double phiD, glm::dvec3& wi, glm::dvec3& wo) {
-  // Rusinkiewicz 1998, "A New Change of Variables for Efficient BRDF Representation": the difference
-  // vector (theta_d, phi_d) in the frame of h, rotated by theta_h about y (phi_h = 0).
-  const glm::dvec3 d(std::sin(thetaD) * std::cos(phiD), std::sin(thetaD) * std::sin(phiD), std::cos(thetaD));
-  const double c = std::cos(thetaH), s = std::sin(thetaH);
-  wi = glm::dvec3(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
-  const glm::dvec3 h(s, 0.0, c);
-  wo = 2.0 * glm::dot(wi, h) * h - wi;
-}
-
 std::vector<double> altaCoordinates(AltaParam p, const glm::dvec3& wi, const glm::dvec3& wo,
                                     std::span<const double> min, std::span<const double> max) {
-  const glm::dvec3 h = glm::normalize(wi + wo);
-  const double cosH = clampTo(h.z, -1.0, 1.0), cosD = clampTo(dot3(wi, h), -1.0, 1.0);
-  std::vector<double> x;
+  const std::array<double, 6> k = altaRawCoordinates(p, wi, wo);
   switch (p) {
     case AltaParam::CosTh:
-      x = {cosH};
-      break;
+      return {k[0]};
     case AltaParam::CosThTd:
-      x = {cosH, cosD};
-      break;
     case AltaParam::RusinThTd:
-      x = {std::acos(cosH), std::acos(cosD)};
-      break;
-    case AltaParam::RusinThTdPd: {
-      // wi in h's frame: rotate by -phi_h about n, then by -theta_h about the bitangent.
-      const double phiH = std::atan2(h.y, h.x), thetaH = std::acos(cosH);
-      const double cp = std::cos(phiH), sp = std::sin(phiH);
-      const glm::dvec3 r1(cp * wi.x + sp * wi.y, -sp * wi.x + cp * wi.y, wi.z);
-      const double ct = std::cos(thetaH), st = std::sin(thetaH);
-      const glm::dvec3 d(ct * r1.x - st * r1.z, r1.y, st * r1.x + ct * r1.z);
-      x = {thetaH, std::acos(cosD), foldAngle(wrap2Pi(std::atan2(d.y, d.x)), min[2], max[2], true)};
-      break;
-    }
-    case AltaParam::IsotropicTvTlDphi: {
-      const double dphi = wrap2Pi(std::atan2(wi.y, wi.x) - std::atan2(wo.y, wo.x));
-      x = {std::acos(clampTo(wo.z, -1.0, 1.0)), std::acos(clampTo(wi.z, -1.0, 1.0)),
-           foldAngle(dphi, min[2], max[2], false)};
-      break;
-    }
+      return {k[0], k[1]};
+    case AltaParam::RusinThTdPd:
+      return {k[0], k[1], foldAngle(wrap2Pi(k[2]), min[2], max[2], true)};
+    case AltaParam::IsotropicTvTlDphi:
+      return {k[0], k[1], foldAngle(wrap2Pi(k[2]), min[2], max[2], false)};
     case AltaParam::SphericalTlPlTvPv:
     case AltaParam::Cartesian:
       break;  // data-file parametrisations: the function-file parser refuses them
   }
-  return x;
+  return {};
 }
 
 glm::dvec3 evalAltaLobe(const AltaFunc& f, const AltaLobe& lobe, const glm::dvec3& wi, const glm::dvec3& wo) {

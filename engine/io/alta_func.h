@@ -103,7 +103,6 @@ glm::dvec3 evalAltaLobe(const AltaFunc& f, const AltaLobe& lobe, const glm::dvec
 glm::dvec3 evalAltaFunc(const AltaFunc& f, const glm::dvec3& wi, const glm::dvec3& wo);
 
 // The directions of Rusinkiewicz's (theta_h, theta_d, phi_d) with phi_h = 0 (wi = light).
-void altaRusinDirections(double thetaH, double thetaD, double phiD, glm::dvec3& wi, glm::dvec3& wo);
 
 // ---- fitting
 // A rational function of total degree `degreeP` over `degreeQ` in the Chebyshev basis, per channel, over

@@ -3,6 +3,9 @@
 // radians; L is the light (brdfEval's wi), V the view (wo).
 #pragma once
 
+#include <glm/glm.hpp>
+
+#include <array>
 #include <optional>
 #include <string>
 
@@ -22,5 +25,13 @@ std::string altaParamName(AltaParam p);
 int altaParamDimension(AltaParam p);
 // The parametrisation named `name`, if iblx knows it.
 std::optional<AltaParam> findAltaParam(const std::string& name);
+
+// The coordinates of (wi = light, wo = view), local frame n = +z, as the parametrisation lists them (unused
+// entries 0); azimuths as atan2 gives them, in (-pi, pi] (differences of two in (-2 pi, 2 pi)).
+// Rusinkiewicz's difference vector is the light's.
+std::array<double, 6> altaRawCoordinates(AltaParam p, const glm::dvec3& wi, const glm::dvec3& wo);
+
+// The light and the view at Rusinkiewicz coordinates (theta_h, theta_d, phi_d), with phi_h = 0.
+void altaRusinDirections(double thetaH, double thetaD, double phiD, glm::dvec3& wi, glm::dvec3& wo);
 
 }  // namespace iblx

@@ -22,12 +22,6 @@ double angle(double cosine) {
   return std::acos(std::clamp(cosine, -1.0, 1.0));
 }
 
-glm::dvec3 rotateZ(glm::dvec3 v, double a) {
-  return {v.x * std::cos(a) - v.y * std::sin(a), v.x * std::sin(a) + v.y * std::cos(a), v.z};
-}
-glm::dvec3 rotateY(glm::dvec3 v, double a) {
-  return {v.x * std::cos(a) + v.z * std::sin(a), v.y, -v.x * std::sin(a) + v.z * std::cos(a)};
-}
 glm::dvec3 direction(double theta, double phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
 }
@@ -106,9 +100,9 @@ std::vector<double> gridCoordinates(const AltaData& data, AltaParam gridParam) {
   for (std::size_t i = 0; i < data.samples; ++i) {
     const double* c = data.x.data() + 6 * i;
     const glm::dvec3 v(c[0], c[1], c[2]), l(c[3], c[4], c[5]);
-    const auto k = altaGridCoordinates(gridParam, glm::length(l) > 0 ? glm::normalize(l) : l,
-                                       glm::length(v) > 0 ? glm::normalize(v) : v);
-    x.insert(x.end(), k.begin(), k.end());
+    const auto k = altaRawCoordinates(gridParam, glm::length(l) > 0 ? glm::normalize(l) : l,
+                                      glm::length(v) > 0 ? glm::normalize(v) : v);
+    x.insert(x.end(), k.begin(), k.begin() + 4);  // SPHERICAL_TL_PL_TV_PV
   }
   return x;
 }
@@ -189,29 +183,6 @@ class NeighbourSearch {
 };
 
 }  // namespace
-
-std::array<double, 4> altaGridCoordinates(AltaParam param, glm::dvec3 wi, glm::dvec3 wo) {
-  switch (param) {
-    case AltaParam::RusinThTdPd:
-    case AltaParam::RusinThTd: {
-      // Rusinkiewicz 1998: the half vector, and the light in the frame where the half vector is the pole.
-      const glm::dvec3 sum = wi + wo;
-      const glm::dvec3 h = glm::dot(sum, sum) > 0.0 ? glm::normalize(sum) : glm::dvec3(0, 0, 1);
-      const double thetaH = angle(h.z), phiH = std::atan2(h.y, h.x);
-      const glm::dvec3 d = rotateY(rotateZ(wi, -phiH), -thetaH);
-      return {thetaH, angle(d.z), std::atan2(d.y, d.x), 0.0};
-    }
-    case AltaParam::IsotropicTvTlDphi:
-      return {angle(wo.z), angle(wi.z), std::atan2(wi.y, wi.x) - std::atan2(wo.y, wo.x), 0.0};
-    case AltaParam::SphericalTlPlTvPv:
-    case AltaParam::Cartesian:
-      return {angle(wi.z), std::atan2(wi.y, wi.x), angle(wo.z), std::atan2(wo.y, wo.x)};
-    case AltaParam::CosTh:
-    case AltaParam::CosThTd:
-      break;  // function-file parametrisations: the data-file reader refuses them
-  }
-  return {};
-}
 
 AltaGrid makeAltaGrid(const AltaData& data, const std::string& name) {
   AltaGrid grid;
@@ -313,7 +284,7 @@ AltaGrid makeAltaGrid(const AltaData& data, const std::string& name) {
 
 glm::dvec3 evalAltaGrid(const AltaGrid& grid, glm::dvec3 wi, glm::dvec3 wo) {
   if (wi.z <= 0.0 || wo.z <= 0.0) return glm::dvec3(0.0);
-  const std::array<double, 4> k = altaGridCoordinates(grid.param, wi, wo);
+  const std::array<double, 6> k = altaRawCoordinates(grid.param, wi, wo);
   const int dims = int(grid.axes.size());
   std::size_t lower[4] = {0, 0, 0, 0};
   double weight[4] = {0, 0, 0, 0};
@@ -403,7 +374,7 @@ AltaSynthPlan planAltaSynth(AltaParam param, AltaOutput output, std::size_t scat
       if (param == AltaParam::Cartesian) {
         push({wo.x, wo.y, wo.z, wi.x, wi.y, wi.z}, wi, wo);
       } else {
-        const auto k = altaGridCoordinates(param, wi, wo);
+        const auto k = altaRawCoordinates(param, wi, wo);
         push(std::vector<double>(k.begin(), k.begin() + altaParamDimension(param)), wi, wo);
       }
     }
@@ -421,17 +392,17 @@ AltaSynthPlan planAltaSynth(AltaParam param, AltaOutput output, std::size_t scat
         for (double th : halfAngles)
           for (double td : even(24, 0.0, maxTheta))
             for (double pd : even(24, 0.0, kPi)) {
-              const glm::dvec3 h = direction(th, 0.0);
-              const glm::dvec3 wi = rotateY(direction(td, pd), th);  // back from the half vector's frame
-              push({th, td, pd}, wi, 2.0 * glm::dot(wi, h) * h - wi);
+              glm::dvec3 wi, wo;
+              altaRusinDirections(th, td, pd, wi, wo);
+              push({th, td, pd}, wi, wo);
             }
         break;
       case AltaParam::RusinThTd:
         for (double th : halfAngles)
           for (double td : even(48, 0.0, maxTheta)) {
-            const glm::dvec3 h = direction(th, 0.0);
-            const glm::dvec3 wi = rotateY(direction(td, 0.5 * kPi), th);
-            push({th, td}, wi, 2.0 * glm::dot(wi, h) * h - wi);
+            glm::dvec3 wi, wo;
+            altaRusinDirections(th, td, 0.5 * kPi, wi, wo);
+            push({th, td}, wi, wo);
           }
         break;
       case AltaParam::IsotropicTvTlDphi:

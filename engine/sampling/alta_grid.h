@@ -40,9 +40,6 @@ struct AltaGrid {
 // Throws iblx::Error naming `name` when the grid would exceed the memory budget.
 AltaGrid makeAltaGrid(const AltaData& data, const std::string& name);
 
-// The parametrisation's coordinates of a direction pair (wi = light, wo = view), before folding.
-std::array<double, 4> altaGridCoordinates(AltaParam param, glm::dvec3 wi, glm::dvec3 wo);
-
 // f(wi, wo) in 1/sr: 0 when either direction is at or below the horizon.
 glm::dvec3 evalAltaGrid(const AltaGrid& grid, glm::dvec3 wi, glm::dvec3 wo);
 

@@ -1,6 +1,8 @@
 // Measured files as BRDFs (measured_brdfs.h).
 #include "engine/scene/measured_brdfs.h"
 
+#include <cctype>
+
 #include "engine/io/alta_func.h"
 #include "engine/sampling/alta_grid.h"
 #include "engine/sampling/technique_data.h"
@@ -142,6 +144,23 @@ std::span<const MaterialFileFormat> materialFileFormats() {
        [](const std::filesystem::path& p) { return makeAltaFuncBrdf(loadAltaFunc(p), p); }},
   };
   return formats;
+}
+
+std::vector<std::string> brdfFileExtensions() {
+  std::vector<std::string> extensions{".brdf", ".bparam", ".binary"};
+  for (const MaterialFileFormat& format : materialFileFormats())
+    extensions.insert(extensions.end(), format.extensions.begin(), format.extensions.end());
+  return extensions;
+}
+
+bool isBrdfFile(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+  for (const std::string& e : brdfFileExtensions())
+    if (e == extension) return true;
+  for (const MaterialFileFormat& format : materialFileFormats())
+    if (format.recognise(path)) return true;
+  return false;
 }
 
 bool isRglBrdf(const BrdfInfo& brdf) {

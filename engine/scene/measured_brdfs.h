@@ -44,6 +44,11 @@ struct MaterialFileFormat {
 };
 std::span<const MaterialFileFormat> materialFileFormats();
 
+// The extensions of every BRDF file --brdf reads (BRDF Explorer's and MERL's too), for file dialogs and
+// messages; and whether a file is one, by its extension or by its content.
+std::vector<std::string> brdfFileExtensions();
+bool isBrdfFile(const std::filesystem::path& path);
+
 // Whether a BRDF is an RGL-EPFL material (what technique rgl-vndf samples).
 bool isRglBrdf(const BrdfInfo& brdf);
 

@@ -4,10 +4,13 @@
 #include "tools/viewer/viewer_model.h"
 
 #include "engine/core/setting.h"
+#include "engine/io/alta_data.h"
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 
 using namespace iblx;
 using namespace iblx::viewer;
@@ -91,10 +94,33 @@ TEST_CASE("viewer model: a file it cannot open is an error naming it, and the sc
   ViewerModel model(smallScene(), context);
   const auto scene = model.scene();
   model.openFile("notes.txt");
-  CHECK(model.error() ==
-        "notes.txt: not an environment (.exr, .hdr), BRDF (.brdf, .binary, .bin, .dat, .bparam) or object "
-        "(.obj)");
+  CHECK(
+      model.error() ==
+      "notes.txt: not an environment (.exr, .hdr), BRDF (.brdf, .bparam, .binary, .bin, .data, .alta, .dat, "
+      ".bsdf, .func) or object (.obj)");
   CHECK(model.scene() == scene);
+}
+
+TEST_CASE("viewer model: a dropped measured file is recognised by its content whatever its name") {
+  VulkanContext context;
+  ViewerModel model(smallScene(), context);
+  const auto path = std::filesystem::temp_directory_path() / "iblx-viewer-test-alta.txt";
+  AltaData data;
+  data.param = AltaParam::RusinThTd;
+  data.samples = 4;
+  data.x = {0.0, 0.0, 0.0, 1.0, 1.0, 0.0, 1.0, 1.0};
+  data.rgb.assign(12, 0.2);
+  writeAltaData(path, data, false);
+  model.openFile(path);
+  // The file loads in the background; frames take over the loaded scene.
+  for (int k = 0; k < 2000 && model.error().empty() && model.scene()->brdf->evalPart != "brdf/alta_data.glsl";
+       ++k) {
+    model.frame();
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  std::filesystem::remove(path);
+  CHECK(model.error().empty());
+  CHECK(model.scene()->brdf->evalPart == "brdf/alta_data.glsl");
 }
 
 TEST_CASE("viewer model: engine errors name the viewer's control, or the flag only the command line sets") {

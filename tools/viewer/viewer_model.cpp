@@ -1,6 +1,8 @@
 // The viewer's model (viewer_model.h).
 #include "tools/viewer/viewer_model.h"
 
+#include "engine/scene/measured_brdfs.h"
+
 #include "engine/core/cache_dir.h"
 #include "engine/core/error.h"
 #include "engine/core/file_names.h"
@@ -114,13 +116,14 @@ void ViewerModel::openFile(const std::filesystem::path& path) {
   SceneSpec next = options_.scene;
   if (ext == ".exr" || ext == ".hdr")
     next.envPath = path;
-  else if (ext == ".brdf" || ext == ".binary" || ext == ".bin" || ext == ".dat" || ext == ".bparam")
-    next.brdf = path.string(), next.params.clear();
   else if (ext == ".obj")
     next.object = path.string();
+  else if (isBrdfFile(path))  // by extension, or a measured file recognised by its content
+    next.brdf = path.string(), next.params.clear();
   else {
-    error_ = path.string() +
-             ": not an environment (.exr, .hdr), BRDF (.brdf, .binary, .bin, .dat, .bparam) or object (.obj)";
+    std::string brdfs;
+    for (const std::string& e : brdfFileExtensions()) brdfs.append(brdfs.empty() ? "" : ", ").append(e);
+    error_ = path.string() + ": not an environment (.exr, .hdr), BRDF (" + brdfs + ") or object (.obj)";
     return;
   }
   startLoad(next, path.filename().string());

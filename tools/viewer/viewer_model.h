@@ -77,7 +77,8 @@ class ViewerModel {
   void prepareBlocking(bool withReference);
 
   // ---- actions (the panels', the mouse's, a dropped file's)
-  // An environment (.exr, .hdr), a BRDF (.brdf, .binary, .bparam) or an object (.obj), read in the
+  // An environment (.exr, .hdr), a BRDF (any --brdf file: by extension, or a measured file recognised by its
+  // content) or an object (.obj), read in the
   // background; the current scene stays until it is ready, and stays for good if the file is bad.
   void openFile(const std::filesystem::path& path);
   // The method, sequence or MIS/RIS settings of A or B changed (options().method, options().compare): a

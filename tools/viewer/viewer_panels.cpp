@@ -1,6 +1,8 @@
 // The viewer's panels (viewer_panels.h).
 #include "tools/viewer/viewer_panels.h"
 
+#include "engine/scene/measured_brdfs.h"
+
 #include "engine/geometry/gbuffer.h"
 #include "engine/io/image_write.h"
 #include "engine/scene/methods.h"
@@ -279,7 +281,7 @@ void ViewerPanels::drawSceneSection(ViewerModel& model) {
   if (ImGui::Combo("object", &object, kObjectNames, objectCount)) model.setObject(kObjectNames[object]);
   if (ImGui::Button("open environment...")) browser_.open("environment map", {".exr", ".hdr"});
   ImGui::SameLine();
-  if (ImGui::Button("open BRDF...")) browser_.open("BRDF", {".brdf", ".binary", ".bin", ".dat", ".bparam"});
+  if (ImGui::Button("open BRDF...")) browser_.open("BRDF", brdfFileExtensions());
   ImGui::SameLine();
   if (ImGui::Button("open OBJ...")) browser_.open("object", {".obj"});
   if (const auto file = browser_.draw()) model.openFile(*file);
