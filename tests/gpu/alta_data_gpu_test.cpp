@@ -74,11 +74,18 @@ TEST_CASE("alta data: the GPU lookup agrees with the CPU twin in every parametri
   checkNoNewValidationErrors();
 }
 
-TEST_CASE("alta data: a tabulated Lambert under the white furnace gives its albedo, for every method") {
+TEST_CASE("alta data: a tabulated Lambert under the white furnace gives its albedo") {
+  // A constant table: the ground truth is the analytic Lambert's, its albedo, up to the reference's
+  // quadrature. Every method meets the ground truth of an ALTA data file in the 1e6-sun test below.
   const auto path = synthesizeAlta("lambert07", "lambert", {{"albedo", "0.7"}}, AltaParam::IsotropicTvTlDphi,
                                    AltaOutput::InvSteradian);
-  checkWhiteFurnace(sceneWith(constantEnv(16, 8, 1.0f), path.string(), {}, 24), 0.7, 8, 5.5,
-                    MethodSet::EveryMethod);
+  const ReferenceComparison d =
+      compareReferences(sceneWith(constantEnv(16, 8, 1.0f), "lambert", {{"albedo", "0.7"}}, 24),
+                        sceneWith(constantEnv(16, 8, 1.0f), path.string(), {}, 24));
+  INFO("image sums measured / analytic " << d.sumRatio << ", worst pixel relative difference "
+                                         << d.worstRelative);
+  CHECK(std::abs(d.sumRatio - 1.0) < 1e-3);
+  CHECK(d.worstRelative < 1e-3);
 }
 
 TEST_CASE("alta data: tabulated GGX renders like the analytic GGX within the tabulation error") {
@@ -131,10 +138,12 @@ TEST_CASE("alta data: a tabulated anisotropic material follows the tangent frame
 }
 
 TEST_CASE("alta data: every method converges to the reference under a 1e6 sun") {
+  // The ISOTROPIC_TV_TL_DPHI grid of the Ward (8 corners per lookup; the anisotropic grid's 16 cost twice the
+  // time in the reference and every method, and its lookup is checked against the CPU twin above).
   const std::string ward = assetPath("brdf/ward.brdf").string();
   checkConvergesToReference(sceneWith(sunAndZeroHalf(32, 16),
-                                      synthesizeAlta("ward-" + altaParamName(AltaParam::SphericalTlPlTvPv),
-                                                     ward, {}, AltaParam::SphericalTlPlTvPv)
+                                      synthesizeAlta("ward-" + altaParamName(AltaParam::IsotropicTvTlDphi),
+                                                     ward, {}, AltaParam::IsotropicTvTlDphi)
                                           .string(),
                                       {}, 16),
                             "alta ward/sun+zero", 5.5, MethodSet::EveryMethod);

@@ -1,6 +1,6 @@
 // RGL-EPFL .bsdf materials on the GPU, with files written by the project's own tabulation (tabulateRgl):
 // evaluation and the rgl-vndf technique against their CPU twins (engine/sampling/rgl_sampling.h), chi-square
-// of rgl-vndf against its pdf, the white furnace of a tabulated Lambert for every method, tabulated against
+// of rgl-vndf against its pdf, the white furnace of a tabulated Lambert, tabulated against
 // analytic GGX, the tangent frame of an anisotropic material, and every method against the reference under a
 // 1e6 sun.
 #include "engine/core/assets.h"
@@ -103,19 +103,19 @@ TEST_CASE("rgl: rgl-vndf passes chi-square against its pdf, grazing included") {
   checkNoNewValidationErrors();
 }
 
-TEST_CASE("rgl: a tabulated Lambert under the white furnace gives its albedo, every method its reference") {
+TEST_CASE("rgl: a tabulated Lambert under the white furnace gives its albedo") {
   // The format interpolates f cos 4 sigma / ndf bilinearly over the warp's unit square, which a Lambert does
   // not follow exactly (it has a kink where the light crosses the horizon): the tabulated material's ground
-  // truth is compared with the analytic Lambert's (its albedo), then every method with that ground truth.
+  // truth is compared with the analytic Lambert's, its albedo. Every method meets the ground truth of an RGL
+  // material in the 1e6-sun test below.
   const auto path = synthesizeRgl("lambert07", "lambert", {{"albedo", "0.7"}});
-  const Scene measured = sceneWith(constantEnv(16, 8, 1.0f), path.string(), {}, 24);
   const ReferenceComparison d =
-      compareReferences(sceneWith(constantEnv(16, 8, 1.0f), "lambert", {{"albedo", "0.7"}}, 24), measured);
+      compareReferences(sceneWith(constantEnv(16, 8, 1.0f), "lambert", {{"albedo", "0.7"}}, 24),
+                        sceneWith(constantEnv(16, 8, 1.0f), path.string(), {}, 24));
   INFO("image sums measured / analytic " << d.sumRatio << ", worst pixel relative difference "
                                          << d.worstRelative);
   CHECK(std::abs(d.sumRatio - 1.0) < 0.01);
   CHECK(d.worstRelative < 0.03);
-  checkConvergesToReference(measured, "rgl lambert/furnace", 5.5, MethodSet::EveryMethod);
 }
 
 TEST_CASE("rgl: tabulated GGX renders like the analytic GGX within the tabulation error") {
