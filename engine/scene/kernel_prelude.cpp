@@ -109,8 +109,10 @@ std::string explainMissingTable(const KernelParts& parts, const std::string& gls
   return {};
 }
 
-KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf, const TechniqueData& brdfData) {
-  KernelParts k{std::move(kernel), {brdf.evalPart}, paramBlockGlsl(brdf), {}, {}, {}};
+KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf, const TechniqueData& brdfData,
+                            std::vector<std::string> parts) {
+  if (parts.empty()) parts.push_back(brdf.evalPart);
+  KernelParts k{std::move(kernel), std::move(parts), paramBlockGlsl(brdf), {}, {}, {}};
   k.bindTables(kBrdfSet, kBrdfDataBinding, brdfData, "BRDF " + brdf.name);
   if (!brdf.evalSource.empty()) k.sources.emplace_back(brdf.evalPart, brdf.evalSource);
   return k;
@@ -125,8 +127,13 @@ std::vector<std::pair<std::string, std::string>> EnvChunking::defines() const {
 KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, const EnvChunking& chunking,
                             const ResolvedMethod& method, const TechniqueData& envData,
                             const TechniqueData& brdfTechniqueData, IntegratorMode mode) {
-  KernelParts k = brdfKernelParts("integrate.comp", *scene.brdf, brdfData);
-  k.parts.clear();
+  // The sequence, the env technique, the BRDF, the BRDF technique and the strategy, in that order.
+  std::vector<std::string> parts{method.sequence->part};
+  if (method.envTechnique) parts.push_back(method.envTechnique->part);
+  parts.push_back(scene.brdf->evalPart);
+  if (method.brdfTechnique) parts.push_back(method.brdfTechnique->part);
+  parts.push_back(strategyPart(method.method->strategy));
+  KernelParts k = brdfKernelParts("integrate.comp", *scene.brdf, brdfData, std::move(parts));
   if (mode == IntegratorMode::RecordPixel) {
     k.defines.emplace_back("IBLX_RECORD_SAMPLES", "1");
     k.defines.emplace_back("SAMPLE_RECORD_BINDING", std::to_string(kSampleRecordBinding));
@@ -139,11 +146,6 @@ KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, c
                  "BRDF technique " + method.brdfTechnique->name);
   const auto chunkDefines = chunking.defines();
   k.defines.insert(k.defines.end(), chunkDefines.begin(), chunkDefines.end());
-  k.parts.push_back(method.sequence->part);
-  if (method.envTechnique) k.parts.push_back(method.envTechnique->part);
-  k.parts.push_back(scene.brdf->evalPart);
-  if (method.brdfTechnique) k.parts.push_back(method.brdfTechnique->part);
-  k.parts.push_back(strategyPart(method.method->strategy));
   if (method.misOneSample) k.defines.emplace_back("MIS_ONE_SAMPLE", "1");
   if (method.method->strategy == Strategy::Ris)
     k.defines.emplace_back("RIS_CANDIDATES", std::to_string(method.risCandidates) + "u");

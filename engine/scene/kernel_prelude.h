@@ -56,9 +56,11 @@ std::string assemblePrelude(const KernelParts& parts);
 // and which tables the kernel does bind. Empty when `glslangMessage` is about something else.
 std::string explainMissingTable(const KernelParts& parts, const std::string& glslangMessage);
 
-// The parts of every kernel that evaluates `brdf`: its part, its parameter block, its own tables (set 3 from
-// kBrdfDataBinding on) and, for a generated BRDF, that part's source.
-KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf, const TechniqueData& brdfData);
+// The parts of every kernel that evaluates `brdf`: its parameter block, its own tables (set 3 from
+// kBrdfDataBinding on), for a generated BRDF that part's source, and the GLSL parts in include order:
+// `parts`, which must list the BRDF's part among the others, or the BRDF's part alone when it is empty.
+KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf, const TechniqueData& brdfData,
+                            std::vector<std::string> parts = {});
 
 // What the integrator kernel does: add samples to every pixel, or integrate one pixel through the same code
 // and store every sample's record (IBLX_RECORD_SAMPLES, shaders/lib/sample_record.glsl) in an extra set-0

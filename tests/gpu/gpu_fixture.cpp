@@ -41,8 +41,7 @@ struct ProbeRunner {
         envBuffers(uploadTables(gpuContext(), envData, "probe env technique")),
         brdfBuffers(uploadTables(gpuContext(), brdfData, "probe BRDF technique")),
         vector(v) {
-    KernelParts k = brdfKernelParts(kernelFile, *scene.brdf, gpu.brdfDataLayout);
-    k.parts = std::move(parts);
+    KernelParts k = brdfKernelParts(kernelFile, *scene.brdf, gpu.brdfDataLayout, std::move(parts));
     k.bindTables(kEnvTechniqueSet, 0, envData, "probe env technique");
     k.bindTables(kBrdfSet, kBrdfDataBinding + uint32_t(gpu.brdfData.size()), brdfData,
                  "probe BRDF technique");
