@@ -220,11 +220,10 @@ RglTables loadRglBsdf(const fs::path& path) {
     fields.expectShape("rgb", {np, nt, 3, n, n});
     rgb = fields.floats("rgb", 5, true);
   } else if (fields.has("spectra")) {
-    const TensorField& spectra = fields.get("spectra", TensorType::Float32, 5);
+    fields.get("spectra", TensorType::Float32, 5);
     const std::vector<float> wavelengths = fields.floats("wavelengths", 1, false);
     checkIncreasing(wavelengths, "wavelengths", name);
     fields.expectShape("spectra", {np, nt, wavelengths.size(), n, n});
-    (void)spectra;
     const std::vector<float> values = fields.floats("spectra", 5, true);
     const SpectrumToRgb toRgb(wavelengths);
     const std::size_t cells = std::size_t(n * n), bands = wavelengths.size();

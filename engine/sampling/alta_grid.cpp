@@ -330,10 +330,8 @@ TechniqueData altaGridTechniqueData(const AltaGrid& grid) {
   for (int d = 0; d < 4; ++d) {
     const std::string k = std::to_string(d);
     const std::size_t n = d < dims ? grid.axes[std::size_t(d)].size() : 1;
-    std::uint32_t steps = 0;
-    while (n > 2 && (std::size_t(1) << steps) < n - 1) ++steps;
     out.define("ALTA_N" + k, std::uint32_t(n));
-    out.define("ALTA_STEPS" + k, steps);
+    out.define("ALTA_STEPS" + k, searchSteps(n));
     out.define("ALTA_FOLD" + k, std::to_string(d < dims ? int(grid.folds[std::size_t(d)]) : 0));
     out.define("ALTA_AT_AXIS" + k, std::uint32_t(table.size()));
     if (d < dims)

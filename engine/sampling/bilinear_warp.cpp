@@ -121,6 +121,19 @@ double BilinearWarp2D::lookup(const std::vector<double>& table, std::size_t inde
   return v;
 }
 
+BilinearWarp2D::Cell BilinearWarp2D::cell(std::size_t at, const Corners& c) const {
+  const std::size_t w = width_, sliceSize = std::size_t(width_) * height_;
+  return {lookup(values_, at, sliceSize, c), lookup(values_, at + 1, sliceSize, c),
+          lookup(values_, at + w, sliceSize, c), lookup(values_, at + w + 1, sliceSize, c)};
+}
+
+BilinearWarp2D::Located BilinearWarp2D::locate(glm::dvec2 pos) const {
+  pos = glm::clamp(pos, glm::dvec2(0.0), glm::dvec2(1.0)) * glm::dvec2(width_ - 1.0, height_ - 1.0);
+  const auto col = std::min(std::uint32_t(pos.x), width_ - 2),
+             row = std::min(std::uint32_t(pos.y), height_ - 2);
+  return {col, row, pos.x - col, pos.y - row};
+}
+
 BilinearWarp2D::Result BilinearWarp2D::sample(glm::dvec2 u, std::span<const double> params) const {
   const Corners c = corners(params);
   const std::size_t w = width_, sliceSize = std::size_t(width_) * height_;
@@ -138,10 +151,8 @@ BilinearWarp2D::Result BilinearWarp2D::sample(glm::dvec2 u, std::span<const doub
            ty * lookup(conditional_, (row + 1) * w + x, sliceSize, c);
   };
   const std::uint32_t col = findInterval(width_, [&](std::uint32_t x) { return conditional(x) < target; });
-  const std::size_t at = row * w + col;
-  const double v00 = lookup(values_, at, sliceSize, c), v10 = lookup(values_, at + 1, sliceSize, c);
-  const double v01 = lookup(values_, at + w, sliceSize, c), v11 = lookup(values_, at + w + 1, sliceSize, c);
-  const double c0 = (1.0 - ty) * v00 + ty * v01, c1 = (1.0 - ty) * v10 + ty * v11;
+  const Cell v = cell(row * w + col, c);
+  const double c0 = (1.0 - ty) * v.v00 + ty * v.v01, c1 = (1.0 - ty) * v.v10 + ty * v.v11;
   const double tx = invertLinear(target - conditional(col), c0, c1);
   return {glm::dvec2((col + tx) / (width_ - 1.0), (row + ty) / (height_ - 1.0)),
           ((1.0 - tx) * c0 + tx * c1) * (width_ - 1.0) * (height_ - 1.0)};
@@ -150,14 +161,10 @@ BilinearWarp2D::Result BilinearWarp2D::sample(glm::dvec2 u, std::span<const doub
 BilinearWarp2D::Result BilinearWarp2D::invert(glm::dvec2 pos, std::span<const double> params) const {
   const Corners c = corners(params);
   const std::size_t w = width_, sliceSize = std::size_t(width_) * height_;
-  pos = glm::clamp(pos, glm::dvec2(0.0), glm::dvec2(1.0)) * glm::dvec2(width_ - 1.0, height_ - 1.0);
-  const auto col = std::min(std::uint32_t(pos.x), width_ - 2),
-             row = std::min(std::uint32_t(pos.y), height_ - 2);
-  const double tx = pos.x - col, ty = pos.y - row;
+  const auto [col, row, tx, ty] = locate(pos);
   const std::size_t at = row * w + col;
-  const double v00 = lookup(values_, at, sliceSize, c), v10 = lookup(values_, at + 1, sliceSize, c);
-  const double v01 = lookup(values_, at + w, sliceSize, c), v11 = lookup(values_, at + w + 1, sliceSize, c);
-  const double c0 = (1.0 - ty) * v00 + ty * v01, c1 = (1.0 - ty) * v10 + ty * v11;
+  const Cell v = cell(at, c);
+  const double c0 = (1.0 - ty) * v.v00 + ty * v.v01, c1 = (1.0 - ty) * v.v10 + ty * v.v11;
   const double pdf = (1.0 - tx) * c0 + tx * c1;
   const double r0 = lookup(conditional_, row * w + w - 1, sliceSize, c);
   const double r1 = lookup(conditional_, (row + 1) * w + w - 1, sliceSize, c);
@@ -169,17 +176,9 @@ BilinearWarp2D::Result BilinearWarp2D::invert(glm::dvec2 pos, std::span<const do
 }
 
 double BilinearWarp2D::eval(glm::dvec2 pos, std::span<const double> params) const {
-  const Corners c = corners(params);
-  const std::size_t w = width_, sliceSize = std::size_t(width_) * height_;
-  pos = glm::clamp(pos, glm::dvec2(0.0), glm::dvec2(1.0)) * glm::dvec2(width_ - 1.0, height_ - 1.0);
-  const auto col = std::min(std::uint32_t(pos.x), width_ - 2),
-             row = std::min(std::uint32_t(pos.y), height_ - 2);
-  const double tx = pos.x - col, ty = pos.y - row;
-  const std::size_t at = row * w + col;
-  const double v = (1.0 - ty) * ((1.0 - tx) * lookup(values_, at, sliceSize, c) +
-                                 tx * lookup(values_, at + 1, sliceSize, c)) +
-                   ty * ((1.0 - tx) * lookup(values_, at + w, sliceSize, c) +
-                         tx * lookup(values_, at + w + 1, sliceSize, c));
+  const auto [col, row, tx, ty] = locate(pos);
+  const Cell k = cell(std::size_t(row) * width_ + col, corners(params));
+  const double v = (1.0 - ty) * ((1.0 - tx) * k.v00 + tx * k.v10) + ty * ((1.0 - tx) * k.v01 + tx * k.v11);
   // A warp's values are normalized per grid cell; as a density on [0, 1]^2 they scale by the cell count.
   return conditional_.empty() ? v : v * (width_ - 1.0) * (height_ - 1.0);
 }

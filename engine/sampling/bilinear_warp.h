@@ -60,6 +60,17 @@ class BilinearWarp2D {
   Corners corners(std::span<const double> params) const;
   double lookup(const std::vector<double>& table, std::size_t index, std::size_t sliceSize,
                 const Corners& c) const;
+  // The four values of the grid cell whose lower corner is node `at`, blended over the slices.
+  struct Cell {
+    double v00, v10, v01, v11;
+  };
+  Cell cell(std::size_t at, const Corners& c) const;
+  // The cell of a point of [0, 1]^2 (clamped) and the point's position in it.
+  struct Located {
+    std::uint32_t col, row;
+    double tx, ty;
+  };
+  Located locate(glm::dvec2 pos) const;
 
   std::uint32_t width_ = 0, height_ = 0;
   std::size_t slices_ = 0;

@@ -139,12 +139,7 @@ TechniqueData RglBsdf::techniqueData() const {
   append("RGL_AT_LUM_COND", luminance_.conditionalCdf());
   append("RGL_AT_LUM_MARG", luminance_.marginalCdf());
   append("RGL_AT_RGB", rgb_.values());
-  // Halvings of the GLSL binary searches over n entries (intervals [0, n - 2]): ceil(log2(n - 1)).
-  const auto steps = [](std::size_t n) {
-    std::uint32_t k = 0;
-    while (n > 2 && (std::size_t(1) << k) < n - 1) ++k;
-    return k;
-  };
+  const auto steps = searchSteps;
   out.define("RGL_PHI_STEPS", steps(phi.size()));
   out.define("RGL_THETA_STEPS", steps(theta.size()));
   out.define("RGL_VNDF_W_STEPS", steps(vndf_.width()));

@@ -54,4 +54,13 @@ struct TechniqueData {
   }
 };
 
+// Halvings a branch-free binary search over the intervals [0, n - 2] of n sorted entries takes: ceil(log2(n -
+// 1)), 0 for n <= 2. GLSL parts that search with a compile-time trip count get it as a define (lavapipe caps
+// the loop iterations of an invocation, so their searches must unroll).
+inline std::uint32_t searchSteps(std::size_t n) {
+  std::uint32_t k = 0;
+  while (n > 2 && (std::size_t(1) << k) < n - 1) ++k;
+  return k;
+}
+
 }  // namespace iblx

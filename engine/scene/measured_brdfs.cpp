@@ -67,7 +67,7 @@ std::shared_ptr<const BrdfInfo> makeMitBrdf(MitBrdf brdf, const std::filesystem:
 }
 
 std::shared_ptr<const BrdfInfo> makeRglBrdf(const RglTables& tables, const std::filesystem::path& file) {
-  auto material = std::make_shared<const RglBsdf>(tables);
+  const RglBsdf material(tables);
   auto info = std::make_shared<BrdfInfo>();
   info->name = file.stem().string();
   std::string description = "RGL-EPFL measured " +
@@ -90,26 +90,29 @@ std::shared_ptr<const BrdfInfo> makeRglBrdf(const RglTables& tables, const std::
   info->evalPart = kRglEvalPart;
   info->bestSampler = "rgl-vndf";
   info->lobeWidth = [](const Scene& scene, const GpuServices& gpu) { return gpu.measureLobeWidth(scene); };
-  info->data = [material](const Scene&) { return material->techniqueData(); };
+  // Packed once: every kernel that evaluates the material uploads a copy.
+  auto data = std::make_shared<const TechniqueData>(material.techniqueData());
+  info->data = [data](const Scene&) { return *data; };
   return info;
 }
 
 std::shared_ptr<const BrdfInfo> makeAltaDataBrdf(const AltaData& data, const std::filesystem::path& file) {
-  auto grid = std::make_shared<const AltaGrid>(makeAltaGrid(data, file.string()));
+  const AltaGrid grid = makeAltaGrid(data, file.string());
   auto info = std::make_shared<BrdfInfo>();
   info->name = file.stem().string();
   std::string shape;
-  for (const auto& axis : grid->axes)
+  for (const auto& axis : grid.axes)
     shape.append(shape.empty() ? "" : " x ").append(std::to_string(axis.size()));
   std::string description = "ALTA data file " + file.string() + " (" + std::to_string(data.samples) + " " +
                             altaParamName(data.param) + " samples of " + altaOutputName(data.output) + "; ";
-  description.append(grid->resampledFrom > 0 ? "resampled onto a " : "a ").append(shape).append(" ");
-  description.append(altaParamName(grid->param)).append(" grid, multilinear lookup)");
+  description.append(grid.resampledFrom > 0 ? "resampled onto a " : "a ").append(shape).append(" ");
+  description.append(altaParamName(grid.param)).append(" grid, multilinear lookup)");
   info->description = description;
   info->evalPart = "brdf/alta_data.glsl";
   info->bestSampler = "brdf-tab";
   info->lobeWidth = [](const Scene& scene, const GpuServices& gpu) { return gpu.measureLobeWidth(scene); };
-  info->data = [grid](const Scene&) { return altaGridTechniqueData(*grid); };
+  auto tables = std::make_shared<const TechniqueData>(altaGridTechniqueData(grid));
+  info->data = [tables](const Scene&) { return *tables; };
   return info;
 }
 
