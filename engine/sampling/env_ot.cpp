@@ -17,17 +17,11 @@
 #include <vector>
 
 namespace iblx {
-namespace {
 
-// The OT techniques' map: the sun texels' excess is split off (ot_sun.h) and the map solved for the rest.
-struct EnvOtMaps {
-  OtSunSplit sun;
-  OtMap map;
-};
-
-EnvOtMaps solveEnvOtMap(const EnvImage& image) {
+EnvOtMaps solveEnvOtMaps(const EnvImage& image) {
   const int n = otGridSize(image);
-  EnvOtMaps maps{splitOtSun(texelSamplingWeights(image, "OT density"), image.width, image.height), {}};
+  EnvOtMaps maps{texelSamplingWeights(image, "OT density"), {}, {}};
+  maps.sun = splitOtSun(maps.weights, image.width, image.height);
   const std::vector<double> density =
       otDensityFromWeights(maps.sun.smoothWeights, image.width, image.height, n);
   maps.map = solveOtMapCached(density, n, OtSolverOptions{}, defaultCacheDir());
@@ -40,6 +34,8 @@ EnvOtMaps solveEnvOtMap(const EnvImage& image) {
          std::to_string(map.l1) + "); sampling with the best map reached");
   return maps;
 }
+
+namespace {
 
 // A QuadGridMap's vertex images and piece types: tables <prefix>Vertex and <prefix>Piece.
 void addQuadMapGeometry(TechniqueData& data, const QuadGridMap& map, const std::string& prefix,
@@ -85,12 +81,12 @@ int otGridSize(const EnvImage& image) {
 }
 
 TechniqueData envOtFwdTechniqueData(const EnvImage& image) {
-  const EnvOtMaps maps = solveEnvOtMap(image);
+  const EnvOtMaps maps = solveEnvOtMaps(image);
   return packEnvOt(forwardMap(maps.map), maps.sun, maps.map.n, "env-ot-fwd");
 }
 
 TechniqueData envOtInvTechniqueData(const EnvImage& image) {
-  const EnvOtMaps maps = solveEnvOtMap(image);
+  const EnvOtMaps maps = solveEnvOtMaps(image);
   const QuadGridMap forward = forwardMap(maps.map);
   TechniqueData data = packEnvOt(tabulatedInverse(forward, maps.map.n), maps.sun, maps.map.n, "env-ot-inv");
   // The forward map, whose image of a point guesses the point's preimage under the inverse.

@@ -5,6 +5,7 @@
 #include "engine/sampling/latlong_texel.h"  // kOneMinusEpsilonF
 
 #include <algorithm>
+#include <cstdint>
 #include <span>
 
 namespace iblx {
@@ -35,6 +36,27 @@ inline int findFloatBin(const float* cdf, int n, float u) {
 // Offset t = (u - lo) / width of u inside its bin, clamped to [0, 1 - 2^-24], in float as on the GPU.
 inline float remapInFloatBin(float u, float lo, float width) {
   return width > 0.0f ? std::clamp((u - lo) / width, 0.0f, kOneMinusEpsilonF) : 0.0f;
+}
+
+// Guide table (Chen & Asau 1974) of a CDF over n bins with G cells, G a power of two. Cell k: lo = bin of u =
+// k/G, hi = bin of the largest float below (k+1)/G. Both bounds are floats exactly (G is a power of two), so
+// [lo, hi] holds the bin of every u in the cell.
+inline void writeGuide(const float* cdf, int n, int cells, std::uint32_t* guide) {
+  for (int k = 0; k < cells; ++k) {
+    const float start = float(k) / float(cells), end = float(k + 1) / float(cells);
+    const int lo = findFloatBin(cdf, n, start);
+    // Largest i with cdf[i] < end: (first entry among cdf[1..n] >= end) - 1.
+    const int hi = std::clamp(int(std::lower_bound(cdf + 1, cdf + n + 1, end) - cdf) - 1, lo, n - 1);
+    guide[k] = std::uint32_t(lo) | std::uint32_t(hi) << 16;
+  }
+}
+
+// findFloatBin through guide cell u * G: the same bin, found by a search over [lo, hi] only (as on the GPU).
+inline int findBinGuided(const float* cdf, const std::uint32_t* guide, int cells, float u) {
+  const std::uint32_t g = guide[std::min(int(u * float(cells)), cells - 1)];
+  const int lo = int(g & 0xffffu), hi = int(g >> 16);
+  const float* first = std::upper_bound(cdf + lo + 1, cdf + hi + 1, u);
+  return int(first - cdf) - 1;
 }
 
 }  // namespace iblx

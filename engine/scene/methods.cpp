@@ -6,6 +6,7 @@
 #include "engine/sampling/env_cdf.h"
 #include "engine/sampling/env_hier.h"
 #include "engine/sampling/env_ot.h"
+#include "engine/sampling/env_ot_mesh.h"
 #include "engine/sampling/env_product.h"
 #include "engine/sampling/merl_sampling.h"
 #include "engine/scene/measured_brdfs.h"
@@ -72,6 +73,8 @@ const EnvTechniqueInfo kEnvTechniques[] = {
     {"env-cdf", "marginal/conditional CDF over texels", "env/env_cdf.glsl", envCdfTechniqueData},
     {"env-hier", "hierarchical 2x2 mip-pyramid warp", "env/env_hier.glsl",
      [](const EnvImage& image) { return envHierTechniqueData(image); }},
+    {"env-ot", "optimal-transport grid made texel-exact: rows, cells, then texel pieces by CDF",
+     "env/env_ot.glsl", [](const EnvImage& image) { return envOtTechniqueData(image); }},
     {"env-ot-inv", "optimal-transport map, tabulated inverse: one bilinear lookup per sample",
      "env/env_ot_inv.glsl", envOtInvTechniqueData},
     {"env-ot-fwd", "optimal-transport forward quad mesh inverted per sample (quadtree point location)",

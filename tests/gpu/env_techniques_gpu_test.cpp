@@ -4,6 +4,7 @@
 #include "engine/scene/methods.h"
 #include "engine/sampling/env_cdf.h"
 #include "engine/sampling/env_hier.h"
+#include "engine/sampling/env_ot_mesh.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/support/chi2.h"
 #include "tests/support/hard_envs.h"
@@ -46,7 +47,7 @@ void checkTechniqueOnEnv(const std::string& technique, const NamedEnv& env, int 
   options.label = technique + "-" + env.name;
   // The OT maps' pdfs vary inside a chi-square cell (bilinear pieces, peaks where the map compresses near the
   // poles); the 4 x 4 midpoint rule misses 1% of env-ot-inv's integral there, 16 x 16 integrates it to 1e-4.
-  if (technique.rfind("env-ot", 0) == 0) options.ires = 16;
+  if (technique.rfind("env-ot-", 0) == 0) options.ires = 16;
   const Chi2Result result = chi2Test(
       directions, [&](std::span<const glm::dvec3> d) { return probe.pdf(d); }, options);
   INFO(result.message);
@@ -96,6 +97,11 @@ TEST_CASE("env-cdf: GPU agrees with the CPU twin") {
 
 TEST_CASE("env-hier: GPU agrees with the CPU twin") {
   checkAgainstCpuTwin<EnvHierSampler>("env-hier", [](const EnvImage& e) { return buildEnvHier(e); });
+  checkNoNewValidationErrors();
+}
+
+TEST_CASE("env-ot: GPU agrees with the CPU twin") {
+  checkAgainstCpuTwin<EnvOtSampler>("env-ot", [](const EnvImage& e) { return buildEnvOt(e); });
   checkNoNewValidationErrors();
 }
 
