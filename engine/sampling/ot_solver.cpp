@@ -124,8 +124,8 @@ class LevelSolver {
         inverseEigen_[std::size_t(k) * n + l] = (k == 0 && l == 0) ? 0.0 : 1.0 / lambda;  // mean of d is 0
       }
     const std::size_t nv = std::size_t(v_) * v_;
-    pos_.resize(nv), gradHat_.resize(nv), gradPrev_.resize(nv), gradDir_.resize(nv);
-    residual_.resize(mass_.size()), dirHat_.resize(mass_.size()), dirPrev_.resize(mass_.size());
+    pos_.resize(nv), gradDir_.resize(nv);
+    residual_.resize(mass_.size()), dirHat_.resize(mass_.size());
     pad_.resize(std::size_t(n + 2) * (n + 2));
   }
 
@@ -293,64 +293,31 @@ class LevelSolver {
   bool iterate(std::vector<double>& psi, Stats& s, double targetL2, int budget,
                const std::function<void(int, double)>& progress, bool strict, double& firstStep) {
     constexpr double kCurveBelow = 0.9;  // curvedStep() for guarded steps shorter than this
-    const int n = n_;
     evaluateResidual(s);
     stageStartL2_ = s.l2;
-    bool havePrev = false;
     for (int k = 0;; ++k) {
       if (targetL2 < 0.0 ? s.maxLogError <= options_.stageLogError
                          : (s.l2 <= targetL2 && s.l1 <= options_.targetL1))
         return true;
       if (k >= budget) return false;
-      // 1. Chord-Newton direction: d^ = -L^-1 r, L the Jacobian of the areas at the identity (Nader & Guennebaud 2018);
-      //    or, with krylovSteps > 0, an inexact Newton direction J d = -r by GMRES preconditioned with L^-1.
-      newtonRightHandSide();
-      if (options_.krylovSteps > 0) {
-        newtonDirection(dirHat_);
-      } else {
-        solveLaplacian(rhs_, dirHat_);
-      }
-      gradient(dirHat_, gradHat_);
-      // 2. Conjugate Jacobian: d = d^ + beta d_prev with J d _|_ J d_prev, J the exact Jacobian at the
-      //    current map (the areas are quadratic in psi, so J d is the linear coefficient of A(psi + t d)).
-      double beta = 0.0;
-      if (havePrev && options_.conjugateJacobian) {
-        const auto dots = reduceChunks<2>(threads_, n, 8, [&](int lo, int hi) {
-          std::array<double, 2> acc{};
-          for (int j = lo; j < hi; ++j)
-            for (int i = 0; i < n; ++i) {
-              const double jp = linearCoefficient(i, j, gradPrev_), jh = linearCoefficient(i, j, gradHat_);
-              acc[0] += jp * jh, acc[1] += jp * jp;
-            }
-          return acc;
-        });
-        if (dots[1] > 0.0) beta = std::max(-1.0, -dots[0] / dots[1]);
-        if (!std::isfinite(beta)) beta = 0.0;
-      }
-      double t = 0.0;
-      for (int attempt = 0; attempt < 2; ++attempt) {
-        for (std::size_t v = 0; v < gradDir_.size(); ++v) gradDir_[v] = gradHat_[v] + beta * gradPrev_[v];
-        t = options_.merit == OtMerit::Barrier ? lineSearchBarrier() : lineSearch();
-        if (t != 0.0 || beta == 0.0) break;
-        beta = 0.0;  // the conjugate direction made no progress: fall back to the chord direction
-      }
-      // A step the fold guard cut short follows the curved path instead, once this level has needed to undo a
-      // continuation stage (curvedSteps_).
-      const double curved =
-          curvedSteps_ && beta == 0.0 && guardLimited_ && t > 0.0 && t < kCurveBelow ? curvedStep(t) : 0.0;
+      // 1. Newton direction: J d = -r by GMRES, J the exact Jacobian of the areas at the current map.
+      rhs_.resize(residual_.size());
+      for (std::size_t c = 0; c < rhs_.size(); ++c) rhs_[c] = -residual_[c];
+      newtonDirection(dirHat_);
+      gradient(dirHat_, gradDir_);
+      // 2. Its length (the exact line search); a step the fold guard cut short follows the curved path
+      //    instead, once this level has needed to undo a continuation stage (curvedSteps_).
+      double t = lineSearch();
+      const double curved = curvedSteps_ && guardLimited_ && t > 0.0 && t < kCurveBelow ? curvedStep(t) : 0.0;
       if (curved > 0.0) t = curved, ++curvedStepsTaken_;
       if (k == 0) firstStep = std::abs(t);
       if (t == 0.0) return false;  // stalled
       if (strict && std::abs(t) < options_.stageMinStep) return false;
       // 3. Step: psi += t d (+ t^2 d2 on a curved step); the vertices move by the gradient of that.
-      for (std::size_t c = 0; c < psi.size(); ++c) {
-        dirPrev_[c] = dirHat_[c] + beta * dirPrev_[c];
-        psi[c] += t * dirPrev_[c] + (curved > 0.0 ? t * t * curveDir_[c] : 0.0);
-      }
+      for (std::size_t c = 0; c < psi.size(); ++c)
+        psi[c] += t * dirHat_[c] + (curved > 0.0 ? t * t * curveDir_[c] : 0.0);
       for (std::size_t v = 0; v < pos_.size(); ++v)
         pos_[v] += t * gradDir_[v] + (curved > 0.0 ? t * t * curveGrad_[v] : Vec2(0.0));
-      gradPrev_.swap(gradDir_);
-      havePrev = true;
       ++s.iterations;
       evaluateResidual(s);  // recomputed from the vertices, not updated, so rounding cannot drift
       if (progress) progress(s.iterations, s.l2);
@@ -478,8 +445,8 @@ class LevelSolver {
     return s;
   }
 
-  // Inexact Newton: GMRES(m) on J x = r, right-preconditioned by L^-1 (the DCT solve), x0 = 0 (Saad & Schultz
-  // 1986); d = -x. The first Krylov vector is the chord direction, so this is never worse than it in
+  // Inexact Newton: GMRES(m) on J d = -r, right-preconditioned by L^-1 (the DCT solve), d0 = 0 (Saad &
+  // Schultz 1986). The first Krylov vector is the chord direction, so this is never worse than it in
   // ||r + J d||.
   enum class Preconditioner { Laplacian, FrozenLu };
 
@@ -527,9 +494,8 @@ class LevelSolver {
   // no sign of poor factors (the guard cuts the first step of most continuation stages): renewing them after
   // every short step made sunrise at n = 512 factorise 118 times without finishing in 240 s.
   void newtonDirection(std::vector<double>& d) {
-    if (!laplacianFailed_ || !options_.directNewton) {
-      const double rel = gmres(d, Preconditioner::Laplacian);
-      if (rel <= options_.krylovTolerance || !options_.directNewton) return;
+    if (!laplacianFailed_) {
+      if (gmres(d, Preconditioner::Laplacian) <= options_.krylovTolerance) return;
       laplacianFailed_ = true;
     }
     constexpr int kLaggedSteps = 4;
@@ -539,7 +505,7 @@ class LevelSolver {
     gmres(d, Preconditioner::FrozenLu);
   }
 
-  // GMRES(m) on J x = rhs, right-preconditioned, x0 = 0 (Saad & Schultz 1986); d = -x. Returns the reached
+  // GMRES(m) on J d = rhs_ (= -r), right-preconditioned, d0 = 0 (Saad & Schultz 1986). Returns the reached
   // relative residual of the row-scaled system. The preconditioned basis vectors z_k = M^-1 v_k are kept, so
   // x = sum y_k z_k costs no further preconditioner solve (as flexible GMRES stores them, Saad 1993): at
   // n = 512 that spares one LU solve (18 ms) of the four or so behind each Newton direction.
@@ -555,12 +521,10 @@ class LevelSolver {
     std::vector<double> h(std::size_t((m + 1) * m), 0.0), cs(static_cast<std::size_t>(m)),
         sn(static_cast<std::size_t>(m)), g(std::size_t(m + 1), 0.0);
     const auto H = [&](int row, int col) -> double& { return h[std::size_t(row * m + col)]; };
-    // With logNewton the system is scaled row by row by 1/A (relative area changes), so that GMRES's 2-norm
-    // tolerance bounds each quad's error relative to its own area, not to the largest quad's.
+    // With relativeResidual the system is scaled row by row by 1/m, so that GMRES's 2-norm tolerance bounds
+    // each quad's error relative to its own target, not to the largest quad's.
     rowScale_.assign(size, 1.0);
-    if (options_.logNewton)
-      for (std::size_t c = 0; c < size; ++c) rowScale_[c] = 1.0 / (residual_[c] + mass_[c]);
-    else if (options_.relativeResidual)
+    if (options_.relativeResidual)
       for (std::size_t c = 0; c < size; ++c) rowScale_[c] = 1.0 / mass_[c];
     const double beta0 = std::sqrt(dotScaled(rhs_, rowScale_));
     if (!(beta0 > 0.0)) {
@@ -610,9 +574,9 @@ class LevelSolver {
       for (int j = i + 1; j < k; ++j) s -= H(i, j) * y[std::size_t(j)];
       y[std::size_t(i)] = H(i, i) != 0.0 ? s / H(i, i) : 0.0;
     }
-    std::fill(d.begin(), d.end(), 0.0);  // d = -x = -Z y
+    std::fill(d.begin(), d.end(), 0.0);  // d = Z y
     for (int i = 0; i < k; ++i)
-      for (std::size_t c = 0; c < size; ++c) d[c] -= y[std::size_t(i)] * preconditioned_[std::size_t(i)][c];
+      for (std::size_t c = 0; c < size; ++c) d[c] += y[std::size_t(i)] * preconditioned_[std::size_t(i)][c];
     return std::abs(g[std::size_t(k)]) / beta0;
   }
 
@@ -766,116 +730,12 @@ class LevelSolver {
     return t;
   }
 
-  // The right-hand side of the Newton system J d = -rhs: the area residual, or with logNewton A log(A / m)
-  // (the linearisation of log A = log m scaled back to areas; equal to A - m to first order near the
-  // solution).
-  void newtonRightHandSide() {
-    rhs_.resize(residual_.size());
-    if (!options_.logNewton) {
-      std::copy(residual_.begin(), residual_.end(), rhs_.begin());
-      return;
-    }
-    // J d always sums to 0 (the boundary slides, the total area stays 1), so only a right-hand side with sum
-    // 0 is reachable: log(A / m) - mu with mu its area-weighted mean, i.e. the target m e^mu rescaled to
-    // total 1 (mu = 0 at the solution). Subtracting a plain constant in area units instead would ask every
-    // tiny quad for the same absolute change.
-    double mu = 0.0, total = 0.0;
-    for (std::size_t c = 0; c < rhs_.size(); ++c) {
-      const double area = residual_[c] + mass_[c];
-      rhs_[c] = std::log(area / mass_[c]);
-      mu += area * rhs_[c], total += area;
-    }
-    mu /= total;
-    for (std::size_t c = 0; c < rhs_.size(); ++c) rhs_[c] = (residual_[c] + mass_[c]) * (rhs_[c] - mu);
-  }
-
-  // Line search on the barrier merit F = sum_c [A_c - m_c - m_c log(A_c / m_c)] (OtMerit::Barrier). Along the
-  // vertex motion every area is A + b t + a t^2, so F' and F'' cost one pass without logarithms; the
-  // minimiser is found by safeguarded Newton on F' within the interval where every area stays positive (the
-  // barrier makes that interval's ends infinitely expensive), and accepted only if F decreases, computed with
-  // log1p.
-  double lineSearchBarrier() {
-    const int n = n_;
-    guardLimited_ = false;  // only lineSearch() reports it
-    coefA_.resize(residual_.size()), coefB_.resize(residual_.size());
-    const auto bounds = reduceChunks<2>(
-        threads_, n, 8,
-        [&](int lo, int hi) {
-          double tPos = kInf, tNeg = kInf;
-          for (int j = lo; j < hi; ++j)
-            for (int i = 0; i < n; ++i) {
-              const std::size_t p00 = vi(i, j), p10 = p00 + 1, p01 = p00 + v_, p11 = p01 + 1;
-              const std::size_t c = std::size_t(j) * n + i;
-              const Vec2 d1 = pos_[p11] - pos_[p00], d2 = pos_[p01] - pos_[p10];
-              const Vec2 e1 = gradDir_[p11] - gradDir_[p00], e2 = gradDir_[p01] - gradDir_[p10];
-              const double b = 0.5 * (cross2(d1, e2) + cross2(e1, d2)), a = 0.5 * cross2(e1, e2);
-              coefA_[c] = a, coefB_[c] = b;
-              const double area = residual_[c] + mass_[c];
-              tPos = std::min(tPos, firstPositiveRoot(area, b, a));
-              tNeg = std::min(tNeg, firstPositiveRoot(area, -b, a));
-            }
-          return std::array<double, 2>{-tPos, -tNeg};
-        },
-        {true, true});
-    // F'(t) and F''(t).
-    const auto slopes = [&](double t) {
-      return reduceChunks<2>(threads_, n, 8, [&](int lo, int hi) {
-        std::array<double, 2> acc{0.0, 0.0};
-        for (std::size_t c = std::size_t(lo) * n; c < std::size_t(hi) * n; ++c) {
-          const double area = residual_[c] + mass_[c] + (coefB_[c] + coefA_[c] * t) * t;
-          const double da = coefB_[c] + 2.0 * coefA_[c] * t, q = mass_[c] / area;
-          acc[0] += (1.0 - q) * da;
-          acc[1] += q / area * da * da + (1.0 - q) * 2.0 * coefA_[c];
-        }
-        return acc;
-      });
-    };
-    // F(t) - F(0), without cancellation.
-    const auto decrease = [&](double t) {
-      return reduceChunks<1>(threads_, n, 8, [&](int lo, int hi) {
-        double acc = 0.0;
-        for (std::size_t c = std::size_t(lo) * n; c < std::size_t(hi) * n; ++c) {
-          const double delta = (coefB_[c] + coefA_[c] * t) * t, area = residual_[c] + mass_[c];
-          acc += delta - mass_[c] * std::log1p(delta / area);
-        }
-        return std::array<double, 1>{acc};
-      })[0];
-    };
-    const double g0 = slopes(0.0)[0];
-    if (!(g0 != 0.0) || !std::isfinite(g0)) return 0.0;
-    const double sign = g0 < 0.0 ? 1.0 : -1.0;
-    constexpr double kMaxStep = 10.0;
-    const double limit =
-        std::min(kMaxStep, options_.boundaryFraction * -(sign > 0.0 ? bounds[0] : bounds[1]));
-    // tau = sign * t in [0, limit]; phi'(tau) = sign * F'(sign tau) < 0 at 0.
-    double lo = 0.0, hi = limit, tau = limit;
-    if (sign * slopes(sign * limit)[0] > 0.0) {
-      tau = std::min(limit, std::max(0.5 * limit * 0.0, -g0 * sign / std::max(slopes(0.0)[1], 1e-300)));
-      if (!(tau > 0.0 && tau < limit)) tau = 0.5 * limit;
-      for (int it = 0; it < 60 && hi - lo > 1e-13 * hi; ++it) {
-        const auto [d1, d2] = slopes(sign * tau);
-        const double phi1 = sign * d1;
-        if (phi1 < 0.0)
-          lo = tau;
-        else
-          hi = tau;
-        if (std::abs(phi1) <= 1e-14 * std::abs(g0)) break;
-        double next = d2 > 0.0 ? tau - phi1 / d2 : -1.0;  // Newton on phi' (phi'' = F'')
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        tau = next;
-      }
-    }
-    for (int halvings = 0; halvings < 40; ++halvings, tau *= 0.5)
-      if (decrease(sign * tau) < 0.0) return sign * tau;
-    return 0.0;
-  }
-
   int n_, v_, threads_;
   const OtSolverOptions& options_;
-  std::vector<double> rhs_, rowScale_, unscaled_, coefA_, coefB_;
+  std::vector<double> rhs_, rowScale_, unscaled_;
   DctPlan dct_;
-  std::vector<double> mass_, inverseEigen_, residual_, dirHat_, dirPrev_, pad_;
-  std::vector<Vec2> pos_, gradHat_, gradPrev_, gradDir_, curveGrad_;
+  std::vector<double> mass_, inverseEigen_, residual_, dirHat_, pad_;
+  std::vector<Vec2> pos_, gradDir_, curveGrad_;
   std::vector<double> curveDir_;
   bool guardLimited_ = false;  // the last lineSearch() stopped at the fold guard's bound
   bool curvedSteps_ = false;   // curvedStep() is in use on this level
@@ -1078,6 +938,8 @@ OtMap solveOtMap(std::span<const double> density, int n, const OtSolverOptions& 
   // Between the geometric (0) and the arithmetic (1) mean; beyond 1, m^p of the smallest cells underflows.
   if (!(options.homotopyPower >= 0.0 && options.homotopyPower <= 1.0))
     throw Error("OT solver: homotopyPower must be in [0, 1], got " + std::to_string(options.homotopyPower));
+  if (options.krylovSteps < 1)
+    throw Error("OT solver: krylovSteps must be at least 1, got " + std::to_string(options.krylovSteps));
   double sum = 0.0;
   for (double v : density) {
     if (!std::isfinite(v) || v < 0.0)

@@ -7,8 +7,7 @@
 //   pseudo-Laplacian L (the exact area Jacobian at the identity, diagonal in the DCT-II basis, O(n^2 log n)
 //   per solve) while that reaches its tolerance, else by LU factors of the exact Jacobian at an earlier map
 //   (grid_lu.h: nested dissection, multifrontal, factored in single precision), renewed at the current map
-//   only when GMRES with them needs more than a few steps. otmap's chord directions and conjugate-Jacobian
-//   update remain as options (experiments);
+//   only when GMRES with them needs more than a few steps;
 // - a line search that keeps every quad's signed area positive (OtFoldGuard::Area), going at most
 //   boundaryFraction of the way to the first degenerate quad;
 // - continuation: the target is approached in stages m_s = ((1-s) A0^(1/2) + s m^(1/2))^2 (renormalised) from
@@ -59,12 +58,6 @@ std::vector<double> otDensityFromWeights(std::span<const double> weights, int wi
 // otmap's unconstrained search.
 enum class OtFoldGuard { None, Area, Convex };
 
-// What the line search minimises along a direction. L2: E = sum_c (A_c - m_c)^2, a quartic in the step
-// (Nader & Guennebaud 2018, Algorithm 1). Barrier: F = sum_c [A_c - m_c - m_c log(A_c / m_c)], the Bregman divergence of -log: zero
-// exactly at A = m, convex in each area, infinite at A_c = 0 so no quad area can reach 0, and relative in its
-// weighting, so a cell that must grow 1e4-fold is not drowned by the quadratic error of a million small ones.
-enum class OtMerit { L2, Barrier };
-
 struct OtSolverOptions {
   int maxIterations = 2000;        // at the finest level; each coarse level gets the same cap
   double targetL2 = 1e-7;          // E = sum_c h^2 (rho_achieved - rho)^2, mean-1 units (Nader & Guennebaud 2018)
@@ -73,10 +66,7 @@ struct OtSolverOptions {
   bool coarseToFine = true;        // solve on n/2 first (recursively) and prolong psi
   int coarsestSize = 16;           // no level below this size
   double coarseTargetL2 = 1e-5;    // looser target on the coarse levels: the fine level corrects them
-  bool conjugateJacobian = false;  // Nader & Guennebaud 2018, Algorithm 1 (also applied to the Newton directions)
-  int krylovSteps = 20;          // > 0: inexact Newton directions, GMRES(krylovSteps) on the exact Jacobian;
-                                 // 0: otmap's chord directions (L^-1 r) with conjugate-Jacobian updates
-  bool directNewton = true;      // exact Newton directions by sparse LU of the Jacobian (instead of GMRES)
+  int krylovSteps = 20;          // inexact Newton directions: GMRES(krylovSteps) on the exact Jacobian, >= 1
   double krylovTolerance = 0.1;  // GMRES stops at ||r + J d|| <= krylovTolerance ||r||
   int stageIterations = 60;      // continuation: iteration budget of an intermediate stage
   double stageLogError = 0.05;   // continuation: an intermediate stage is solved to max |log(A / m)| <= this
@@ -97,10 +87,6 @@ struct OtSolverOptions {
   // everywhere).
   bool secondOrderCorrection = true;
   OtFoldGuard foldGuard = OtFoldGuard::Area;
-  OtMerit merit = OtMerit::L2;
-  // Newton on log areas: J d = -A (log A - log m) instead of J d = -(A - m). The same fixed point, but a cell
-  // far too small grows by a bounded factor per step instead of being asked for an impossible linear jump.
-  bool logNewton = false;
   // Newton directions and the L2 line search on relative residuals (A - m) / m: GMRES rows and merit terms
   // weighted by 1/m, so the sun's cells cannot hide a 100% error on a sky cell.
   bool relativeResidual = true;
@@ -115,8 +101,9 @@ struct OtSolverOptions {
 double otRetriedStageStep(double reached, double next, double firstStep, bool abandonedAtFirstStep,
                           const OtSolverOptions& options);
 
-// Bumped whenever the solver's algorithm changes its results, so that cached maps (ot_cache.h) are re-solved.
-inline constexpr int kOtSolverVersion = 12;
+// Bumped whenever the solver's results or the options hashed into the cache key change, so that cached maps
+// (ot_cache.h) are re-solved.
+inline constexpr int kOtSolverVersion = 13;
 
 // What one grid level of the coarse-to-fine solve did (coarsest first in OtMap::levels).
 struct OtLevelStats {
