@@ -1,16 +1,17 @@
 // Optimal-transport map from an environment's sampling density on an n x n grid over the lat-long square to
-// the uniform density on [0,1]^2, after Nader & Guennebaud, "Instant Transport Maps on 2D Grids" (TOG 37(6),
-// 2018, §4-5 and Algorithm 1). CPU, double precision; the samplers build on the map.
+// the uniform density on [0,1]^2, after Nader & Guennebaud, "Instant Transport Maps on 2D Grids" (ACM TOG
+// 37(6), 2018, §4-5 and Algorithm 1). CPU, double precision; the samplers build on the map. docs/ot_solver.md
+// describes the algorithm and its figures.
 //
 // Differences from that paper's released solver (written from the notes, not its code):
-// - Newton directions on the relative residual (A - m) / m: GMRES preconditioned by the fixed
+// - Newton directions on the relative residual (A - m) / m (ot_newton.h): GMRES preconditioned by the fixed
 //   pseudo-Laplacian L (the exact area Jacobian at the identity, diagonal in the DCT-II basis, O(n^2 log n)
-//   per solve) while that reaches its tolerance, else by LU factors of the exact Jacobian at an earlier map
-//   (grid_lu.h: nested dissection, multifrontal, factored in single precision), renewed at the current map
-//   only when GMRES with them needs more than a few steps. otmap's chord directions and conjugate-Jacobian
-//   update remain as options (experiments);
-// - a line search that keeps every quad's signed area positive (OtFoldGuard::Area), going at most
-//   boundaryFraction of the way to the first degenerate quad;
+//   per solve; the paper's chord direction -L^-1 r is its first Krylov vector) while that reaches its
+//   tolerance, else by LU factors of the exact Jacobian at an earlier map (grid_lu.h: nested dissection,
+//   multifrontal, factored in single precision), renewed at the current map only when GMRES with them needs
+//   more than a few steps;
+// - a line search that keeps every quad's signed area positive (OtFoldGuard::Area, ot_line_search.h), going
+//   at most boundaryFraction of the way to the first degenerate quad;
 // - continuation: the target is approached in stages m_s = ((1-s) A0^(1/2) + s m^(1/2))^2 (renormalised) from
 //   the start map's own areas A0; each stage starts from a secant predictor (cut back to keep every quad's
 //   area positive); a stage whose Newton step falls below stageMinStep is undone (or, before any stage is
@@ -19,22 +20,21 @@
 //   s = 1;
 // - on a level that had to undo a stage, steps cut short by the fold guard follow a second-order correction
 //   (a curve on which the quadratic area term is cancelled; LevelSolver::curvedStep);
-// - coarse-to-fine: the density is box-restricted to n/2, n/4, ..., solved there and psi is prolonged
-//   (averaged at the coarse vertices, then bilinear); where a prolonged start folds quads (next to suns and
-//   lamps, in strongly compressed regions), psi is smoothed by binomial passes until it does not (at most
-//   maxSmoothingPasses, else the level starts part of the way from the identity towards it); a level whose
-//   coarser one needed LU-preconditioned directions starts with them;
+// - coarse-to-fine (ot_multilevel.h): the density is box-restricted to n/2, n/4, ..., solved there and psi is
+//   prolonged (averaged at the coarse vertices, then bilinear); where a prolonged start folds quads (next to
+//   suns and lamps, in strongly compressed regions), psi is smoothed by binomial passes until it does not (at
+//   most maxSmoothingPasses, else the level starts part of the way from the identity towards it); a level
+//   whose coarser one needed LU-preconditioned directions starts with them;
 // - a density floor: rho' = max(rho, floorFraction * mean(rho)), renormalised to mean 1. Zero regions then
 //   collapse to thin quads instead of folding. The samplers' pdfs stay exact because they come from the map.
 //   The default eps = 1e-2 costs a sampler at most a factor 1 + eps in the second moment of f / p (the
-//   floored pdf is >= p / (1 + eps) wherever p > 0) and makes the finest level of hard maps 2-5x cheaper:
-//   the crawl next to a sun is set by the contrast between the sun's cells and the near-empty cells that
-//   must become slivers beside them (measured, docs/ot_solver.md).
+//   floored pdf is >= p / (1 + eps) wherever p > 0), and it bounds the contrast between a sun's cells and the
+//   near-empty cells that must become slivers beside them, which sets how long the solver crawls there.
 // The converged map can hold self-intersecting quads of positive area next to a sun; the samplers solve for
 // a map with their suns split off (ot_sun.h) and ot_map.h untangles what twists remain.
 #pragma once
 
-#include "engine/io/env_image.h"
+#include "engine/sampling/ot_density.h"
 
 #include <glm/glm.hpp>
 
@@ -45,25 +45,10 @@
 
 namespace iblx {
 
-// Sampling density on an n x n grid over the lat-long parameter square, row-major, row = v (theta = pi v from
-// +Y), column = u (phi = 2 pi u): the exact integral of the nearest-texel weight (mean RGB) over each cell
-// with respect to solid angle (so sin(theta) is included), divided by the cell's parameter area, normalised
-// to mean 1. An all-black image gives sin(theta) (uniform sphere). Throws iblx::Error on a bad image or on
-// n < 1.
-std::vector<double> otDensityFromEnv(const EnvImage& env, int n);
-// The same from W*H texel weights (texelSamplingWeights, or the smooth part of an OtSunSplit).
-std::vector<double> otDensityFromWeights(std::span<const double> weights, int width, int height, int n);
-
 // What the line search keeps valid. Convex: every quad stays strictly convex (its bilinear map has a positive
 // Jacobian everywhere). Area: every quad keeps a positive signed area (it may become non-convex). None:
 // otmap's unconstrained search.
 enum class OtFoldGuard { None, Area, Convex };
-
-// What the line search minimises along a direction. L2: E = sum_c (A_c - m_c)^2, a quartic in the step
-// (Nader & Guennebaud 2018, Algorithm 1). Barrier: F = sum_c [A_c - m_c - m_c log(A_c / m_c)], the Bregman divergence of -log: zero
-// exactly at A = m, convex in each area, infinite at A_c = 0 so no quad area can reach 0, and relative in its
-// weighting, so a cell that must grow 1e4-fold is not drowned by the quadratic error of a million small ones.
-enum class OtMerit { L2, Barrier };
 
 struct OtSolverOptions {
   int maxIterations = 2000;        // at the finest level; each coarse level gets the same cap
@@ -73,10 +58,7 @@ struct OtSolverOptions {
   bool coarseToFine = true;        // solve on n/2 first (recursively) and prolong psi
   int coarsestSize = 16;           // no level below this size
   double coarseTargetL2 = 1e-5;    // looser target on the coarse levels: the fine level corrects them
-  bool conjugateJacobian = false;  // Nader & Guennebaud 2018, Algorithm 1 (also applied to the Newton directions)
-  int krylovSteps = 20;          // > 0: inexact Newton directions, GMRES(krylovSteps) on the exact Jacobian;
-                                 // 0: otmap's chord directions (L^-1 r) with conjugate-Jacobian updates
-  bool directNewton = true;      // exact Newton directions by sparse LU of the Jacobian (instead of GMRES)
+  int krylovSteps = 20;          // inexact Newton directions: GMRES(krylovSteps) on the exact Jacobian, >= 1
   double krylovTolerance = 0.1;  // GMRES stops at ||r + J d|| <= krylovTolerance ||r||
   int stageIterations = 60;      // continuation: iteration budget of an intermediate stage
   double stageLogError = 0.05;   // continuation: an intermediate stage is solved to max |log(A / m)| <= this
@@ -92,15 +74,10 @@ struct OtSolverOptions {
   int maxSmoothingPasses = 1024;
   // Once a level has had to undo a continuation stage, a step that the fold guard cuts short follows the
   // curve psi + t d + t^2 d2 with J d2 = -(the quadratic area term along d) (LevelSolver::curvedStep). Only
-  // then: on maps that need no such retreat, the longer steps made the lagged LU factors go stale sooner, for
-  // no fewer iterations (measured: studio and sunset 20-50 % slower at n = 512 and 1024 with curved steps
-  // everywhere).
+  // then: on maps that need no such retreat, the longer steps make the lagged LU factors go stale sooner, for
+  // no fewer iterations (docs/ot_solver.md, "Tried and dropped").
   bool secondOrderCorrection = true;
   OtFoldGuard foldGuard = OtFoldGuard::Area;
-  OtMerit merit = OtMerit::L2;
-  // Newton on log areas: J d = -A (log A - log m) instead of J d = -(A - m). The same fixed point, but a cell
-  // far too small grows by a bounded factor per step instead of being asked for an impossible linear jump.
-  bool logNewton = false;
   // Newton directions and the L2 line search on relative residuals (A - m) / m: GMRES rows and merit terms
   // weighted by 1/m, so the sun's cells cannot hide a 100% error on a sky cell.
   bool relativeResidual = true;
@@ -115,8 +92,9 @@ struct OtSolverOptions {
 double otRetriedStageStep(double reached, double next, double firstStep, bool abandonedAtFirstStep,
                           const OtSolverOptions& options);
 
-// Bumped whenever the solver's algorithm changes its results, so that cached maps (ot_cache.h) are re-solved.
-inline constexpr int kOtSolverVersion = 12;
+// Bumped whenever the solver's results or the options hashed into the cache key change, so that cached maps
+// (ot_cache.h) are re-solved.
+inline constexpr int kOtSolverVersion = 13;
 
 // What one grid level of the coarse-to-fine solve did (coarsest first in OtMap::levels).
 struct OtLevelStats {

@@ -1,11 +1,16 @@
-// Tests of the OT map solver (engine/sampling/ot_solver.h) and its DCT (engine/sampling/ot_dct.h): transforms
-// against their definition, the identity map, mass residuals and folds on smooth, sun and half-zero
-// densities, boundary vertices, the density of a lat-long environment against the analytic sin(theta)
-// integral, bad input.
+// Tests of the OT map solver (engine/sampling/ot_solver.h) and its parts: the DCT (ot_dct.h) against its
+// definition, GMRES (ot_gmres.h) on small nonsymmetric systems, the Newton system's Jacobian (ot_newton.h)
+// against the exact area change, the coarse-to-fine transfers (ot_multilevel.h); the identity map, mass
+// residuals and folds on smooth, sun and half-zero densities, boundary vertices, the density of a lat-long
+// environment against the analytic sin(theta) integral, bad input.
 #include "engine/sampling/ot_solver.h"
 
 #include "engine/core/error.h"
 #include "engine/sampling/ot_dct.h"
+#include "engine/sampling/ot_gmres.h"
+#include "engine/sampling/ot_grid.h"
+#include "engine/sampling/ot_multilevel.h"
+#include "engine/sampling/ot_newton.h"
 #include "tests/support/hard_envs.h"
 
 #include "tests/support/ot_densities.h"
@@ -65,6 +70,42 @@ void checkMap(const OtMap& map, const OtSolverOptions& options) {
   MESSAGE("n = " << n << ": " << map.iterations << " iterations (+" << map.coarseIterations << " coarse), "
                  << map.seconds << " s, L2 " << map.l2 << ", L1 " << map.l1 << ", Linf " << map.linf
                  << ", non-convex quads " << map.foldedQuads);
+}
+
+// A dense row-major n x n matrix as a GMRES operator: out = A in.
+Gmres::LinearMap denseMap(const std::vector<double>& a, int n) {
+  return [&a, n](std::span<const double> in, std::span<double> out) {
+    for (int r = 0; r < n; ++r) {
+      double s = 0.0;
+      for (int c = 0; c < n; ++c) s += a[std::size_t(r) * n + c] * in[std::size_t(c)];
+      out[std::size_t(r)] = s;
+    }
+  };
+}
+
+// The convection-diffusion matrix tridiag(-1 - p, 2 + shift, -1 + p): nonsymmetric for p != 0, and
+// nonnormal, so GMRES needs many steps without a preconditioner.
+std::vector<double> convectionDiffusion(int n, double p, double shift) {
+  std::vector<double> a(std::size_t(n) * n, 0.0);
+  for (int r = 0; r < n; ++r) {
+    a[std::size_t(r) * n + r] = 2.0 + shift;
+    if (r > 0) a[std::size_t(r) * n + r - 1] = -1.0 - p;
+    if (r + 1 < n) a[std::size_t(r) * n + r + 1] = -1.0 + p;
+  }
+  return a;
+}
+
+// ||W (b - A x)|| / ||W b||, computed directly.
+double weightedRelativeResidual(const std::vector<double>& a, int n, std::span<const double> x,
+                                std::span<const double> b, std::span<const double> w) {
+  std::vector<double> ax(static_cast<std::size_t>(n));
+  denseMap(a, n)(x, ax);
+  double r2 = 0.0, b2 = 0.0;
+  for (std::size_t i = 0; i < std::size_t(n); ++i) {
+    r2 += (w[i] * (b[i] - ax[i])) * (w[i] * (b[i] - ax[i]));
+    b2 += (w[i] * b[i]) * (w[i] * b[i]);
+  }
+  return std::sqrt(r2 / b2);
 }
 
 // density times e^u per cell, u uniform in [-amplitude, amplitude] (fixed seed): a real map's detail.
@@ -262,11 +303,189 @@ TEST_CASE("OT solver: the Convex guard never makes a quad non-convex (smooth den
   CHECK(map.foldedQuads == 0);
 }
 
-TEST_CASE("OT solver: otmap's chord directions (krylovSteps = 0) converge on a smooth density") {
+TEST_CASE("OT GMRES: solves a nonsymmetric system to the tolerance, and the solution is the system's") {
+  constexpr int n = 40;
+  const std::vector<double> a = convectionDiffusion(n, 0.6, 0.05);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  std::vector<double> expected(static_cast<std::size_t>(n)), b(expected.size()), x(expected.size(), 7.0);
+  for (double& v : expected) v = uni(rng);
+  denseMap(a, n)(expected, b);
+  const std::vector<double> ones(static_cast<std::size_t>(n), 1.0);
+  const Gmres::LinearMap identity = [](std::span<const double> in, std::span<double> out) {
+    std::copy(in.begin(), in.end(), out.begin());
+  };
+  Gmres gmres;
+  const Gmres::Result result = gmres.solve(denseMap(a, n), identity, b, ones, n, 1e-12, x);
+  CHECK(result.relativeResidual <= 1e-12);
+  CHECK(result.steps >= 2);  // a nonsymmetric tridiagonal system is not solved in one step
+  CHECK(result.steps <= n);  // in exact arithmetic at most n
+  CHECK(weightedRelativeResidual(a, n, x, b, ones) <= 1e-10);
+  for (std::size_t i = 0; i < expected.size(); ++i)
+    CHECK(x[i] == doctest::Approx(expected[i]).epsilon(1e-8).scale(1.0));
+
+  // A loose tolerance stops early, and the residual it reports is the true one (the Givens rotations' running
+  // residual, not an estimate).
+  const Gmres::Result loose = gmres.solve(denseMap(a, n), identity, b, ones, n, 0.1, x);
+  CHECK(loose.steps < result.steps);
+  CHECK(loose.relativeResidual <= 0.1);
+  CHECK(weightedRelativeResidual(a, n, x, b, ones) == doctest::Approx(loose.relativeResidual).epsilon(1e-9));
+
+  // A zero right-hand side gives x = 0 at no cost.
+  const std::vector<double> zero(static_cast<std::size_t>(n), 0.0);
+  const Gmres::Result none = gmres.solve(denseMap(a, n), identity, zero, ones, n, 0.1, x);
+  CHECK(none.steps == 0);
+  CHECK(none.relativeResidual == 0.0);
+  CHECK(std::all_of(x.begin(), x.end(), [](double v) { return v == 0.0; }));
+}
+
+TEST_CASE("OT GMRES: row weights set the norm, and the preconditioner is applied on the right") {
+  constexpr int n = 30;
+  // Rows scaled over six orders of magnitude, as the OT Jacobian's rows are by the cells' masses.
+  std::vector<double> a = convectionDiffusion(n, 0.3, 0.1), scale(static_cast<std::size_t>(n)),
+                      weights(scale.size());
+  for (int r = 0; r < n; ++r) {
+    scale[std::size_t(r)] = std::pow(10.0, 6.0 * r / (n - 1));
+    weights[std::size_t(r)] = 1.0 / scale[std::size_t(r)];
+    for (int c = 0; c < n; ++c) a[std::size_t(r) * n + c] *= scale[std::size_t(r)];
+  }
+  std::vector<double> b(scale.size()), x(scale.size());
+  for (int r = 0; r < n; ++r) b[std::size_t(r)] = scale[std::size_t(r)] * std::sin(0.3 * r + 1.0);
+  Gmres gmres;
+  // The reported residual is the weighted one, whether GMRES converged or was stopped.
+  for (const int steps : {3, n}) {
+    CAPTURE(steps);
+    const Gmres::Result result = gmres.solve(
+        denseMap(a, n),
+        [](std::span<const double> in, std::span<double> out) {
+          std::copy(in.begin(), in.end(), out.begin());
+        },
+        b, weights, steps, 1e-6, x);
+    CHECK(result.steps <= steps);
+    CHECK(weightedRelativeResidual(a, n, x, b, weights) ==
+          doctest::Approx(result.relativeResidual).epsilon(1e-3));
+  }
+  // The exact inverse as the preconditioner: one step, whatever the system.
+  std::vector<double> columns(std::size_t(n) * n);  // A^-1 by Gauss-Jordan on [A | I]
+  {
+    std::vector<double> m = a, inv(std::size_t(n) * n, 0.0);
+    for (int r = 0; r < n; ++r) inv[std::size_t(r) * n + r] = 1.0;
+    for (int k = 0; k < n; ++k) {
+      int pivot = k;
+      for (int r = k + 1; r < n; ++r)
+        if (std::abs(m[std::size_t(r) * n + k]) > std::abs(m[std::size_t(pivot) * n + k])) pivot = r;
+      for (int c = 0; c < n; ++c) {
+        std::swap(m[std::size_t(k) * n + c], m[std::size_t(pivot) * n + c]);
+        std::swap(inv[std::size_t(k) * n + c], inv[std::size_t(pivot) * n + c]);
+      }
+      const double d = m[std::size_t(k) * n + k];
+      for (int c = 0; c < n; ++c) m[std::size_t(k) * n + c] /= d, inv[std::size_t(k) * n + c] /= d;
+      for (int r = 0; r < n; ++r) {
+        if (r == k) continue;
+        const double f = m[std::size_t(r) * n + k];
+        for (int c = 0; c < n; ++c) {
+          m[std::size_t(r) * n + c] -= f * m[std::size_t(k) * n + c];
+          inv[std::size_t(r) * n + c] -= f * inv[std::size_t(k) * n + c];
+        }
+      }
+    }
+    columns = inv;
+  }
+  const Gmres::Result exact = gmres.solve(denseMap(a, n), denseMap(columns, n), b, weights, n, 1e-8, x);
+  CHECK(exact.steps == 1);
+  CHECK(weightedRelativeResidual(a, n, x, b, weights) <= 1e-8);
+}
+
+TEST_CASE(
+    "OT Newton system: the Jacobian product is the exact first-order area change, and directions solve "
+    "J d = rhs to the tolerance") {
+  constexpr int n = 32;
   OtSolverOptions options;
-  options.krylovSteps = 0;
-  const OtMap map = solveOtMap(smoothDensity(64), 64, options);
-  checkMap(map, options);
+  options.threads = 2;
+  OtGrid grid(n, options.threads);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  // A smooth potential small enough that its map folds no quad, and an arbitrary direction x.
+  std::vector<double> psi(grid.cellCount()), x(grid.cellCount());
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      psi[grid.cell(i, j)] =
+          2e-3 * std::cos(0.2 * i + 0.1) * std::sin(0.15 * j + 0.4) + 1e-3 * (i * j) / (n * n);
+  for (double& v : x) v = 1e-3 * uni(rng);
+  std::vector<glm::dvec2> positions(grid.vertexCount());
+  grid.mapOf(psi, positions);
+  REQUIRE(otFoldedQuads(positions, n) == 0);
+  OtNewtonSystem newton(grid, options);
+  std::vector<double> jx(grid.cellCount());
+  newton.applyJacobian(positions, x, jx);
+  // Every area is quadratic in t along psi + t x, so the central difference is J x up to rounding.
+  constexpr double t = 0.5;
+  std::vector<double> plus = psi, minus = psi;
+  for (std::size_t c = 0; c < psi.size(); ++c) plus[c] += t * x[c], minus[c] -= t * x[c];
+  std::vector<glm::dvec2> moved(grid.vertexCount());
+  grid.mapOf(plus, moved);
+  const std::vector<double> areasPlus = otQuadAreas(moved, n);
+  grid.mapOf(minus, moved);
+  const std::vector<double> areasMinus = otQuadAreas(moved, n);
+  double largest = 0.0;
+  for (double v : jx) largest = std::max(largest, std::abs(v));
+  REQUIRE(largest > 0.0);
+  for (std::size_t c = 0; c < jx.size(); ++c)
+    CHECK((areasPlus[c] - areasMinus[c]) / (2.0 * t) == doctest::Approx(jx[c]).epsilon(1e-9).scale(largest));
+
+  // Newton directions at this map towards a smooth mean-1 density's masses, with the Laplacian's GMRES and
+  // with LU factors: GMRES to krylovTolerance in the 1/m-weighted norm, checked with the product above.
+  const std::vector<double> areas = otQuadAreas(positions, n);
+  std::vector<double> mass = smoothDensity(n), residual(grid.cellCount()), rhs(grid.cellCount());
+  double total = 0.0;
+  for (double v : mass) total += v;
+  for (double& v : mass) v /= total;  // sums to 1, as the areas do
+  for (std::size_t c = 0; c < rhs.size(); ++c) residual[c] = areas[c] - mass[c], rhs[c] = -residual[c];
+  for (const bool luFirst : {false, true}) {
+    CAPTURE(luFirst);
+    OtNewtonSystem system(grid, options);
+    if (luFirst) system.setLuFirst();
+    std::vector<double> d(grid.cellCount()), jd(grid.cellCount());
+    system.direction({positions, mass, residual}, rhs, d);
+    system.applyJacobian(positions, d, jd);
+    double e2 = 0.0, r2 = 0.0;
+    for (std::size_t c = 0; c < rhs.size(); ++c) {
+      e2 += (jd[c] - rhs[c]) / mass[c] * ((jd[c] - rhs[c]) / mass[c]);
+      r2 += rhs[c] / mass[c] * (rhs[c] / mass[c]);
+    }
+    CHECK(std::sqrt(e2 / r2) <= options.krylovTolerance);
+    CHECK(system.krylovSteps() >= 1);
+    CHECK(system.factorisations() == (luFirst ? 1 : 0));
+  }
+}
+
+TEST_CASE("OT multilevel: restriction keeps the mass, prolongation drops the checkerboard") {
+  constexpr int m = 8, n = 2 * m;
+  const std::vector<double> fine = sunDensity(n, 1e3);
+  const std::vector<double> coarse = otRestrictDensity(fine, n);
+  REQUIRE(coarse.size() == std::size_t(m) * m);
+  double fineSum = 0.0, coarseSum = 0.0;
+  for (double v : fine) fineSum += v;
+  for (double v : coarse) coarseSum += v;
+  CHECK(4.0 * coarseSum == doctest::Approx(fineSum).epsilon(1e-14));
+
+  // The 2x2 gradient stencil does not see (-1)^(i+j) at interior vertices, so a coarse psi may carry any
+  // amount of it; averaged at the coarse vertices, it prolongs to a constant except next to the four corners
+  // (where the clamped average sees a single cell).
+  std::vector<double> checkerboard(std::size_t(m) * m);
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < m; ++i) checkerboard[std::size_t(j) * m + i] = (i + j) % 2 == 0 ? 1.0 : -1.0;
+  const std::vector<double> prolonged = otProlongPotential(checkerboard, m);
+  REQUIRE(prolonged.size() == std::size_t(n) * n);
+  const double middle = prolonged[std::size_t(n / 2) * n + n / 2];
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const bool nearCorner = (i < 2 || i >= n - 2) && (j < 2 || j >= n - 2);
+      if (!nearCorner) CHECK(prolonged[std::size_t(j) * n + i] == middle);
+    }
+  double mean = 0.0;
+  for (double v : prolonged) mean += v;
+  CHECK(std::abs(mean) < 1e-14);
 }
 
 TEST_CASE("OT solver: bad input throws") {
@@ -277,6 +496,9 @@ TEST_CASE("OT solver: bad input throws") {
   CHECK_THROWS_AS(solveOtMap(negative, 4), Error);
   negative[3] = std::nan("");
   CHECK_THROWS_AS(solveOtMap(negative, 4), Error);
+  OtSolverOptions noKrylov;
+  noKrylov.krylovSteps = 0;
+  CHECK_THROWS_AS(solveOtMap(smoothDensity(4), 4, noKrylov), Error);
 }
 
 TEST_CASE("OT density: a constant environment gives sin(theta) integrated exactly over each cell") {

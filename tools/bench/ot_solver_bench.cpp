@@ -187,25 +187,17 @@ int main(int argc, char** argv) {
         options.krylovSteps = std::stoi(value());
       } else if (arg == "--guard") {
         const std::string g = value();
+        if (g != "none" && g != "area" && g != "convex")
+          throw Error("--guard: expected none, area or convex, got " + g);
         options.foldGuard = g == "none"   ? OtFoldGuard::None
                             : g == "area" ? OtFoldGuard::Area
                                           : OtFoldGuard::Convex;
-      } else if (arg == "--merit") {
-        const std::string m = value();
-        if (m != "l2" && m != "barrier") throw Error("--merit: expected l2 or barrier, got " + m);
-        options.merit = m == "l2" ? OtMerit::L2 : OtMerit::Barrier;
-      } else if (arg == "--gmres") {
-        options.directNewton = false;
       } else if (arg == "--absolute") {
         options.relativeResidual = false;
       } else if (arg == "--krylov-tol") {
         options.krylovTolerance = std::stod(value());
-      } else if (arg == "--log-newton") {
-        options.logNewton = true;
       } else if (arg == "--floor") {
         options.floorFraction = std::stod(value());
-      } else if (arg == "--cj") {
-        options.conjugateJacobian = true;
       } else if (arg == "--stage-log-error") {
         options.stageLogError = std::stod(value());
       } else if (arg == "--stage-min-step") {
@@ -223,10 +215,10 @@ int main(int argc, char** argv) {
             "       iblx_ot_bench --lu [--sizes 256,512,1024] [--threads T]   (the grid LU alone)\n"
             "solver options (OtSolverOptions, for experiments; defaults as the samplers use them):\n"
             "  --floor EPS  --coarse-target L2  --no-coarse  --no-curved  --boundary-fraction F\n"
-            "  --stage-log-error E  --stage-min-step S  --homotopy-power P  --krylov M  --krylov-tol T\n"
+            "  --stage-log-error E  --stage-min-step S  --homotopy-power P  --krylov M (>= 1)  --krylov-tol "
+            "T\n"
             "  --smoothing-passes N (most binomial passes on a folded prolonged start)\n"
-            "  --gmres (no direct LU)\n"
-            "  --guard none|area|convex  --merit l2|barrier  --absolute  --log-newton  --cj\n");
+            "  --guard none|area|convex  --absolute\n");
         return 0;
       } else if (!arg.empty() && arg[0] == '-') {
         throw Error(arg + ": unknown flag (see --help)");
