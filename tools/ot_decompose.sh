@@ -77,18 +77,31 @@ pixels=$(awk -v n="$size" 'BEGIN { for (j = 0; j < n; ++j) for (i = 0; i < n; ++
   x = 2 * (i + 0.5) / n - 1; y = 1 - 2 * (j + 0.5) / n; c += (x * x + y * y < 1) } print c }')
 
 declare -A brdf=([lambert]="--brdf lambert" [ggx-0.1]="--brdf ggx --param roughness=0.1")
-: > "$out/report.md"
+{
+  echo "# tools/ot_decompose.sh: $seconds s per run, $seeds seeds, ${size}x${size}, $(date -u '+%Y-%m-%d %H:%M UTC')"
+  echo
+  echo "Methods $methods; maps $maps$([ "$fast" = 1 ] && echo '; --fast (no instruction counts)')."
+  echo
+} > "$out/report.md"
 for map in "${map_list[@]}"; do
   if [ -f "$map" ]; then file="$map"; name="$(basename "${map%.*}")"; else file="$world/$map.exr"; name="$map"; fi
   [ -f "$file" ] || { echo "ot_decompose.sh: $file missing: install blender-data (tools/install.sh)" >&2; exit 1; }
   echo "ot_decompose: $name: offline diagnostics" >&2
   "$iblx" otmap --env "$file" --diagnose --json > "$out/$name-diagnose.jsonl" 2> "$out/$name-diagnose.log"
   : > "$out/$name-instructions.txt"
+  : > "$out/$name-instructions.log"
   if [ "$fast" = 0 ]; then
     for method in "${method_list[@]}"; do
       echo "ot_decompose: $name: instructions per sample of $method (callgrind)" >&2
-      count=$("$root/tools/instructions_per_sample.sh" "$method" --env "$file" --brdf lambert --seq sobol 2> /dev/null |
-        sed -E 's/.*: ([0-9]+) instructions per sample/\1/')
+      # A second try before giving up on a count: a failed one leaves "—" in its column, not a lost run.
+      line=""
+      for _ in 1 2; do
+        if line=$("$root/tools/instructions_per_sample.sh" "$method" --env "$file" --brdf lambert --seq sobol \
+          2>> "$out/$name-instructions.log"); then break; fi
+        line=""
+      done
+      count=$(sed -nE 's/.*: ([0-9]+) instructions per sample$/\1/p' <<< "$line")
+      [ -n "$count" ] || echo "ot_decompose.sh: no instruction count of $method on $name (see $out/$name-instructions.log)" >&2
       echo "$method $count" >> "$out/$name-instructions.txt"
     done
   fi
