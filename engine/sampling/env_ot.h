@@ -33,4 +33,12 @@ EnvOtMaps solveEnvOtMaps(const EnvImage& image);
 TechniqueData envOtFwdTechniqueData(const EnvImage& image);
 TechniqueData envOtInvTechniqueData(const EnvImage& image);
 
+struct OtSunSplit;
+struct OtMap;
+// The sun split and the solved map that envOtFwdTechniqueData and envOtInvTechniqueData build their tables
+// from (first: the split, second: the map, before untangling), solved or read from the cache as they do, with
+// the same checks. For offline diagnostics of the samplers' pdfs (engine/sampling/env_ot_diagnostics.h); the
+// caller includes ot_sun.h and ot_solver.h.
+std::pair<OtSunSplit, OtMap> solveEnvOtMaps(const EnvImage& image);
+
 }  // namespace iblx

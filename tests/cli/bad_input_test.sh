@@ -377,6 +377,12 @@ expect_error "otmap bad floor" "--floor 0: out of range" otmap --floor 0 --out "
 expect_error "otmap bad max-iter" "--max-iter 0: out of range" otmap --max-iter 0 --out "$tmp/om.png"
 expect_error "otmap output not png" "use a .png file name" otmap --out "$tmp/om.exr"
 expect_error "otmap output dir" "does not exist" otmap --out "$tmp/no/dir/om.png"
+# --diagnose reports on the samplers' own map: a flag that shapes or draws another map is refused, and so is
+# --subgrid without it.
+expect_error "otmap diagnose with a grid size" "--size does not apply" otmap --diagnose --size 128
+expect_error "otmap diagnose with a figure" "--out does not apply" otmap --diagnose --out "$tmp/om.png"
+expect_error "otmap subgrid without diagnose" "--subgrid: only with --diagnose" otmap --subgrid 4 --out "$tmp/om.png"
+expect_error "otmap diagnose subgrid out of range" "--subgrid 0: out of range [1, 16]" otmap --diagnose --subgrid 0
 [ ! -e "$tmp/om.png" ] && [ ! -e "$tmp/om.exr" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: otmap wrote a file despite bad input"; }
 
 # The viewer: flags are checked before a window opens; without a display it says so (no crash).

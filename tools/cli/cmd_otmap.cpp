@@ -2,6 +2,8 @@
 // (engine/sampling/ot_solver.h, ot_cache.h), prints how well it converged and draws it: the environment's
 // lat-long map as grey log sampling weight, with the pre-images of a uniform grid over the unit square drawn
 // on top. A sampler maps uniform points through the inverse map, so where those lines crowd, samples crowd.
+// With --diagnose it draws nothing and reports, per env sampler, how far its pdf is from the texel pdf
+// (engine/sampling/env_ot_diagnostics.h): the offline part of tools/ot_decompose.sh.
 #include "engine/core/cache_dir.h"
 #include "engine/core/error.h"
 #include "engine/core/file_names.h"
@@ -10,6 +12,10 @@
 #include "engine/io/env_image.h"
 #include "engine/io/image_write.h"
 #include "engine/scene/scene.h"
+#include "engine/sampling/env_cdf.h"
+#include "engine/sampling/env_hier.h"
+#include "engine/sampling/env_ot.h"
+#include "engine/sampling/env_ot_diagnostics.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/ot_cache.h"
 #include "engine/sampling/ot_map.h"
@@ -24,6 +30,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -136,6 +143,96 @@ std::string yesNo(bool b) {
   return b ? "yes" : "no";
 }
 
+// Round trips over 512 x 512 points: a quarter and three quarters of the way across each cell of a 256 grid.
+constexpr int kRoundTripPoints = 512;
+
+// `iblx otmap --diagnose`: per env sampler, chi^2 of the texel pdf against the sampler's texel probabilities
+// (its pdf integrated over each texel on a subgrid x subgrid grid), and for the OT samplers the share of
+// non-convex quads of the map they evaluate and its round trip. The OT samplers use their own map (grid,
+// floor, sun split: env_ot.h), read from the cache or solved.
+int diagnoseSamplers(const EnvImage& env, const std::filesystem::path& envPath, int subgrid, bool json) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<double> texelPdf = texelProbabilities(env);
+  const EnvCdfSampler cdf(buildEnvCdf(env));
+  const EnvHierSampler hier(buildEnvHier(env));
+  progressLine("otmap --diagnose: the OT samplers' map (" + std::to_string(otGridSize(env)) + "^2)");
+  const EnvOtSamplerMaps ot = envOtSamplerMaps(env);
+  endProgressLine();
+
+  struct Sampler {
+    std::string name;
+    std::function<double(glm::dvec3)> pdf;
+    const QuadGridMap* map;  // the map it evaluates per sample; none for the texel samplers
+  };
+  const std::vector<Sampler> samplers{
+      {"env-cdf", [&](glm::dvec3 w) { return cdf.pdf(w); }, nullptr},
+      {"env-hier", [&](glm::dvec3 w) { return hier.pdf(w); }, nullptr},
+      {"env-ot-inv", [&](glm::dvec3 w) { return envOtInvPdf(ot, w); }, &ot.inverse},
+      {"env-ot-fwd", [&](glm::dvec3 w) { return envOtFwdPdf(ot, w); }, &ot.forward},
+  };
+  if (!json) {
+    std::printf(
+        "sampler diagnostics of %s (%dx%d): OT grid %d, sun share %.3g, texel pdf integrated on "
+        "%dx%d points per texel\n",
+        envPath.string().c_str(), env.width, env.height, ot.densityGrid, double(ot.sun.sunShare), subgrid,
+        subgrid);
+    std::printf("%-11s %12s %12s %12s %11s %15s %15s\n", "sampler", "chi2", "unreachable", "sampler mass",
+                "non-convex", "round trip max", "round trip mean");
+  }
+  for (const Sampler& sampler : samplers) {
+    progressLine("otmap --diagnose: " + sampler.name);
+    const auto began = std::chrono::steady_clock::now();
+    const std::vector<double> q = integrateTexelProbabilities(sampler.pdf, env.width, env.height, subgrid);
+    const TexelChi2 chi2 = texelChi2(texelPdf, q);
+    std::optional<MapRoundTrip> roundTrip;
+    if (sampler.map == &ot.inverse) roundTrip = inverseRoundTrip(ot.forward, ot.inverse, kRoundTripPoints);
+    if (sampler.map == &ot.forward) roundTrip = forwardRoundTrip(ot.forward, kRoundTripPoints);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    endProgressLine();
+    const double nonConvex = sampler.map ? nonConvexShare(*sampler.map) : 0.0;
+    if (json) {
+      // null where a figure does not apply (the texel samplers have no map).
+      const auto orNull = [](bool applies, double value) {
+        return applies ? JsonObject(value) : JsonObject();
+      };
+      printJsonLine(
+          {{"env", envPath.string()},
+           {"env_width", env.width},
+           {"env_height", env.height},
+           {"sampler", sampler.name},
+           {"subgrid", subgrid},
+           {"chi2", chi2.chi2},
+           {"unreachable_mass", chi2.unreachableMass},
+           {"sampler_mass", chi2.qMass},
+           {"non_convex_share", orNull(sampler.map != nullptr, nonConvex)},
+           {"round_trip_max", orNull(roundTrip.has_value(), roundTrip ? roundTrip->max : 0.0)},
+           {"round_trip_mean", orNull(roundTrip.has_value(), roundTrip ? roundTrip->mean : 0.0)},
+           {"round_trip_missed", orNull(roundTrip.has_value(), roundTrip ? double(roundTrip->missed) : 0.0)},
+           {"ot_grid", ot.densityGrid},
+           {"sun_share", double(ot.sun.sunShare)},
+           {"seconds", seconds}});
+    } else {
+      char convex[32] = "-", tripMax[32] = "-", tripMean[32] = "-";
+      if (sampler.map) std::snprintf(convex, sizeof convex, "%.2f %%", 100.0 * nonConvex);
+      if (roundTrip) {
+        std::snprintf(tripMax, sizeof tripMax, "%.3g", roundTrip->max);
+        std::snprintf(tripMean, sizeof tripMean, "%.3g", roundTrip->mean);
+      }
+      std::printf("%-11s %12.4g %12.4g %12.6f %11s %15s %15s\n", sampler.name.c_str(), chi2.chi2,
+                  chi2.unreachableMass, chi2.qMass, convex, tripMax, tripMean);
+    }
+  }
+  if (!json) {
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf(
+        "chi2 = sum p_texel^2 / p_sampler - 1 over reachable texels (0: the texel pdf); unreachable: "
+        "the texel pdf's mass where the sampler's is 0; round trip: |F(G(u)) - u| (env-ot-inv), "
+        "|F(F^-1(u)) - u| (env-ot-fwd) over %dx%d points; total %.2f s\n",
+        kRoundTripPoints, kRoundTripPoints, wall);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int cmdOtMap(const Args& args) {
@@ -145,28 +242,61 @@ int cmdOtMap(const Args& args) {
   bool json = false, noCache = false;
   double sunClip = 0.0;
   std::string out = "otmap.png";
+  bool diagnose = false;
+  int subgrid = 0;                    // 0: not given
+  std::vector<std::string> mapFlags;  // given flags that --diagnose does not take (it uses the samplers' map)
   ArgParser parser("otmap");
   parser.value("--env", "FILE", ".exr or .hdr lat-long map (default: assets/default_sky.exr)",
                [&](const std::string& v) { envPath = v; });
-  parser.value("--size", "N", "grid size n of the map, 64-1024 (default 256)",
-               [&](const std::string& v) { n = int(parseUint("--size", v, 64, 1024)); });
+  parser.value("--size", "N", "grid size n of the map, 64-1024 (default 256)", [&](const std::string& v) {
+    n = int(parseUint("--size", v, 64, 1024));
+    mapFlags.push_back("--size");
+  });
   parser.value("--floor", "EPS", "density floor as a fraction of the mean, in [1e-12, 1] (default 1e-2)",
-               [&](const std::string& v) { options.floorFraction = parseDouble("--floor", v, 1e-12, 1.0); });
-  parser.value(
-      "--max-iter", "N", "iteration cap at each grid level (default 2000)",
-      [&](const std::string& v) { options.maxIterations = int(parseUint("--max-iter", v, 1, 1000000)); });
-  parser.value(
-      "--sun-clip", "F",
-      "solve for the map with texels above F x the median radiance capped, as the env-ot samplers "
-      "do (they use " +
-          std::to_string(int(kOtSunClip)) + "); 0 = the whole map (default)",
-      [&](const std::string& v) { sunClip = v == "0" ? 0.0 : parseDouble("--sun-clip", v, 1.0, 1e12); });
+               [&](const std::string& v) {
+                 options.floorFraction = parseDouble("--floor", v, 1e-12, 1.0);
+                 mapFlags.push_back("--floor");
+               });
+  parser.value("--max-iter", "N", "iteration cap at each grid level (default 2000)",
+               [&](const std::string& v) {
+                 options.maxIterations = int(parseUint("--max-iter", v, 1, 1000000));
+                 mapFlags.push_back("--max-iter");
+               });
+  parser.value("--sun-clip", "F",
+               "solve for the map with texels above F x the median radiance capped, as the env-ot samplers "
+               "do (they use " +
+                   std::to_string(int(kOtSunClip)) + "); 0 = the whole map (default)",
+               [&](const std::string& v) {
+                 sunClip = v == "0" ? 0.0 : parseDouble("--sun-clip", v, 1.0, 1e12);
+                 mapFlags.push_back("--sun-clip");
+               });
   parser.toggle("--json", "print one JSON object instead of text", [&] { json = true; });
-  parser.value("--out", "FILE", "the figure, a .png (default otmap.png)",
-               [&](const std::string& v) { out = v; });
-  parser.toggle("--no-cache", "solve even when the cache holds the map, and do not store it",
-                [&] { noCache = true; });
+  parser.value("--out", "FILE", "the figure, a .png (default otmap.png)", [&](const std::string& v) {
+    out = v;
+    mapFlags.push_back("--out");
+  });
+  parser.toggle("--no-cache", "solve even when the cache holds the map, and do not store it", [&] {
+    noCache = true;
+    mapFlags.push_back("--no-cache");
+  });
+  parser.toggle(
+      "--diagnose",
+      "draw nothing; report per env sampler (env-cdf, env-hier, env-ot-inv, env-ot-fwd) chi^2 of "
+      "the texel pdf against its pdf, and for the OT samplers the share of non-convex quads and the "
+      "map's round trip (the samplers' own map; tools/ot_decompose.sh)",
+      [&] { diagnose = true; });
+  parser.value("--subgrid", "K",
+               "with --diagnose: integrate each sampler's pdf over a texel on K x K points, 1-16 (default 4)",
+               [&](const std::string& v) { subgrid = int(parseUint("--subgrid", v, 1, 16)); });
   if (parser.parseOrShowHelp(args)) return 0;
+  if (subgrid != 0 && !diagnose) throw Error("--subgrid: only with --diagnose");
+  if (diagnose && !mapFlags.empty())
+    throw Error("--diagnose uses the samplers' own map and draws nothing; " + mapFlags.front() +
+                " does not apply to it");
+  if (diagnose) {
+    if (envPath.empty()) envPath = defaultEnvPath();
+    return diagnoseSamplers(loadEnvImage(envPath), envPath, subgrid == 0 ? 4 : subgrid, json);
+  }
   if (lowerExtension(out) != ".png")
     throw Error("--out " + out + ": the figure is a PNG; use a .png file name");
   checkImagePath("--out", out);
