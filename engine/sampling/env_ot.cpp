@@ -94,9 +94,4 @@ TechniqueData envOtInvTechniqueData(const EnvImage& image) {
   return data;
 }
 
-std::pair<OtSunSplit, OtMap> solveEnvOtMaps(const EnvImage& image) {
-  EnvOtMaps maps = solveEnvOtMap(image);
-  return {std::move(maps.sun), std::move(maps.map)};
-}
-
 }  // namespace iblx

@@ -18,8 +18,9 @@ namespace iblx {
 int otGridSize(const EnvImage& image);
 
 // The OT techniques' map: the sun texels' excess split off (ot_sun.h) and the map solved (or read from the
-// cache) for the rest at otGridSize. Throws iblx::Error when the map has a folded quad; warns when it did not
-// converge (the samplers stay exact, only less efficient).
+// cache) for the rest at otGridSize, before untangling. The samplers build their tables from it; so do the
+// offline diagnostics of their pdfs (engine/sampling/env_ot_diagnostics.h). Throws iblx::Error when the map
+// has a folded quad; warns when it did not converge (the samplers stay exact, only less efficient).
 struct EnvOtMaps {
   std::vector<double> weights;  // the texel sampling weights (texelSamplingWeights)
   OtSunSplit sun;
@@ -32,13 +33,5 @@ EnvOtMaps solveEnvOtMaps(const EnvImage& image);
 // otForwardPiece. Throws iblx::Error when the solved map folds (it would not be an exact sampler).
 TechniqueData envOtFwdTechniqueData(const EnvImage& image);
 TechniqueData envOtInvTechniqueData(const EnvImage& image);
-
-struct OtSunSplit;
-struct OtMap;
-// The sun split and the solved map that envOtFwdTechniqueData and envOtInvTechniqueData build their tables
-// from (first: the split, second: the map, before untangling), solved or read from the cache as they do, with
-// the same checks. For offline diagnostics of the samplers' pdfs (engine/sampling/env_ot_diagnostics.h); the
-// caller includes ot_sun.h and ot_solver.h.
-std::pair<OtSunSplit, OtMap> solveEnvOtMaps(const EnvImage& image);
 
 }  // namespace iblx

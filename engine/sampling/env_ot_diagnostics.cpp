@@ -167,8 +167,8 @@ glm::dvec2 otDirectionToParameter(glm::dvec3 w, int densityGrid, double& jacobia
 }
 
 EnvOtSamplerMaps envOtSamplerMaps(const EnvImage& image) {
-  auto [sun, map] = solveEnvOtMaps(image);
-  return envOtSamplerMaps(std::move(sun), map);
+  EnvOtMaps maps = solveEnvOtMaps(image);
+  return envOtSamplerMaps(std::move(maps.sun), maps.map);
 }
 
 EnvOtSamplerMaps envOtSamplerMaps(OtSunSplit sun, const OtMap& map) {

@@ -65,11 +65,12 @@ check "--sun-clip lowers the sampler map's L1: $(field "$json5" sampler_l1) vs $
 check "--sun-clip below 1 is refused: $(cat "$tmp/err6")" grep -q -- "--sun-clip" "$tmp/err6"
 
 # --diagnose: one JSON line per sampler on the make-sky sky (its sun split off); the texel samplers' chi^2 is
-# 0 up to float rounding, the OT samplers' positive, and every sampler's texel probabilities sum to 1.
+# 0 up to float rounding (env-ot's too: it is texel-exact), the map-pdf OT samplers' positive, and every
+# sampler's texel probabilities sum to 1.
 diagnose=$("$iblx" otmap --env "$tmp/sky.exr" --diagnose --json 2> "$tmp/err7")
 check "--diagnose exit status: $(cat "$tmp/err7")" [ -n "$diagnose" ]
 samplers=$(printf '%s\n' "$diagnose" | sed -n 's/.*"sampler": "\([^"]*\)".*/\1/p' | tr '\n' ' ')
-check "--diagnose samplers: '$samplers'" [ "$samplers" = "env-cdf env-hier env-ot-inv env-ot-fwd " ]
+check "--diagnose samplers: '$samplers'" [ "$samplers" = "env-cdf env-hier env-ot env-ot-inv env-ot-fwd " ]
 while IFS= read -r line; do
   sampler=$(field "$line" sampler)
   check "$sampler sampler mass 1: $(field "$line" sampler_mass)" \
@@ -78,13 +79,16 @@ while IFS= read -r line; do
     *env-cdf* | *env-hier*)
       check "$sampler chi2 below 1e-6: $(field "$line" chi2)" awk -v x="$(field "$line" chi2)" 'BEGIN { exit !(x < 1e-6 && x > -1e-6) }'
       check "$sampler has no map: $(field "$line" non_convex_share)" [ "$(field "$line" non_convex_share)" = null ] ;;
+    \"env-ot\")
+      check "$sampler chi2 below 1e-6: $(field "$line" chi2)" awk -v x="$(field "$line" chi2)" 'BEGIN { exit !(x < 1e-6 && x > -1e-6) }'
+      check "$sampler evaluates no map per sample: $(field "$line" round_trip_max)" [ "$(field "$line" round_trip_max)" = null ] ;;
     *)
       check "$sampler chi2 positive: $(field "$line" chi2)" awk -v x="$(field "$line" chi2)" 'BEGIN { exit !(x > 0) }'
       check "$sampler round trip: $(field "$line" round_trip_max)" awk -v x="$(field "$line" round_trip_max)" 'BEGIN { exit !(x >= 0 && x < 0.1) }' ;;
   esac
 done <<< "$diagnose"
 text=$("$iblx" otmap --env "$tmp/sky.exr" --diagnose 2> /dev/null)
-check "--diagnose text names every sampler" [ "$(grep -cE '^env-(cdf|hier|ot-inv|ot-fwd) ' <<< "$text")" = 4 ]
+check "--diagnose text names every sampler" [ "$(grep -cE '^env-(cdf|hier|ot|ot-inv|ot-fwd) ' <<< "$text")" = 5 ]
 
 echo "otmap cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

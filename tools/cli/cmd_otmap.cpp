@@ -16,6 +16,7 @@
 #include "engine/sampling/env_hier.h"
 #include "engine/sampling/env_ot.h"
 #include "engine/sampling/env_ot_diagnostics.h"
+#include "engine/sampling/env_ot_mesh.h"
 #include "engine/sampling/latlong_texel.h"
 #include "engine/sampling/ot_cache.h"
 #include "engine/sampling/ot_map.h"
@@ -157,18 +158,21 @@ int diagnoseSamplers(const EnvImage& env, const std::filesystem::path& envPath, 
   const EnvHierSampler hier(buildEnvHier(env));
   progressLine("otmap --diagnose: the OT samplers' map (" + std::to_string(otGridSize(env)) + "^2)");
   const EnvOtSamplerMaps ot = envOtSamplerMaps(env);
+  const EnvOtSampler exact(buildEnvOt(env));
   endProgressLine();
 
   struct Sampler {
     std::string name;
     std::function<double(glm::dvec3)> pdf;
-    const QuadGridMap* map;  // the map it evaluates per sample; none for the texel samplers
+    const QuadGridMap* map;  // the map whose cells it samples; none for the texel samplers
+    bool mapRoundTrip;       // whether it evaluates that map per sample (env-ot only takes its cells)
   };
   const std::vector<Sampler> samplers{
-      {"env-cdf", [&](glm::dvec3 w) { return cdf.pdf(w); }, nullptr},
-      {"env-hier", [&](glm::dvec3 w) { return hier.pdf(w); }, nullptr},
-      {"env-ot-inv", [&](glm::dvec3 w) { return envOtInvPdf(ot, w); }, &ot.inverse},
-      {"env-ot-fwd", [&](glm::dvec3 w) { return envOtFwdPdf(ot, w); }, &ot.forward},
+      {"env-cdf", [&](glm::dvec3 w) { return cdf.pdf(w); }, nullptr, false},
+      {"env-hier", [&](glm::dvec3 w) { return hier.pdf(w); }, nullptr, false},
+      {"env-ot", [&](glm::dvec3 w) { return exact.pdf(w); }, &ot.inverse, false},
+      {"env-ot-inv", [&](glm::dvec3 w) { return envOtInvPdf(ot, w); }, &ot.inverse, true},
+      {"env-ot-fwd", [&](glm::dvec3 w) { return envOtFwdPdf(ot, w); }, &ot.forward, true},
   };
   if (!json) {
     std::printf(
@@ -185,8 +189,10 @@ int diagnoseSamplers(const EnvImage& env, const std::filesystem::path& envPath, 
     const std::vector<double> q = integrateTexelProbabilities(sampler.pdf, env.width, env.height, subgrid);
     const TexelChi2 chi2 = texelChi2(texelPdf, q);
     std::optional<MapRoundTrip> roundTrip;
-    if (sampler.map == &ot.inverse) roundTrip = inverseRoundTrip(ot.forward, ot.inverse, kRoundTripPoints);
-    if (sampler.map == &ot.forward) roundTrip = forwardRoundTrip(ot.forward, kRoundTripPoints);
+    if (sampler.mapRoundTrip && sampler.map == &ot.inverse)
+      roundTrip = inverseRoundTrip(ot.forward, ot.inverse, kRoundTripPoints);
+    if (sampler.mapRoundTrip && sampler.map == &ot.forward)
+      roundTrip = forwardRoundTrip(ot.forward, kRoundTripPoints);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
     endProgressLine();
     const double nonConvex = sampler.map ? nonConvexShare(*sampler.map) : 0.0;
@@ -281,7 +287,7 @@ int cmdOtMap(const Args& args) {
   });
   parser.toggle(
       "--diagnose",
-      "draw nothing; report per env sampler (env-cdf, env-hier, env-ot-inv, env-ot-fwd) chi^2 of "
+      "draw nothing; report per env sampler (env-cdf, env-hier, env-ot, env-ot-inv, env-ot-fwd) chi^2 of "
       "the texel pdf against its pdf, and for the OT samplers the share of non-convex quads and the "
       "map's round trip (the samplers' own map; tools/ot_decompose.sh)",
       [&] { diagnose = true; });
