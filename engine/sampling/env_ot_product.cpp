@@ -73,22 +73,21 @@ EnvOtPreimages envOtPreimages(const EnvOtData& d, const EnvOtInverse& inv, glm::
   const glm::dvec2 t = directionToTexelOffset(wi, texel, d.width, d.height);
   result.mapPdf = double(inv.branchPdf[index].x);
   result.sunPdf = double(inv.branchPdf[index].y);
-  // The map's piece that holds t best: a whole texel, else the triangle whose smallest barycentric coordinate
-  // is the largest (EnvOtSampler::invert's choice).
+  // The map's piece that holds t: a whole texel, else the first triangle that holds t (the pieces tile the
+  // texel), else, t being on an edge within rounding, the triangle whose smallest barycentric coordinate is
+  // the largest (EnvOtSampler::invert's choice).
   std::optional<glm::uvec2> best;
   glm::dvec2 bestLocal(0.0);
   double bestInside = -1e300;
-  for (std::uint32_t e = inv.texelFirst[index]; e < inv.texelFirst[index + 1]; ++e) {
+  std::uint32_t end = inv.texelFirst[index + 1];
+  if (end > inv.texelFirst[index] && inv.entries[end - 1].y >= std::uint32_t(d.grid))
+    result.sun = pieceToU(d, inv.entries[--end], t);  // the sun row's whole texel, the last entry
+  for (std::uint32_t e = inv.texelFirst[index]; e < end && bestInside < 0.0; ++e) {
     const glm::uvec2 entry = inv.entries[e];
-    if (entry.y >= std::uint32_t(d.grid)) {  // the sun row's whole texel, the last entry
-      result.sun = pieceToU(d, entry, t);
-      break;
-    }
-    if (best && bestInside > 1e299) continue;  // a whole texel of the map was found
     const glm::uvec4 piece = d.pieces[entry.x];
     if (!(piece.x & kEnvOtTrianglePiece)) {
-      best = entry, bestLocal = t, bestInside = 1e300;
-      continue;
+      best = entry, bestLocal = t, bestInside = 1.0;
+      break;
     }
     const glm::dvec2 a = unpackCorner(piece.y), b = unpackCorner(piece.z), c = unpackCorner(piece.w);
     const double det = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);

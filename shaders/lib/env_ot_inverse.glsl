@@ -22,9 +22,9 @@ vec2 envOtEntryToU(uvec2 entry, vec2 local) {
   return vec2(c0 + local.x * (c1 - c0), r0 + local.y * (r1 - r0));
 }
 
-// The preimages of wi in its texel: through the map's piece that holds it best (a whole texel, else the
-// triangle whose smallest barycentric coordinate is the largest) and through the sun row; a flag per branch
-// says whether it reaches the texel.
+// The preimages of wi in its texel: through the map's piece that holds it (a whole texel, else the first
+// triangle that holds it, else, on an edge within rounding, the triangle whose smallest barycentric
+// coordinate is the largest) and through the sun row; a flag per branch says whether it reaches the texel.
 void envOtPreimages(vec3 wi, ivec2 texel, out vec2 uMap, out bool hasMap, out vec2 uSun, out bool hasSun) {
   uint index = uint(texel.y) * frame.envWidth + uint(texel.x);
   uint first = tableUint(envOtTexelEntryFirst, index), end = tableUint(envOtTexelEntryFirst, index + 1u);
@@ -33,25 +33,25 @@ void envOtPreimages(vec3 wi, ivec2 texel, out vec2 uMap, out bool hasMap, out ve
   hasSun = false;
   uMap = vec2(0.0);
   uSun = vec2(0.0);
-  bool whole = false;
   float bestInside = -3.0e38;
   uvec2 best = uvec2(0u);
   vec2 bestLocal = vec2(0.0);
-  for (uint e = first; e < end; ++e) {
-    uvec2 entry = tableUvec2(envOtTexelEntry, e);
-    if (entry.y >= ENV_OT_GRID) {  // the sun row's whole texel, the last entry
-      uSun = envOtEntryToU(entry, t);
+  if (end > first) {
+    uvec2 last = tableUvec2(envOtTexelEntry, end - 1u);
+    if (last.y >= ENV_OT_GRID) {  // the sun row's whole texel, the last entry
+      uSun = envOtEntryToU(last, t);
       hasSun = true;
-      break;
+      --end;
     }
-    if (whole) continue;
+  }
+  for (uint e = first; e < end && bestInside < 0.0; ++e) {
+    uvec2 entry = tableUvec2(envOtTexelEntry, e);
     uvec4 piece = tableUvec4(envOtPiece, entry.x);
     if ((piece.x & kEnvOtTriangle) == 0u) {
-      whole = true;
       best = entry;
       bestLocal = t;
       hasMap = true;
-      continue;
+      break;
     }
     vec2 a = unpackUnorm2x16(piece.y), b = unpackUnorm2x16(piece.z), c = unpackUnorm2x16(piece.w);
     float det = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);

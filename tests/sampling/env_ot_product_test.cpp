@@ -58,8 +58,8 @@ std::vector<Lobe> testLobes() {
   // degrees the head's hottest cell has 370x its neighbours' pdf, and the part of its image that a texel edge
   // cuts into a sliver (0.002 in cos theta) falls between the 4 x 4 (or 16 x 16) sub-cells' midpoints: the
   // expected count of one cell came out 14 against 98 samples, where a 1500 x 1500 midpoint rule gives 80.
-  // Each chi-square run costs about 2 s (the harness refines along every jump of the head's cells): a grazing
-  // glossy view and a Lambert one.
+  // Each chi-square run costs about 1.4 s (the harness refines along every jump of the head's cells): a
+  // grazing glossy view on every map, a Lambert one on the maps with a split sun.
   return {{n, view(85.0), 0.2, "ggx-85"}, {n, view(60.0), 0.0, "lambert-60"}};
 }
 
@@ -77,7 +77,7 @@ TEST_CASE("env-ot inverse: each branch's preimage maps back to the direction") {
       const glm::vec2 q = inverse.branchPdf[t];
       CHECK(double(q.x + q.y) == doctest::Approx(double(d.texelPdf[t])).epsilon(1e-5));
     }
-    int far = 0, tested = 0;
+    int far = 0, otherU = 0, tested = 0;
     for (const glm::dvec2 u : test::uniformPoints(20000, 5)) {
       const EnvSample s = ot.sample(u);
       if (!(s.pdfSolidAngle > 0.0)) continue;
@@ -90,9 +90,11 @@ TEST_CASE("env-ot inverse: each branch's preimage maps back to the direction") {
       // that the direction borders (a piece's edge), where the neighbour's u maps to the same direction.
       const EnvSample again = ot.sample(*back);
       far += glm::length(again.direction - s.direction) > 1e-4;
+      otherU += glm::length(*back - glm::dvec2(toGpuU(u.x), toGpuU(u.y))) > 1e-4;
     }
     CHECK(tested > 19000);
     CHECK(far <= tested / 1000);
+    CHECK(otherU <= tested / 100);
   }
 }
 
@@ -105,11 +107,13 @@ TEST_CASE("env-ot product: chi2 against its own pdf on hard maps (GGX and Lamber
     const EnvOtInverse inverse = buildEnvOtInverse(ot.data());
     const EnvProductLevel grid = buildEnvOtProductGrid(ot);
     for (const Lobe& lobe : lobes) {
+      // envs.size() + 2 runs: the two sun-zero maps take the Lambert lobe as well.
+      if (lobe.alpha == 0.0 && env.name.rfind("sun-zero", 0) != 0) continue;
       CAPTURE(env.name);
       CAPTURE(lobe.name);
       const EnvOtProductSampler sampler(ot, inverse, grid, lobeAtCells(grid, lobe));
       const test::Chi2Result r = test::runChi2(sampler, "env-ot-product-" + env.name + "-" + lobe.name,
-                                               int(envs.size() * lobes.size()), seed++);
+                                               int(envs.size()) + 2, seed++);
       INFO(r.message);
       CHECK(r.passed);
       CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(1e-3));
