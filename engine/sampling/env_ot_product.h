@@ -21,8 +21,8 @@
 // barycentric test per triangle) instead of one rectangle read, and the inverse tables add 8 B per piece and
 // 12 B per texel; env-ot's sample costs more than env-hier's and its warp jumps between pieces inside a cell,
 // which flattens the convergence under low-discrepancy points. Measured (docs/BENCHMARKS.md, "Warp
-// composition on the OT square"): 1.04x `product-warp`'s variance per sample with independent points
-// (sunrise, Lambert), 3.2-11x its MSE at equal time with sobol.
+// composition on the OT square"): 1.06x `product-warp`'s variance per sample with independent points
+// (sunrise, Lambert), 2.3-9.3x its MSE at equal time with sobol.
 #pragma once
 
 #include "engine/io/env_image.h"
