@@ -55,18 +55,24 @@ EnvProductLevel buildEnvProductLevel(const EnvHierSampler& env, uint32_t maxNode
 
 EnvProductLevel buildEnvProductGrid(const EnvHierSampler& env, uint32_t width, uint32_t rows) {
   if (width == 0 || rows == 0) throw Error("env-hier product grid: at least one cell is needed");
+  // A texel's angular size: the margin of every cap (a cell's image holds whole texels' pieces).
+  const double texel = std::max(2.0 * kPi / env.data().width, kPi / env.data().height);
+  return buildEnvProductGrid([&env](glm::dvec2 u) { return env.sample(u).direction; }, texel, width, rows);
+}
+
+EnvProductLevel buildEnvProductGrid(const std::function<glm::dvec3(glm::dvec2)>& tail, double texelAngle,
+                                    uint32_t width, uint32_t rows) {
+  if (width == 0 || rows == 0) throw Error("env product grid: at least one cell is needed");
   EnvProductLevel l;
   l.width = width;
   l.rows = rows;
   l.uniformGrid = true;
-  // A texel's angular size: the margin of every cap (a cell's image holds whole texels' pieces).
-  const double texel = std::max(2.0 * kPi / env.data().width, kPi / env.data().height);
   for (uint32_t y = 0; y < rows; ++y)
     for (uint32_t x = 0; x < width; ++x) {
       const glm::vec4 rect(float(x) / float(width), float(y) / float(rows), float(x + 1) / float(width),
                            float(y + 1) / float(rows));
       l.rects.push_back(rect);
-      // The cell's image under env-hier, from a 17 x 17 grid of u inside it: the mean direction and the
+      // The cell's image under the tail, from a 17 x 17 grid of u inside it: the mean direction and the
       // largest angle from it.
       constexpr int kGrid = 16;
       std::vector<glm::dvec3> image;
@@ -75,14 +81,14 @@ EnvProductLevel buildEnvProductGrid(const EnvHierSampler& env, uint32_t width, u
         for (int a = 0; a <= kGrid; ++a) {
           const glm::dvec2 u(double(rect.x) + (rect.z - rect.x) * (a + 0.5) / (kGrid + 1),
                              double(rect.y) + (rect.w - rect.y) * (b + 0.5) / (kGrid + 1));
-          image.push_back(env.sample(u).direction);
+          image.push_back(tail(u));
           sum += image.back();
         }
       const double length = glm::length(sum);
       const glm::dvec3 centre = length > 1e-9 ? sum / length : image.front();
       double cosRadius = 1.0;
       for (const glm::dvec3& w : image) cosRadius = std::min(cosRadius, glm::dot(centre, w));
-      const double radius = std::min(std::acos(std::clamp(cosRadius, -1.0, 1.0)) + texel, kPi);
+      const double radius = std::min(std::acos(std::clamp(cosRadius, -1.0, 1.0)) + texelAngle, kPi);
       l.centers.emplace_back(glm::vec3(centre), float(std::cos(radius)));
     }
   return l;
@@ -98,10 +104,7 @@ glm::dvec3 closestDirectionInCap(glm::dvec3 centre, double cosRadius, glm::dvec3
   return centre * cosRadius + tangent * (sinRadius / length);
 }
 
-namespace {
-
-// w_j = E_j ((1 - d) F_j / sum_k E_k F_k + d) of every node (E_j alone when no node has a lobe value).
-std::vector<double> productWeights(const EnvProductLevel& level, std::span<const double> fCos) {
+std::vector<double> envProductWeights(const EnvProductLevel& level, std::span<const double> fCos) {
   const std::size_t n = level.nodes();
   if (fCos.size() != n) throw Error("env product sampler: one f cos value per node is needed");
   std::vector<double> area(n), weight(n);
@@ -119,11 +122,9 @@ std::vector<double> productWeights(const EnvProductLevel& level, std::span<const
   return weight;
 }
 
-}  // namespace
-
 EnvProductSampler::EnvProductSampler(const EnvHierSampler& env, const EnvProductLevel& level,
                                      std::span<const double> fCos)
-    : EnvProductSampler(FromWeights{}, env, level, productWeights(level, fCos)) {}
+    : EnvProductSampler(FromWeights{}, env, level, envProductWeights(level, fCos)) {}
 
 EnvProductSampler::EnvProductSampler(FromWeights, const EnvHierSampler& env, const EnvProductLevel& level,
                                      std::vector<double> weights)

@@ -25,6 +25,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -65,6 +66,15 @@ EnvProductLevel buildEnvProductLevel(const EnvHierSampler& env, uint32_t maxNode
 inline constexpr uint32_t kEnvProductGridWidth = 32, kEnvProductGridRows = 16;
 EnvProductLevel buildEnvProductGrid(const EnvHierSampler& env, uint32_t width = kEnvProductGridWidth,
                                     uint32_t rows = kEnvProductGridRows);
+// The uniform grid over the unit square of any tail warp (u -> direction); texelAngle, a texel's angular
+// size, widens every cap (a cell's image holds whole texels' pieces). Throws iblx::Error for an empty grid.
+EnvProductLevel buildEnvProductGrid(const std::function<glm::dvec3(glm::dvec2)>& tail, double texelAngle,
+                                    uint32_t width, uint32_t rows);
+
+// The node weights w_j = E_j ((1 - d) F_j / sum_k E_k F_k + d) (E_j alone when no node has a lobe value),
+// E_j the area of node j's rectangle, F_j = fCos[j] clamped at 0. Throws iblx::Error when fCos has not one
+// value per node.
+std::vector<double> envProductWeights(const EnvProductLevel& level, std::span<const double> fCos);
 
 // The direction of the cap (centre, cosRadius) closest to `towards` (unit vectors): `towards` itself inside
 // the cap, else the centre turned towards it by the radius. The GLSL twin is productNodeDirection.

@@ -7,6 +7,7 @@
 #include "engine/sampling/env_hier.h"
 #include "engine/sampling/env_ot.h"
 #include "engine/sampling/env_ot_mesh.h"
+#include "engine/sampling/env_ot_product.h"
 #include "engine/sampling/env_product.h"
 #include "engine/sampling/merl_sampling.h"
 #include "engine/scene/measured_brdfs.h"
@@ -127,6 +128,8 @@ const MethodInfo kCombinedMethods[] = {
      envHierProductTechniqueData},
     {"product-warp", "warp composition (Hart 2020): per pixel, f cos tabulated over env-hier's unit square",
      Strategy::ProductWarp, "env-hier", envHierProductTechniqueData},
+    {"product-warp-ot", "warp composition (Hart 2020) over env-ot's unit square", Strategy::ProductWarp,
+     "env-ot", [](const EnvImage& image) { return envOtProductTechniqueData(image); }},
 };
 
 // Every env technique alone, in kEnvTechniques' order, then kCombinedMethods: a new env technique is a

@@ -87,7 +87,8 @@ struct SequenceInfo {
 // ---- methods (what --method selects) ----------------------------------------------------------------------
 // Product and ProductMis sample env x f cos per pixel over a level of env-hier's pyramid
 // (engine/sampling/env_product.h), alone or under two-sample MIS with the BRDF technique; ProductWarp over a
-// uniform grid of env-hier's unit square (warp composition).
+// uniform grid of the env technique's unit square (warp composition): env-hier's (product-warp) or env-ot's
+// (product-warp-ot, engine/sampling/env_ot_product.h).
 enum class Strategy { SingleEnv, SingleBrdf, Mis, Ris, Product, ProductMis, ProductWarp };
 
 struct MethodInfo {

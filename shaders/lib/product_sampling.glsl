@@ -2,7 +2,9 @@
 // (engine/sampling/env_product.h documents the method and holds the CPU twin, EnvProductSampler). Needs the
 // env technique env-hier, whose builder also provides the nodes' tables and PRODUCT_* defines. The nodes are a
 // pyramid level (default) or, with PRODUCT_UNIFORM_GRID defined by the strategy part before including this
-// file, a uniform grid over u (warp composition, `product-warp`).
+// file, a uniform grid over u (warp composition, `product-warp`). With PRODUCT_TAIL_ENV_OT (defined by
+// envOtProductTechniqueData, engine/sampling/env_ot_product.h) the grid is over env-ot's unit square instead
+// (`product-warp-ot`), whose warp reaches a split sun's texels twice: the pdf sums over both preimages.
 //
 // productPrepare(s), once per shading point: weights w_j = (1 - d) E_j F_j / sum_k E_k F_k + d E_j over the
 // level's nodes (E_j the node's env-hier probability, F_j = mean_rgb(f) cos at the node's direction closest to
@@ -28,13 +30,20 @@ vec4 productNodeRect(uint j) {
   uvec2 c = uvec2(j % PRODUCT_NODES_X, j / PRODUCT_NODES_X);
   return vec4(vec2(c), vec2(c + 1u)) / vec4(PRODUCT_NODES_X, PRODUCT_NODES_Y, PRODUCT_NODES_X, PRODUCT_NODES_Y);
 }
+uvec2 productCellOf(vec2 u) {
+  return min(uvec2(max(u, vec2(0.0)) * vec2(PRODUCT_NODES_X, PRODUCT_NODES_Y)),
+             uvec2(PRODUCT_NODES_X - 1u, PRODUCT_NODES_Y - 1u));
+}
+#ifdef PRODUCT_TAIL_ENV_OT
+#include "lib/env_ot_inverse.glsl"
+#else
 // The cell of u = env-hier's inverse of wi (its texel's rectangle, and wi's place in the texel).
 uvec2 productNodeOf(vec3 wi) {
   ivec2 texel = directionToTexel(wi);
   vec4 rect = hierTexelRect(texel);
-  vec2 u = rect.xy + directionToTexelOffset(wi, texel) * rect.zw;
-  return min(uvec2(u * vec2(PRODUCT_NODES_X, PRODUCT_NODES_Y)), uvec2(PRODUCT_NODES_X - 1u, PRODUCT_NODES_Y - 1u));
+  return productCellOf(rect.xy + directionToTexelOffset(wi, texel) * rect.zw);
 }
+#endif
 #else
 #define PRODUCT_NODES_X PRODUCT_WIDTH
 #define PRODUCT_NODES_Y PRODUCT_ROWS
@@ -107,6 +116,15 @@ float productNodeProbability(uint x, uint y) {
   return total > 0.0 && rowTotal > 0.0 ? (rowWidth / total) * (columnWidth / rowTotal) : 0.0;
 }
 
+#ifdef PRODUCT_UNIFORM_GRID
+// h(u) = P(cell of u) / E(cell of u), the head warp's density on the grid.
+float productHeadDensity(vec2 u) {
+  uvec2 c = productCellOf(u);
+  float area = productNodeArea(c.y * PRODUCT_NODES_X + c.x);
+  return area > 0.0 ? productNodeProbability(c.x, c.y) / area : 0.0;
+}
+#endif
+
 vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
   pdf = 0.0;
   radiance = vec3(0.0);
@@ -138,13 +156,42 @@ vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
   // P(j) as productNodeProbability computes it, from the widths found above.
   float probability = (rowWidth / total) * (columnWidth / rowTotal);
   pdf = envDensity > 0.0 && area > 0.0 ? probability / area * envDensity : 0.0;
+#ifdef PRODUCT_TAIL_ENV_OT
+  // A split sun's texel: the branch taken (the sun row when u.y reached it, env-ot's row search) keeps the
+  // chosen cell's density, the other branch's preimage is located.
+  ivec2 texel = directionToTexel(wi);
+  vec2 q = envOtBranchPdfs(texel);
+  if (pdf > 0.0 && q.y > 0.0) {
+    bool sunRow = inNode.y >= tableFloat(envOtRowCdf, ENV_OT_GRID);
+    vec2 uMap, uSun;
+    bool hasMap, hasSun;
+    envOtPreimages(wi, texel, uMap, hasMap, uSun, hasSun);
+    float head = probability / area;
+    float other = sunRow ? (hasMap ? productHeadDensity(uMap) * q.x : 0.0)
+                         : (hasSun ? productHeadDensity(uSun) * q.y : 0.0);
+    pdf = head * (sunRow ? q.y : q.x) + other;
+  }
+#endif
   return wi;
 }
 
+#ifdef PRODUCT_TAIL_ENV_OT
+// h(u_map) q_map + h(u_sun) q_sun (engine/sampling/env_ot_product.h).
+float productPdf(vec3 wi, Shading s) {
+  ivec2 texel = directionToTexel(wi);
+  vec2 q = envOtBranchPdfs(texel);
+  vec2 uMap, uSun;
+  bool hasMap, hasSun;
+  envOtPreimages(wi, texel, uMap, hasMap, uSun, hasSun);
+  return (hasMap && q.x > 0.0 ? productHeadDensity(uMap) * q.x : 0.0) +
+         (hasSun && q.y > 0.0 ? productHeadDensity(uSun) * q.y : 0.0);
+}
+#else
 float productPdf(vec3 wi, Shading s) {
   uvec2 node = productNodeOf(wi);
   if (node.x >= PRODUCT_NODES_X || node.y >= PRODUCT_NODES_Y) return 0.0;
   float area = productNodeArea(node.y * PRODUCT_NODES_X + node.x);
   return area > 0.0 ? productNodeProbability(node.x, node.y) / area * envPdf(wi, s.n) : 0.0;
 }
+#endif
 #endif

@@ -136,8 +136,8 @@ const VulkanContext& gpuContext() {
 ShaderCompiler& gpuCompiler() {
   static ShaderCompiler compiler = [] {
     ShaderCompiler c;
-    for (const char* probe :
-         {"env_sampler_probe.comp", "brdf_sampler_probe.comp", "analytic_brdf_probe.comp"})
+    for (const char* probe : {"env_sampler_probe.comp", "brdf_sampler_probe.comp", "analytic_brdf_probe.comp",
+                              "env_ot_inverse_probe.comp"})
       c.addSource(std::string("probe/") + probe,
                   readFile(std::string(IBLX_TEST_SOURCE_DIR) + "/gpu/probe/" + probe));
     return c;
@@ -167,6 +167,24 @@ std::vector<ProbeSample> EnvTechniqueProbe::sample(std::span<const glm::dvec2> u
 }
 std::vector<double> EnvTechniqueProbe::pdf(std::span<const glm::dvec3> d) {
   return impl_->pdf(d);
+}
+
+struct EnvPartProbe::Impl : ProbeRunner {
+  using ProbeRunner::ProbeRunner;
+};
+
+EnvPartProbe::EnvPartProbe(const std::string& kernelFile, std::vector<std::string> parts,
+                           const TechniqueData& data, const EnvImage& env) {
+  impl_ = std::make_unique<Impl>(probeScene(env, "lambert", {}), kernelFile, std::move(parts), data,
+                                 TechniqueData{}, glm::dvec3(0, 1, 0));
+}
+EnvPartProbe::~EnvPartProbe() = default;
+std::vector<std::pair<glm::dvec4, glm::dvec4>> EnvPartProbe::directions(std::span<const glm::dvec3> d) {
+  const auto out = impl_->directionsMode(d, 1);
+  std::vector<std::pair<glm::dvec4, glm::dvec4>> values(d.size());
+  const auto widen = [](const gpu::vec4& v) { return glm::dvec4(v.x, v.y, v.z, v.w); };
+  for (size_t i = 0; i < d.size(); ++i) values[i] = {widen(out[2 * i]), widen(out[2 * i + 1])};
+  return values;
 }
 
 struct BrdfTechniqueProbe::Impl : ProbeRunner {

@@ -38,6 +38,20 @@ class EnvTechniqueProbe {
   std::unique_ptr<Impl> impl_;
 };
 
+// Runs a probe kernel of tests/gpu/probe over env parts with the given tables (set 2) on `env`: per input
+// direction, the kernel's two vec4 outputs (for GLSL libraries that are not an env technique's interface).
+class EnvPartProbe {
+ public:
+  EnvPartProbe(const std::string& kernelFile, std::vector<std::string> parts, const TechniqueData& data,
+               const EnvImage& env);
+  ~EnvPartProbe();
+  std::vector<std::pair<glm::dvec4, glm::dvec4>> directions(std::span<const glm::dvec3> directions);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 // Runs a BRDF technique (and the BRDF) through the probe kernel, local frame, fixed wo.
 class BrdfTechniqueProbe {
  public:

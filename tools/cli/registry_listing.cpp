@@ -9,9 +9,9 @@
 namespace iblx {
 namespace {
 
-// A registry name padded to the listing's name column (13 wide, so product-warp keeps a space).
+// A registry name padded to the listing's name column (17 wide, so product-warp-ot keeps two spaces).
 std::string column(const std::string& name) {
-  constexpr std::size_t kWidth = 13;
+  constexpr std::size_t kWidth = 17;
   return name + std::string(kWidth - std::min(kWidth - 1, name.size()), ' ');
 }
 
