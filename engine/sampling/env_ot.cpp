@@ -18,8 +18,8 @@
 
 namespace iblx {
 
-EnvOtMaps solveEnvOtMaps(const EnvImage& image) {
-  const int n = otGridSize(image);
+EnvOtMaps solveEnvOtMaps(const EnvImage& image, int grid) {
+  const int n = grid > 0 ? grid : otGridSize(image);
   EnvOtMaps maps{texelSamplingWeights(image, "OT density"), {}, {}};
   maps.sun = splitOtSun(maps.weights, image.width, image.height);
   const std::vector<double> density =
@@ -78,6 +78,11 @@ int otGridSize(const EnvImage& image) {
     return n;
   }
   return std::clamp(image.height, 32, 256);
+}
+
+int envOtGridSize(const EnvImage& image) {
+  if (std::getenv("IBLX_OT_SIZE") || image.texelCount() > kEnvOtFineGridTexels) return otGridSize(image);
+  return std::clamp(image.height, 32, 512);
 }
 
 TechniqueData envOtFwdTechniqueData(const EnvImage& image) {

@@ -95,7 +95,9 @@ EnvOtData buildEnvOt(const EnvImage& image);
 // - Cost: two guided searches (a step or none each), one table read for the row, one for the piece and one
 //   for the pdf; pdf() is one read. No point location, no Jacobian.
 // - Memory: about 24 B per piece (record, CDF entry, guide cell) and 4 B per texel for the pdf. A 1024 x 512
-//   map under a 256 grid has 1.9 M pieces (45 MB): the map's cell edges cut most texels.
+//   map has 1.9 M pieces (45 MB) under a 256 grid and 3.2-3.4 M (74-80 MB) under its default 512
+//   (envOtGridSize): the map's cell edges cut most texels. The tables do not fit a 32 MB cache, so a sample
+//   costs 1.5-2.7x env-hier's at the same instruction count (docs/BENCHMARKS.md).
 class EnvOtSampler {
  public:
   // Keeps a copy. Throws iblx::Error when the tables are mis-sized.

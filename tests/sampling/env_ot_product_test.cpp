@@ -99,7 +99,12 @@ TEST_CASE("env-ot inverse: each branch's preimage maps back to the direction") {
 }
 
 TEST_CASE("env-ot product: chi2 against its own pdf on hard maps (GGX and Lambert), pdf integrating to 1") {
-  const auto envs = test::samplerTestEnvs();
+  // The 64 x 32 hard maps (smooth, sun with a zero half, pole): the 50 x 25 ones double the test's time (the
+  // harness refines along every edge of the head's cells) and cover no other branch.
+  std::vector<test::NamedEnv> envs;
+  for (auto& env : test::samplerTestEnvs())
+    if (env.name.ends_with("64x32")) envs.push_back(std::move(env));
+  REQUIRE(envs.size() == 3);
   const auto lobes = testLobes();
   uint64_t seed = 700;
   for (const auto& env : envs) {
@@ -107,13 +112,13 @@ TEST_CASE("env-ot product: chi2 against its own pdf on hard maps (GGX and Lamber
     const EnvOtInverse inverse = buildEnvOtInverse(ot.data());
     const EnvProductLevel grid = buildEnvOtProductGrid(ot);
     for (const Lobe& lobe : lobes) {
-      // envs.size() + 2 runs: the two sun-zero maps take the Lambert lobe as well.
+      // envs.size() + 1 runs: the sun-zero map takes the Lambert lobe as well.
       if (lobe.alpha == 0.0 && env.name.rfind("sun-zero", 0) != 0) continue;
       CAPTURE(env.name);
       CAPTURE(lobe.name);
       const EnvOtProductSampler sampler(ot, inverse, grid, lobeAtCells(grid, lobe));
       const test::Chi2Result r = test::runChi2(sampler, "env-ot-product-" + env.name + "-" + lobe.name,
-                                               int(envs.size()) + 2, seed++);
+                                               int(envs.size()) + 1, seed++);
       INFO(r.message);
       CHECK(r.passed);
       CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(1e-3));

@@ -170,7 +170,7 @@ int diagnoseSamplers(const EnvImage& env, const std::filesystem::path& envPath, 
   const std::vector<Sampler> samplers{
       {"env-cdf", [&](glm::dvec3 w) { return cdf.pdf(w); }, nullptr, false},
       {"env-hier", [&](glm::dvec3 w) { return hier.pdf(w); }, nullptr, false},
-      {"env-ot", [&](glm::dvec3 w) { return exact.pdf(w); }, &ot.inverse, false},
+      {"env-ot", [&](glm::dvec3 w) { return exact.pdf(w); }, nullptr, false},
       {"env-ot-inv", [&](glm::dvec3 w) { return envOtInvPdf(ot, w); }, &ot.inverse, true},
       {"env-ot-fwd", [&](glm::dvec3 w) { return envOtFwdPdf(ot, w); }, &ot.forward, true},
   };
