@@ -147,13 +147,8 @@ EnvSample EnvOtProductSampler::sample(glm::dvec2 u) const {
   const PiecewiseConstant2D::Sample chosen = cells_.sample(u);
   const std::size_t j = std::size_t(chosen.bin.y) * grid_.width + std::size_t(chosen.bin.x);
   if (!(probability_[j] > 0.0)) return {};  // an all-zero table: no cell to choose
-  const glm::dvec2 v = glm::clamp(chosen.p * glm::dvec2(grid_.width, grid_.rows) - glm::dvec2(chosen.bin),
-                                  glm::dvec2(0.0), glm::dvec2(1.0));
   const glm::vec4& r = grid_.rects[j];
-  // Inside the cell (a float set): one float step below its upper edges at most; then as the GPU gets it.
-  const glm::dvec2 inCell(
-      std::clamp(double(r.x) + v.x * double(r.z - r.x), double(r.x), double(std::nextafter(r.z, r.x))),
-      std::clamp(double(r.y) + v.y * double(r.w - r.y), double(r.y), double(std::nextafter(r.w, r.y))));
+  const glm::dvec2 inCell = pointInProductNode(chosen, grid_, j);
   EnvSample s = env_.sample(inCell);
   const double area = double((r.z - r.x) * (r.w - r.y));
   if (!(s.pdfSolidAngle > 0.0) || !(area > 0.0)) {

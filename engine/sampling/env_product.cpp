@@ -148,20 +148,22 @@ std::size_t EnvProductSampler::nodeOf(glm::dvec3 wi) const {
          uint32_t(texel.x) / level_.texelsPerNode;
 }
 
+glm::dvec2 pointInProductNode(const PiecewiseConstant2D::Sample& chosen, const EnvProductLevel& level,
+                              std::size_t j) {
+  const glm::dvec2 v = glm::clamp(chosen.p * glm::dvec2(level.width, level.rows) - glm::dvec2(chosen.bin),
+                                  glm::dvec2(0.0), glm::dvec2(1.0));
+  const glm::vec4& r = level.rects[j];
+  return {std::clamp(double(r.x) + v.x * double(r.z - r.x), double(r.x), double(std::nextafter(r.z, r.x))),
+          std::clamp(double(r.y) + v.y * double(r.w - r.y), double(r.y), double(std::nextafter(r.w, r.y)))};
+}
+
 EnvSample EnvProductSampler::sample(glm::dvec2 u) const {
   const PiecewiseConstant2D::Sample chosen = nodes_.sample(u);
   const std::size_t j = std::size_t(chosen.bin.y) * level_.width + std::size_t(chosen.bin.x);
   if (!(probability_[j] > 0.0)) return {};  // an all-zero table: no node to choose
-  // u's place inside the chosen node's cell of the table.
-  const glm::dvec2 v = glm::clamp(chosen.p * glm::dvec2(level_.width, level_.rows) - glm::dvec2(chosen.bin),
-                                  glm::dvec2(0.0), glm::dvec2(1.0));
   const glm::vec4& r = level_.rects[j];
-  // Inside the node's rectangle (a float set): one float step below its upper edges at most.
-  const glm::dvec2 inNode(
-      std::clamp(double(r.x) + v.x * double(r.z - r.x), double(r.x), double(std::nextafter(r.z, r.x))),
-      std::clamp(double(r.y) + v.y * double(r.w - r.y), double(r.y), double(std::nextafter(r.w, r.y))));
   // The chosen node's probability over its area, times env-hier's density inside it.
-  EnvSample s = env_.sample(inNode);
+  EnvSample s = env_.sample(pointInProductNode(chosen, level_, j));
   const double area = double((r.z - r.x) * (r.w - r.y));
   s.pdfSolidAngle = area > 0.0 ? probability_[j] / area * s.pdfSolidAngle : 0.0;
   return s;

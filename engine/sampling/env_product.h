@@ -75,6 +75,11 @@ EnvProductLevel buildEnvProductGrid(const std::function<glm::dvec3(glm::dvec2)>&
 // E_j the area of node j's rectangle, F_j = fCos[j] clamped at 0. Throws iblx::Error when fCos has not one
 // value per node.
 std::vector<double> envProductWeights(const EnvProductLevel& level, std::span<const double> fCos);
+// The point of node j's rectangle in u where the head table's choice `chosen` (a sample of the level's
+// width x rows table) puts u: its place in the table's cell, mapped into the rectangle (a float set: one
+// float step below its upper edges at most), as the GPU computes it.
+glm::dvec2 pointInProductNode(const PiecewiseConstant2D::Sample& chosen, const EnvProductLevel& level,
+                              std::size_t j);
 
 // The direction of the cap (centre, cosRadius) closest to `towards` (unit vectors): `towards` itself inside
 // the cap, else the centre turned towards it by the radius. The GLSL twin is productNodeDirection.
