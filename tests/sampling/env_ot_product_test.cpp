@@ -99,12 +99,12 @@ TEST_CASE("env-ot inverse: each branch's preimage maps back to the direction") {
 }
 
 TEST_CASE("env-ot product: chi2 against its own pdf on hard maps (GGX and Lambert), pdf integrating to 1") {
-  // The 64 x 32 hard maps (smooth, sun with a zero half, pole): the 50 x 25 ones double the test's time (the
-  // harness refines along every edge of the head's cells) and cover no other branch.
+  // The smooth and the sun-with-a-zero-half 64 x 32 maps: the others add time (the harness refines along
+  // every edge of the head's cells, slowest under the sanitizers) and cover no other branch.
   std::vector<test::NamedEnv> envs;
   for (auto& env : test::samplerTestEnvs())
-    if (env.name.ends_with("64x32")) envs.push_back(std::move(env));
-  REQUIRE(envs.size() == 3);
+    if (env.name == "smooth-64x32" || env.name == "sun-zero-64x32") envs.push_back(std::move(env));
+  REQUIRE(envs.size() == 2);
   const auto lobes = testLobes();
   uint64_t seed = 700;
   for (const auto& env : envs) {
