@@ -19,7 +19,8 @@
 
 namespace iblx {
 
-static_assert(sizeof(gpu::SampleRecord) == 80);  // std430: four vec4, two floats, two uints
+static_assert(sizeof(gpu::SampleRecord) ==
+              112);  // std430: four vec4, two floats, two uints, four scalars, a vec4
 
 struct PassTiming {
   double gpuSeconds = 0.0;   // the integrator dispatch alone (timestamp queries)

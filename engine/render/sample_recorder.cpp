@@ -64,6 +64,12 @@ std::vector<RecordedSample> SampleRecorder::runPass(uint32_t samplesPerPass) {
     s.radiance = {r.radiance.x, r.radiance.y, r.radiance.z};
     s.estimate = {r.estimate.x, r.estimate.y, r.estimate.z};
     s.point = {r.pointX, r.pointY};
+    if (r.productColumns > 0) {
+      ProductNodeChoice c{r.productNode, r.productColumns, r.productRows, r.productNodeProbability, {}};
+      const glm::dvec4 uv(r.productNodeUv.x, r.productNodeUv.y, r.productNodeUv.z, r.productNodeUv.w);
+      if (uv.z > uv.x && uv.w > uv.y) c.mapUv = uv;
+      s.productNode = c;
+    }
     samples.push_back(s);
   }
   ++passes_;

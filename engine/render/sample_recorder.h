@@ -19,6 +19,18 @@
 
 namespace iblx {
 
+// The node a product draw chose in the pixel's table of columns x rows nodes (row-major index node), with its
+// probability P(node). On the lat-long map the node is the rectangle mapUv (u0, v0, u1, v1) when it is a
+// block of texels (`product`, `product-mis`); the cells of a warp's unit square (`product-warp`,
+// `product-warp-ot`) have no rectangle there.
+struct ProductNodeChoice {
+  uint32_t node = 0, columns = 0, rows = 0;
+  double probability = 0.0;
+  std::optional<glm::dvec4> mapUv;
+  uint32_t column() const { return node % columns; }
+  uint32_t row() const { return node / columns; }
+};
+
 // One direction drawn by a sample. A sample draws ResolvedMethod::drawsPerSample() directions (two-sample
 // MIS: one from each technique, in that order), so runPass returns that many records per sample, with one
 // index.
@@ -42,6 +54,9 @@ struct RecordedSample {
   // to the sample's estimate.
   glm::dvec3 estimate{0.0};
   glm::dvec2 point{0.0};  // the sequence's 2D point the direction was drawn from
+  // Product draws (`product`, `product-mis`, `product-warp`, `product-warp-ot`): the node of the pixel's
+  // table that the draw chose.
+  std::optional<ProductNodeChoice> productNode;
 };
 
 // Why pixel (x, y) of `gbuffer` cannot be recorded (outside the image, background), or nothing.

@@ -56,6 +56,26 @@ vec4 productNodeCenter(uint j) { return tableVec4(productNodeCenters, j); }
 uvec2 productNodeOf(vec3 wi) { return uvec2(directionToTexel(wi)) / PRODUCT_TEXELS_PER_NODE; }
 #endif
 
+#ifdef IBLX_RECORD_SAMPLES
+// The last productSample's choice, for the sample record (lib/sample_record.glsl, RECORD_PRODUCT_NODE);
+// columns is 0 when it chose nothing.
+struct ProductChoice {
+  uint node, columns, rows;
+  float probability;
+  vec4 nodeUv;  // the node on the lat-long map when it is a block of texels, else 0
+};
+ProductChoice gProductChosen;
+#ifdef PRODUCT_UNIFORM_GRID
+vec4 productNodeMapUv(uint j) { return vec4(0.0); }  // a cell of the tail's square: no map rectangle
+#else
+vec4 productNodeMapUv(uint j) {
+  uvec2 size = uvec2(envSize());
+  uvec2 first = uvec2(j % PRODUCT_NODES_X, j / PRODUCT_NODES_X) * PRODUCT_TEXELS_PER_NODE;
+  return vec4(vec2(min(first, size)), vec2(min(first + PRODUCT_TEXELS_PER_NODE, size))) / vec4(size, size);
+}
+#endif
+#endif
+
 const uint kProductNodes = PRODUCT_NODES_X * PRODUCT_NODES_Y;
 float gProductColumnSums[kProductNodes];  // per row: inclusive running sums of the weights
 float gProductRowSums[PRODUCT_NODES_Y];   // inclusive running sums of the row totals
@@ -128,6 +148,9 @@ float productHeadDensity(vec2 u) {
 vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
   pdf = 0.0;
   radiance = vec3(0.0);
+#ifdef IBLX_RECORD_SAMPLES
+  gProductChosen.columns = 0u;
+#endif
   float total = gProductRowSums[PRODUCT_NODES_Y - 1u];
   if (!(total > 0.0)) return vec3(0.0, 1.0, 0.0);
   // The first row whose running sum exceeds u.y * total: a row of zero width is never chosen.
@@ -156,6 +179,9 @@ vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
   // P(j) as productNodeProbability computes it, from the widths found above.
   float probability = (rowWidth / total) * (columnWidth / rowTotal);
   pdf = envDensity > 0.0 && area > 0.0 ? probability / area * envDensity : 0.0;
+#ifdef IBLX_RECORD_SAMPLES
+  gProductChosen = ProductChoice(j, PRODUCT_NODES_X, PRODUCT_NODES_Y, probability, productNodeMapUv(j));
+#endif
 #ifdef PRODUCT_TAIL_ENV_OT
   // A split sun's texel: the branch taken (the sun row when u.y reached it, env-ot's row search) keeps the
   // chosen cell's density, the other branch's preimage is located.

@@ -10,6 +10,8 @@
 //                                                 for the same slot replaces it (ris keeps the last taken)
 //   RECORD_WEIGHT(d, misWeight, weight, radiance) slot d's contribution is radiance * weight
 //   RECORD_SCALE_WEIGHT(d, factor)                slot d's weight *= factor, for a factor known only later (ris)
+//   RECORD_PRODUCT_NODE(d)                        the node the product table chose for slot d's draw
+//                                                 (lib/product_sampling.glsl's productSample sets it)
 #ifndef IBLX_LIB_SAMPLE_RECORD
 #define IBLX_LIB_SAMPLE_RECORD
 #include "lib/frame_resources.glsl"
@@ -25,7 +27,8 @@ SampleRecord gSampleRecords[SAMPLE_RECORD_DRAWS];
 void recordBegin() {
   for (uint d = 0u; d < SAMPLE_RECORD_DRAWS; ++d)
     gSampleRecords[d] =
-        SampleRecord(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), 0.0, 0.0, 0u, kSampleTechniqueNone);
+        SampleRecord(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), 0.0, 0.0, 0u, kSampleTechniqueNone, 0u, 0u, 0u,
+                     0.0, vec4(0.0));
 }
 
 void recordDraw(uint d, uint technique, vec2 u, vec3 wi, float pdf) {
@@ -35,6 +38,17 @@ void recordDraw(uint d, uint technique, vec2 u, vec3 wi, float pdf) {
   gSampleRecords[d].radiance = vec4(0.0);
   gSampleRecords[d].pointX = u.x;
   gSampleRecords[d].pointY = u.y;
+  gSampleRecords[d].productColumns = 0u;
+}
+
+// The product table's choice for the draw in slot d (after its RECORD_DRAW): node `node` of a columns x rows
+// table, its probability, and its rectangle on the map (all 0 when the node is no block of texels).
+void recordProductNode(uint d, uint node, uint columns, uint rows, float probability, vec4 nodeUv) {
+  gSampleRecords[d].productNode = node;
+  gSampleRecords[d].productColumns = columns;
+  gSampleRecords[d].productRows = rows;
+  gSampleRecords[d].productNodeProbability = probability;
+  gSampleRecords[d].productNodeUv = nodeUv;
 }
 
 void recordWeight(uint d, float misWeight, vec3 weight, vec3 radiance) {
@@ -61,11 +75,16 @@ void recordStore(uint sampleIndex, vec3 x, bool finite) {
 #define RECORD_WEIGHT(d, misWeight, weight, radiance) recordWeight(d, misWeight, weight, radiance)
 #define RECORD_SCALE_WEIGHT(d, factor) gSampleRecords[d].weight.rgb *= (factor)
 #define RECORD_STORE(sampleIndex, x, finite) recordStore(sampleIndex, x, finite)
+#define RECORD_PRODUCT_NODE(d)                                                                           \
+  if (gProductChosen.columns > 0u)                                                                       \
+  recordProductNode(d, gProductChosen.node, gProductChosen.columns, gProductChosen.rows,                 \
+                    gProductChosen.probability, gProductChosen.nodeUv)
 #else
 #define RECORD_BEGIN()
 #define RECORD_DRAW(d, technique, u, wi, pdf)
 #define RECORD_WEIGHT(d, misWeight, weight, radiance)
 #define RECORD_SCALE_WEIGHT(d, factor)
 #define RECORD_STORE(sampleIndex, x, finite)
+#define RECORD_PRODUCT_NODE(d)
 #endif
 #endif

@@ -73,6 +73,15 @@ struct SampleRecord {
   float pointY;
   uint sampleIndex;  // in the pixel's sequence
   uint technique;    // kSampleTechnique*
+  // Product draws (kSampleTechniqueProduct): the node the per-pixel table chose, row-major in a table of
+  // productColumns x productRows nodes, and its probability P(node); productColumns is 0 for other draws.
+  uint productNode;
+  uint productColumns;
+  uint productRows;
+  float productNodeProbability;
+  // The chosen node on the lat-long map (u0, v0, u1, v1) when nodes are blocks of texels (`product`,
+  // `product-mis`); all 0 when they are cells of a warp's unit square, whose images are not rectangles.
+  vec4 productNodeUv;
 };
 
 #ifdef __cplusplus

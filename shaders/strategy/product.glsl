@@ -11,6 +11,7 @@ vec3 estimateRadiance(SamplePoint p, Shading s) {
   vec3 radiance;
   vec3 wi = productSample(u, s, pdf, radiance);
   RECORD_DRAW(0u, kSampleTechniqueProduct, u, wi, pdf);
+  RECORD_PRODUCT_NODE(0u);
   vec3 wiLocal = toLocal(s, wi);
   if (!(pdf > 0.0) || wiLocal.z <= 0.0) return vec3(0.0);
   vec3 weight = brdfEval(wiLocal, s.woLocal) * (wiLocal.z / pdf);

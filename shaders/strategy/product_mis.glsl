@@ -24,6 +24,7 @@ vec3 estimateRadiance(SamplePoint p, Shading s) {
   vec3 weightP = misWeight(wiLocalP, s, pProductP, pBrdfP, power, weightOverPdfP);
   vec3 weightB = misWeight(wiLocalB, s, pBrdfB, pProductB, power, weightOverPdfB);
   RECORD_DRAW(0u, kSampleTechniqueProduct, uProduct, wiP, pProductP);
+  RECORD_PRODUCT_NODE(0u);
   if (misContributes(wiLocalP, pProductP)) RECORD_WEIGHT(0u, weightOverPdfP * pProductP, weightP, radianceP);
   RECORD_DRAW(1u, kSampleTechniqueBrdf, uBrdf, wiB, pBrdfB);
   if (misContributes(wiLocalB, pBrdfB)) RECORD_WEIGHT(1u, weightOverPdfB * pBrdfB, weightB, radianceB);

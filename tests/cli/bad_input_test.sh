@@ -331,6 +331,11 @@ else
 fi
 rows=$("$iblx" samples --size 16x16 --pixel 8,8 --count 5 --method brdf --seq sobol --out - 2>/dev/null | grep -c ",ggx-vndf,")
 [ "$rows" -eq 5 ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: samples --out - gave $rows rows"; }
+# product-mis: its product rows name the chosen node (column, row, P in (0, 1]), its BRDF rows leave them empty.
+"$iblx" samples --size 16x16 --pixel 8,8 --count 6 --method product-mis --out "$tmp/pn.csv" > /dev/null 2>&1
+nodes=$(awk -F, 'NR == 1 { ok = $NF == "product_node_p" } NR > 1 && $3 == "product" && $22 ~ /^[0-9]+$/ && $23 ~ /^[0-9]+$/ && $24 > 0 && $24 <= 1 { n++ }
+  NR > 1 && $3 != "product" && ($22 != "" || $24 != "") { ok = 0 } END { print ok ? n + 0 : -1 }' "$tmp/pn.csv")
+[ "$nodes" -eq 6 ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: samples product nodes: $nodes of 6: $(head -3 "$tmp/pn.csv")"; }
 
 # converge and hardcases: bad input, a small run's files, and Ctrl-C keeping what was measured.
 export IBLX_CACHE_DIR="$tmp/cache"

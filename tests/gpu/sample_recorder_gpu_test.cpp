@@ -4,6 +4,7 @@
 // and MIS records carry both techniques in their split.
 #include "engine/core/error.h"
 #include "engine/render/sample_recorder.h"
+#include "engine/sampling/env_product.h"
 #include "engine/sampling/mis_compensation.h"
 #include "engine/core/sphere_mapping.h"
 #include "tests/gpu/gpu_fixture.h"
@@ -214,6 +215,70 @@ TEST_CASE("samples: two-sample MIS records one env and one BRDF direction per sa
     CHECK(samePoint == 0);
     CHECK(4 * bothWeighted >
           samples.size() / 2);  // on a smooth sky both directions contribute in many samples
+  }
+  checkNoNewValidationErrors();
+}
+
+TEST_CASE(
+    "samples: product draws record the node their table chose, which holds them, with the P(node) of their "
+    "pdf") {
+  // 64x32: the pyramid level has 32x16 nodes of 2x2 texels, so a node's rectangle is not one texel's.
+  const Scene scene = sceneWith(smoothSky(64, 32), "ggx", kGgxParams, 24);
+  for (const char* name : {"product", "product-mis", "product-warp"}) {
+    MethodSpec spec;
+    spec.method = name;
+    spec.sequence = "sobol";
+    const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
+    INFO(method.label());
+    const bool grid = std::string(name) == "product-warp";
+    const EnvHierSampler hier(buildEnvHier(method.misCompensation ? misCompensated(scene.env) : scene.env));
+    const EnvProductLevel level = grid ? buildEnvProductGrid(hier) : buildEnvProductLevel(hier);
+    SampleRecorder recorder(gpuContext(), gpuCompiler(), scene, method, 7);
+    const uint32_t passes[] = {256};
+    for (const auto& pixel : kPixels) {
+      std::map<uint32_t, double> probabilityOf;  // node -> P(node): one table per pixel
+      std::size_t productDraws = 0, mismatches = 0;
+      for (const RecordedSample& s : recordPasses(recorder, pixel, passes)) {
+        if (s.technique != "product") {
+          CHECK(!s.productNode);
+          continue;
+        }
+        if (!(s.pdf > 0.0)) continue;
+        REQUIRE(s.productNode);
+        const ProductNodeChoice& c = *s.productNode;
+        REQUIRE(c.columns == level.width);
+        REQUIRE(c.rows == level.rows);
+        REQUIRE(c.node < level.nodes());
+        ++productDraws;
+        const auto [known, added] = probabilityOf.emplace(c.node, c.probability);
+        CHECK(known->second == c.probability);
+        // Blocks of texels on the map hold the direction; a grid cell of u has no rectangle there.
+        CHECK(c.mapUv.has_value() == !grid);
+        if (c.mapUv) {
+          const double eps = 1e-6;
+          CHECK((s.uv.x >= c.mapUv->x - eps && s.uv.x <= c.mapUv->z + eps));
+          CHECK((s.uv.y >= c.mapUv->y - eps && s.uv.y <= c.mapUv->w + eps));
+          const uint32_t texels = level.texelsPerNode;
+          CHECK(c.mapUv->x == doctest::Approx(double(c.column() * texels) / scene.env.width));
+          CHECK(c.mapUv->w ==
+                doctest::Approx(std::min(1.0, double((c.row() + 1) * texels) / scene.env.height)));
+        }
+        // pdf = P(node) / E_node * p_env-hier(wi) (engine/sampling/env_product.h).
+        const glm::vec4& r = level.rects[c.node];
+        const double area = double(r.z - r.x) * double(r.w - r.y);
+        const double implied = s.pdf * area / hier.pdf(s.envDirection);
+        if (!(std::abs(implied - c.probability) <= 1e-3 * c.probability)) ++mismatches;
+      }
+      CAPTURE(pixel.first);
+      CAPTURE(pixel.second);
+      CHECK(productDraws >= 250u);  // of 256: a draw on a float edge of the table has pdf 0
+      // A direction within float rounding of a texel edge may read the neighbour's env-hier pdf.
+      CHECK(mismatches <= productDraws / 100);
+      double sum = 0.0;
+      for (const auto& [node, p] : probabilityOf) sum += p;
+      CHECK(sum <= 1.0 + 1e-5);
+      CHECK(probabilityOf.size() >= 4);  // a glossy lobe over a smooth sky spreads over several nodes
+    }
   }
   checkNoNewValidationErrors();
 }

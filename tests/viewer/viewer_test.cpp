@@ -200,7 +200,9 @@ int countNear(const Png& shot, int top, unsigned char r, unsigned char g, unsign
 
 }  // namespace
 
-TEST_CASE("viewer: the sample overlay draws the picked pixel's samples, one colour per technique") {
+TEST_CASE(
+    "viewer: the sample overlay draws the picked pixel's samples, one colour per technique, and product "
+    "nodes") {
   // MIS draws with both techniques: env-cdf's points are orange, ggx-vndf's blue (techniqueColor 0 and 1).
   const Png overlay = viewerScreenshot("--size 64x64 --overlay 32,24 --overlay-count 512", 2, "overlay");
   const Png plain = viewerScreenshot("--size 64x64", 2, "plain");
@@ -216,6 +218,14 @@ TEST_CASE("viewer: the sample overlay draws the picked pixel's samples, one colo
       viewerScreenshot("--size 64x64 --method brdf --overlay 32,24 --overlay-count 512", 2, "single");
   CHECK(countNear(single, 64, 255, 110, 80) > 100);
   CHECK(countNear(single, 64, 80, 200, 255) < 10);
+  // `product` also shows the nodes its table chose: blocks of texels outlined on the map and shaded on the
+  // table panel, the most probable in kProductNodeColor. MIS chooses no node.
+  const Png product =
+      viewerScreenshot("--size 64x64 --method product --overlay 32,24 --overlay-count 512", 2, "product");
+  const int magenta = countNear(product, 64, 255, 60, 230);
+  CAPTURE(magenta);
+  CHECK(magenta > 60);
+  CHECK(countNear(overlay, 64, 255, 60, 230) < 10);
 }
 
 TEST_CASE("viewer: an overlay pixel off the object is refused with the reason") {

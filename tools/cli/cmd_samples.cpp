@@ -28,7 +28,8 @@ constexpr uint32_t kMaxCount = 10'000'000;
 
 constexpr const char* kCsvHeader =
     "index,pass,technique,dir_x,dir_y,dir_z,u,v,pdf,mis_weight,weight_r,weight_g,weight_b,radiance_r,"
-    "radiance_g,radiance_b,estimate_r,estimate_g,estimate_b,seq_x,seq_y\n";
+    "radiance_g,radiance_b,estimate_r,estimate_g,estimate_b,seq_x,seq_y,product_node_x,product_node_y,"
+    "product_node_p\n";
 
 // "X,Y" as two integers; the range is checked against the image later.
 
@@ -45,6 +46,13 @@ class CsvRow {
                      s.weight.x, s.weight.y, s.weight.z, s.radiance.x, s.radiance.y, s.radiance.z,
                      s.estimate.x, s.estimate.y, s.estimate.z, s.point.x, s.point.y})
       add(float(v));
+    if (s.productNode) {
+      add(s.productNode->column());
+      add(s.productNode->row());
+      add(float(s.productNode->probability));
+    } else {
+      *end_++ = ',', *end_++ = ',', *end_++ = ',';  // three empty values
+    }
     end_[-1] = '\n';  // the last separator
   }
   std::string_view view() const { return {line_, std::size_t(end_ - line_)}; }
@@ -59,7 +67,7 @@ class CsvRow {
     end_ = std::copy(value.begin(), value.end(), end_);
     *end_++ = ',';
   }
-  char line_[1024];  // 2 integers, a registry name and 18 floats of at most 15 characters each
+  char line_[1024];  // 4 integers, a registry name and 19 floats of at most 15 characters each
   char* end_ = line_;
 };
 

@@ -92,6 +92,23 @@ void SampleOverlay::setSamples(int x, int y, const gpu::GPixel& pixel, std::vect
   for (const RecordedSample& s : samples_)
     if (std::find(techniques_.begin(), techniques_.end(), s.technique) == techniques_.end())
       techniques_.emplace_back(s.technique);
+  productNodes_.clear();
+  productColumns_ = productRows_ = 0;
+  for (const RecordedSample& s : samples_) {
+    if (!s.productNode || !(s.productNode->probability > 0.0)) continue;
+    const ProductNodeChoice& c = *s.productNode;
+    productColumns_ = c.columns, productRows_ = c.rows;
+    if (std::none_of(productNodes_.begin(), productNodes_.end(),
+                     [&](const ProductNodeChoice& n) { return n.node == c.node; }))
+      productNodes_.push_back(c);
+  }
+  productLogMin_ = productLogMax_ = 0.0;
+  if (!productNodes_.empty()) {
+    const auto [least, most] =
+        std::minmax_element(productNodes_.begin(), productNodes_.end(),
+                            [](const auto& a, const auto& b) { return a.probability < b.probability; });
+    productLogMin_ = std::log10(least->probability), productLogMax_ = std::log10(most->probability);
+  }
 }
 
 void SampleOverlay::draw(float mapWidth, float hemisphereSide) const {
@@ -151,7 +168,36 @@ void SampleOverlay::draw(float mapWidth, float hemisphereSide) const {
                           1.8f, color, 6);
     if (glm::dot(s.direction, n) > 0.0) draw->AddCircleFilled(toDisc(s.direction), 1.8f, color, 6);
   }
-  ImGui::Dummy(ImVec2(mapWidth + 12.0f + hemisphereSide, std::max(mapHeight, hemisphereSide)));
+  // The chosen product nodes: outlined on the map where they are blocks of texels, and on the table panel
+  // (right of the hemisphere, the table's columns x rows over the sampler's unit square) shaded from dark at
+  // the least probable chosen node to kProductNodeColor at the most probable.
+  float tableWidth = 0.0f;
+  if (!productNodes_.empty()) {
+    for (const ProductNodeChoice& c : productNodes_)
+      if (c.mapUv)
+        draw->AddRect(
+            ImVec2(origin.x + float(c.mapUv->x) * mapWidth, origin.y + float(c.mapUv->y) * mapHeight),
+            ImVec2(origin.x + float(c.mapUv->z) * mapWidth, origin.y + float(c.mapUv->w) * mapHeight),
+            kProductNodeColor);
+    tableWidth = hemisphereSide;
+    const float cellW = tableWidth / float(productColumns_), cellH = cellW;
+    const ImVec2 table(origin.x + mapWidth + 24.0f + hemisphereSide, origin.y);
+    draw->AddRectFilled(table, ImVec2(table.x + tableWidth, table.y + cellH * float(productRows_)),
+                        IM_COL32(30, 30, 36, 255));
+    const double span = std::max(productLogMax_ - productLogMin_, 1e-9);
+    const ImVec4 peak = ImGui::ColorConvertU32ToFloat4(kProductNodeColor);
+    for (const ProductNodeChoice& c : productNodes_) {
+      const float shade = 0.25f + 0.75f * float((std::log10(c.probability) - productLogMin_) / span);
+      const ImVec2 a(table.x + float(c.column()) * cellW, table.y + float(c.row()) * cellH);
+      draw->AddRectFilled(
+          a, ImVec2(a.x + cellW, a.y + cellH),
+          ImGui::ColorConvertFloat4ToU32(ImVec4(peak.x * shade, peak.y * shade, peak.z * shade, 1.0f)));
+    }
+    draw->AddRect(table, ImVec2(table.x + tableWidth, table.y + cellH * float(productRows_)),
+                  IM_COL32(120, 120, 130, 255));
+  }
+  ImGui::Dummy(ImVec2(mapWidth + 12.0f + hemisphereSide + (tableWidth > 0.0f ? 12.0f + tableWidth : 0.0f),
+                      std::max(mapHeight, hemisphereSide)));
   for (std::size_t k = 0; k < techniques_.size(); ++k) {
     const auto count = std::count_if(samples_.begin(), samples_.end(),
                                      [&](const RecordedSample& s) { return s.technique == techniques_[k]; });
@@ -162,6 +208,11 @@ void SampleOverlay::draw(float mapWidth, float hemisphereSide) const {
   ImGui::TextDisabled(
       "map: luminance, %.1f decades (log); disc: hemisphere from above over f cos, ring: mirror direction",
       double(logMax_ - logMin_));
+  if (!productNodes_.empty())
+    ImGui::TextDisabled("product table %ux%u: %zu nodes chosen, P(node) %.2g to %.2g (log shade)%s",
+                        productColumns_, productRows_, productNodes_.size(), std::pow(10.0, productLogMin_),
+                        std::pow(10.0, productLogMax_),
+                        productNodes_.front().mapUv ? "; outlined on the map" : "");
 }
 
 }  // namespace iblx::viewer

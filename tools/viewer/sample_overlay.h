@@ -1,7 +1,9 @@
 // The viewer's sample overlay: one pixel's recorded samples (engine/render/sample_recorder.h) drawn as points
 // on the lat-long environment map, over the map's luminance (the density env-cdf and env-hier sample, per
 // solid angle) on a log scale, and on a view of the pixel's hemisphere seen from above the normal, one colour
-// per technique.
+// per technique. For the product strategies it also shows the node each draw chose in the pixel's product
+// table: outlined on the map where nodes are blocks of texels, and on a panel of the whole table, shaded by
+// the node's probability.
 #pragma once
 
 #include "engine/render/sample_recorder.h"
@@ -36,9 +38,12 @@ class SampleOverlay {
   int pixelX() const { return x_; }
   int pixelY() const { return y_; }
   std::size_t sampleCount() const { return samples_.size(); }
+  // Whether the samples chose nodes of a product table (the table panel is drawn).
+  bool hasProductNodes() const { return !productNodes_.empty(); }
   const std::string& methodLabel() const { return methodLabel_; }
 
-  // Draws the map panel (width w, height w/2) and the hemisphere (side h) side by side at the cursor.
+  // Draws the map panel (width w, height w/2), the hemisphere (side h) and, with product nodes, the product
+  // table (width h) side by side at the cursor.
   void draw(float mapWidth, float hemisphereSide) const;
 
  private:
@@ -49,6 +54,11 @@ class SampleOverlay {
   std::vector<double> lobe_;
   double lobeLogMax_ = 0.0;
   std::vector<std::string> techniques_;  // in order of first appearance: the colour index
+  // The distinct product nodes chosen (their first choice; a node's probability is the pixel's, the same in
+  // every draw), and the table's size.
+  std::vector<ProductNodeChoice> productNodes_;
+  uint32_t productColumns_ = 0, productRows_ = 0;
+  double productLogMin_ = 0.0, productLogMax_ = 0.0;  // log10 P over the chosen nodes
   gpu::GPixel pixel_{};
   int x_ = -1, y_ = -1;
   std::string methodLabel_;
@@ -56,5 +66,8 @@ class SampleOverlay {
 
 // The colour of the k-th technique (also the legend's).
 ImU32 techniqueColor(std::size_t k);
+// The outline of a chosen product node on the map, and the colour of the most probable node on the table
+// panel.
+inline constexpr ImU32 kProductNodeColor = IM_COL32(255, 60, 230, 255);
 
 }  // namespace iblx::viewer

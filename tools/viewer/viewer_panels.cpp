@@ -363,7 +363,8 @@ void ViewerPanels::drawSamplesTab(ViewerModel& model) {
     model.startRecording(overlay_.pixelX(), overlay_.pixelY(), std::size_t(overlayCount_));
   const float available = ImGui::GetContentRegionAvail().x;
   const float side = std::min(160.0f, 0.3f * available);
-  overlay_.draw(std::min(available - side - 16.0f, 2.0f * (ImGui::GetContentRegionAvail().y - 60.0f)), side);
+  const float beside = side + 16.0f + (overlay_.hasProductNodes() ? side + 12.0f : 0.0f);
+  overlay_.draw(std::min(available - beside, 2.0f * (ImGui::GetContentRegionAvail().y - 76.0f)), side);
 }
 
 }  // namespace iblx::viewer
