@@ -20,7 +20,7 @@ run() {
 "$iblx" render --method "$method" --size 8x8 --spp 1 --passes 1 --out /tmp/iblx_ips.exr "$@" > /dev/null
 one=$(run 1 "$@")
 three=$(run 3 "$@")
-samples=$("$iblx" render --method "$method" --size 64x64 --spp 64 --passes 2 --json --out /tmp/iblx_ips.exr "$@" |
-  sed -E 's/.*"spp": ([0-9]+).*/\1/')
-pixels=3216  # object pixels of the 64x64 sphere
+json=$("$iblx" render --method "$method" --size 64x64 --spp 64 --passes 2 --json --out /tmp/iblx_ips.exr "$@")
+samples=$(sed -E 's/.*"spp": ?([0-9]+).*/\1/' <<< "$json")
+pixels=$(sed -E 's/.*"object_pixels": ?([0-9]+).*/\1/' <<< "$json")  # the object's, of the scene given
 echo "$method $*: $(( (three - one) / (pixels * samples) )) instructions per sample"

@@ -29,6 +29,16 @@ inline glm::dvec2 directionToLatLong(glm::dvec3 w) {
   return {u, theta / kPi};
 }
 
+// cos(a) - cos(b) = 2 sin((a + b) / 2) sin((b - a) / 2), without the cancellation of the plain difference
+// when a and b are close (thin bands, the poles).
+inline double cosDifference(double a, double b) {
+  return 2.0 * std::sin(0.5 * (a + b)) * std::sin(0.5 * (b - a));
+}
+// cos(pi a) - cos(pi b) for latitudes given as v = theta / pi (DESIGN §3), likewise.
+inline double cosDifferenceOfV(double a, double b) {
+  return 2.0 * std::sin(0.5 * kPi * (a + b)) * std::sin(0.5 * kPi * (b - a));
+}
+
 // Exact solid angle of any texel in row y of a width x height lat-long map: 2*pi/W * (cos(theta0) -
 // cos(theta1)). Written as 2*sin((theta1+theta0)/2)*sin((theta1-theta0)/2) to avoid cancellation near the
 // poles.

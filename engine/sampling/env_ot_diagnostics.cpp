@@ -16,11 +16,6 @@
 namespace iblx {
 namespace {
 
-// 2 sin((a + b) / 2) sin((b - a) / 2) = cos(a) - cos(b), without cancellation for nearby a, b.
-double cosDifference(double a, double b) {
-  return 2.0 * std::sin(0.5 * (a + b)) * std::sin(0.5 * (b - a));
-}
-
 // The corners of cell `cell` of a vertex grid, counter-clockwise (quadGridCorners in quad_grid_map.glsl).
 void cellCorners(const QuadGridMap& map, std::size_t cell, glm::dvec2 corners[4]) {
   const std::size_t m = std::size_t(map.size()), i = cell % m, j = cell / m, v = j * (m + 1) + i;

@@ -15,11 +15,6 @@
 namespace iblx {
 namespace {
 
-// cos(pi a) - cos(pi b) without cancellation.
-double cosDifference(double a, double b) {
-  return 2.0 * std::sin(0.5 * kPi * (a + b)) * std::sin(0.5 * kPi * (b - a));
-}
-
 // A horizontal band of the parameter square inside one texel row and one OT density row, where both the
 // parameter's y and the texel's t.y are affine in cos(theta).
 struct Band {
@@ -36,7 +31,9 @@ double parameterOfLatitude(long long numerator, long long denominator, int n) {
   if (scaled % denominator == 0) return double(scaled / denominator) / n;
   const long long r = scaled / denominator;
   const double v = double(numerator) / double(denominator);
-  return (double(r) + cosDifference(double(r) / n, v) / cosDifference(double(r) / n, double(r + 1) / n)) / n;
+  return (double(r) +
+          cosDifferenceOfV(double(r) / n, v) / cosDifferenceOfV(double(r) / n, double(r + 1) / n)) /
+         n;
 }
 
 std::vector<Band> makeBands(int height, int n) {
@@ -60,9 +57,9 @@ std::vector<Band> makeBands(int height, int n) {
     band.wholeTexelRow = band.y0 == texelEdges[std::size_t(y)] && band.y1 == texelEdges[std::size_t(y) + 1];
     // cos(theta_y0) - cos(theta(p)) = [cos(theta_y0) - cos(theta_r0)] + (p n - r) [cos(theta_r0) -
     // cos(theta_r1)].
-    const double texelSpan = cosDifference(double(y) / height, double(y + 1) / height);
-    const double rowSpan = cosDifference(double(r) / n, double(r + 1) / n);
-    const double offset = cosDifference(double(y) / height, double(r) / n);
+    const double texelSpan = cosDifferenceOfV(double(y) / height, double(y + 1) / height);
+    const double rowSpan = cosDifferenceOfV(double(r) / n, double(r + 1) / n);
+    const double offset = cosDifferenceOfV(double(y) / height, double(r) / n);
     band.tyAt0 = (offset + (band.y0 * n - r) * rowSpan) / texelSpan;
     band.tyPerY = n * rowSpan / texelSpan;
     bands.push_back(band);

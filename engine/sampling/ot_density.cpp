@@ -38,16 +38,13 @@ std::vector<double> otDensityFromWeights(std::span<const double> weights, int wi
     }
   // Pass 2, along v: the share of texel row y's solid angle inside grid row r is (cos ta - cos tb) / (cos t0
   // - cos t1) over the overlap [ta, tb], exact for the nearest-texel radiance (dOmega = dphi dcos(theta)).
-  const auto cosDiff = [](double a, double b) {  // cos(pi a) - cos(pi b) without cancellation
-    return 2.0 * std::sin(0.5 * kPi * (a + b)) * std::sin(0.5 * kPi * (b - a));
-  };
   std::vector<double> density(std::size_t(n) * n, 0.0);
   for (int y = 0; y < height; ++y) {
-    const double v0 = double(y) / height, v1 = double(y + 1) / height, full = cosDiff(v0, v1);
+    const double v0 = double(y) / height, v1 = double(y + 1) / height, full = cosDifferenceOfV(v0, v1);
     for (int r = std::max(0, int(std::floor(v0 * n))); r < std::min(n, int(std::ceil(v1 * n))); ++r) {
       const double a = std::max(v0, double(r) / n), b = std::min(v1, double(r + 1) / n);
       if (b <= a) continue;
-      const double share = cosDiff(a, b) / full;
+      const double share = cosDifferenceOfV(a, b) / full;
       for (int c = 0; c < n; ++c) density[std::size_t(r) * n + c] += share * rows[std::size_t(y) * n + c];
     }
   }

@@ -56,6 +56,14 @@ TEST_CASE("--json of every command parses, with its keys") {
   const json render = jsonLines(scratch, "render --size 12x12 --spp 2 --passes 2 --json --reference --out " + out + ".exr")[0];
   CHECK(render["method"].is_string());
   CHECK(render["spp"] == 4);
+  // The 12x12 sphere: the pixel centres inside the unit disc (x^2 + y^2 < 1 on the image plane).
+  int inside = 0;
+  for (int j = 0; j < 12; ++j)
+    for (int i = 0; i < 12; ++i) {
+      const double x = 2.0 * (i + 0.5) / 12 - 1.0, y = 1.0 - 2.0 * (j + 0.5) / 12;
+      inside += x * x + y * y < 1.0 ? 1 : 0;
+    }
+  CHECK(render["object_pixels"] == inside);
   CHECK(render["samples_per_s"].is_number());
   CHECK(render["relmse"].is_number());
   CHECK(render["out"] == out + ".exr");

@@ -70,6 +70,21 @@ TEST_CASE("sphere_mapping: texel solid angles sum to 4 pi") {
   CHECK(latLongTexelSolidAngle(0, 8, 1) == doctest::Approx(4.0 * kPi / 8.0).epsilon(1e-14));
 }
 
+TEST_CASE("sphere_mapping: cos(a) - cos(b) without cancellation, in angles and in v") {
+  for (const auto& [a, b] :
+       {std::pair{0.0, kPi}, std::pair{0.3, 1.9}, std::pair{2.0, 0.5}, std::pair{1.0, 1.0}}) {
+    CHECK(cosDifference(a, b) == doctest::Approx(std::cos(a) - std::cos(b)).epsilon(1e-14).scale(1e-15));
+    CHECK(cosDifferenceOfV(a / kPi, b / kPi) ==
+          doctest::Approx(cosDifference(a, b)).epsilon(1e-14).scale(1e-15));
+  }
+  // A band one 8192-row texel wide at the pole: the plain difference keeps about half the digits.
+  const double a = 1e-4, b = a + kPi / 8192.0;
+  const long double la = a, lb = b;
+  const double exact = double(2.0L * std::sin(0.5L * (la + lb)) * std::sin(0.5L * (lb - la)));
+  CHECK(std::abs(cosDifference(a, b) - exact) <= 1e-14 * exact);
+  CHECK(std::abs((std::cos(a) - std::cos(b)) - exact) > 1e-12 * exact);
+}
+
 TEST_CASE("sphere_mapping: camera pixels and sphere normals") {
   // Odd square image: the centre pixel sees the sphere head-on.
   const auto centre = sphereNormalAt(pixelToImagePlane(32, 32, 65, 65));

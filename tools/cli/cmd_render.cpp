@@ -123,6 +123,7 @@ int cmdRender(const Args& args) {
                        {"device", context.deviceName()},
                        {"width", scene.gbuffer.width},
                        {"height", scene.gbuffer.height},
+                       {"object_pixels", scene.gbuffer.objectPixelCount()},
                        {"spp", renderer.samplesPerPixel()},
                        {"passes", passes},
                        {"gpu_s", gpuSeconds},
