@@ -15,6 +15,7 @@
 namespace iblx {
 namespace {
 constexpr uint32_t kMaxSamplesPerDispatch = 256;
+constexpr vk::DeviceSize kProductTableBudget = vk::DeviceSize(1) << 30;
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
@@ -44,17 +45,35 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   brdfTechniqueBuffers_ =
       uploadTables(context, brdfData, method.brdfTechnique ? method.brdfTechnique->name : "");
   const bool recording = mode == IntegratorMode::RecordPixel;
+  // A product strategy keeps its per-pixel tables across dispatches where the whole image's fit one buffer
+  // and kProductTableBudget (lavapipe's 128 MiB holds 256x256 pixels, 1 GiB 724x724); else each dispatch
+  // rebuilds them in private memory.
+  const vk::DeviceSize productTableBytes = vk::DeviceSize(scene.gbuffer.width) *
+                                           vk::DeviceSize(scene.gbuffer.height) * kProductTableStride *
+                                           sizeof(float);
+  const bool productTablesInBuffer = !recording && buildsProductTable(method.method->strategy) &&
+                                     productTableBytes <= context.limits().maxStorageBufferRange &&
+                                     productTableBytes <= kProductTableBudget;
+  if (productTablesInBuffer) productTables_ = Buffer(context, productTableBytes, "product tables");
   const std::string name = (recording ? "record samples " : "integrate ") + method.label();
-  const KernelParts parts =
-      integratorParts(scene, gpu_.brdfDataLayout, gpu_.chunking(), method, envData, brdfData, mode);
+  const KernelParts parts = integratorParts(scene, gpu_.brdfDataLayout, gpu_.chunking(), method, envData,
+                                            brdfData, mode, productTablesInBuffer);
   const auto spirv = compileKernel(compiler, parts, name);
   const auto brdfSet = gpu_.brdfSet(brdfTechniqueBuffers_);
   KernelLayout layout = sceneKernelLayout(uint32_t(envBuffers_.size()), uint32_t(brdfSet.size() - 1));
   if (recording) layout.buffersPerSet[0] = kSampleRecordBinding + 1;
+  if (productTablesInBuffer) layout.buffersPerSet[0] = kProductTableBinding + 1;
   kernel_ = std::make_unique<ComputeKernel>(context, spirv, layout, name);
   if (recording) {
     sampleRecords_ = Buffer(context, 0, "sample records");
     bindRecordingFrameSet();
+  } else if (productTablesInBuffer) {
+    const auto frame = gpu_.frameSet();
+    static_assert(std::tuple_size_v<decltype(frame)> == kProductTableBinding,
+                  "the tables follow the frame set");
+    std::vector<const Buffer*> set(frame.begin(), frame.end());
+    set.push_back(&productTables_);
+    kernel_->bindBuffers(0, set);
   } else {
     kernel_->bindBuffers(0, gpu_.frameSet());
   }

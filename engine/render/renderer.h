@@ -75,6 +75,9 @@ class Renderer {
   std::vector<Buffer> envBuffers_, brdfTechniqueBuffers_;
   IntegratorMode mode_;
   Buffer sampleRecords_;  // RecordPixel: one pass's records, grown with the samples per pass
+  // Image mode of a product strategy: every pixel's product table, kept across the dispatches of an
+  // accumulation (kProductTableBinding), when the image's tables fit one buffer; else empty.
+  Buffer productTables_;
   uint32_t recordX_ = 0, recordY_ = 0, lastPassSamples_ = 0;
   std::unique_ptr<ComputeKernel> kernel_;  // after the buffers its sets refer to: destroyed before them
   void bindRecordingFrameSet();            // set 0: the frame buffers, then sampleRecords_

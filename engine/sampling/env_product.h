@@ -31,7 +31,7 @@
 
 namespace iblx {
 
-inline constexpr uint32_t kEnvProductMaxNodes = 512;  // per-pixel tables: 512 floats of private memory
+inline constexpr uint32_t kEnvProductMaxNodes = 512;  // per-pixel tables: 512 floats per pixel
 inline constexpr double kEnvProductDefensive = 0.1;   // d: the env-hier share of every node's probability
 
 // The nodes a product strategy chooses among, a partition of env-hier's unit square u into rectangles, in one

@@ -2,6 +2,7 @@
 #include "engine/scene/kernel_prelude.h"
 
 #include "engine/core/error.h"
+#include "engine/sampling/env_product.h"
 #include "engine/scene/brdf_params.h"
 
 #include <regex>
@@ -124,9 +125,14 @@ std::vector<std::pair<std::string, std::string>> EnvChunking::defines() const {
           {"ENV_TEXELS_PER_CHUNK", std::to_string(texelsPerChunk) + "u"}};
 }
 
+static_assert(kProductTableStride == kEnvProductMaxNodes &&
+                  kEnvProductGridWidth * kEnvProductGridRows <= kProductTableStride,
+              "a pixel's product table holds every layout's nodes");
+
 KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, const EnvChunking& chunking,
                             const ResolvedMethod& method, const TechniqueData& envData,
-                            const TechniqueData& brdfTechniqueData, IntegratorMode mode) {
+                            const TechniqueData& brdfTechniqueData, IntegratorMode mode,
+                            bool productTablesInBuffer) {
   // The sequence, the env technique, the BRDF, the BRDF technique and the strategy, in that order.
   std::vector<std::string> parts{method.sequence->part};
   if (method.envTechnique) parts.push_back(method.envTechnique->part);
@@ -138,6 +144,12 @@ KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, c
     k.defines.emplace_back("IBLX_RECORD_SAMPLES", "1");
     k.defines.emplace_back("SAMPLE_RECORD_BINDING", std::to_string(kSampleRecordBinding));
     k.defines.emplace_back("SAMPLE_RECORD_DRAWS", std::to_string(method.drawsPerSample()) + "u");
+  }
+  if (productTablesInBuffer) {
+    if (mode != IntegratorMode::Image || !buildsProductTable(method.method->strategy))
+      throw Error("integratorParts: product tables in a buffer need a product strategy's image mode");
+    k.defines.emplace_back("PRODUCT_TABLE_BINDING", std::to_string(kProductTableBinding));
+    k.defines.emplace_back("PRODUCT_TABLE_STRIDE", std::to_string(kProductTableStride) + "u");
   }
   if (method.envTechnique)
     k.bindTables(kEnvTechniqueSet, 0, envData, "env technique " + method.envTechnique->name);

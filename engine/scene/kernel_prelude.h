@@ -67,6 +67,13 @@ KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf, const Tech
 // buffer at binding kSampleRecordBinding.
 enum class IntegratorMode { Image, RecordPixel };
 inline constexpr uint32_t kSampleRecordBinding = 8;
+// Image mode of a product strategy, when the image's tables fit one buffer (engine/render/renderer.cpp): the
+// per-pixel product tables, kProductTableStride floats per pixel, kept across the dispatches of an
+// accumulation in a set-0 buffer at this binding (RecordPixel mode puts its records there and rebuilds its
+// one pixel's table in private memory).
+inline constexpr uint32_t kProductTableBinding = 8;
+inline constexpr uint32_t kProductTableStride =
+    512;  // kEnvProductMaxNodes: every product layout's node count
 
 // How the environment's radiance is split over the frame's radiance tables (engine/render/scene_gpu.h): the
 // definitions every kernel that includes frame_resources.glsl gets.
@@ -80,7 +87,7 @@ struct EnvChunking {
 KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, const EnvChunking& chunking,
                             const ResolvedMethod& method, const TechniqueData& envData,
                             const TechniqueData& brdfTechniqueData,
-                            IntegratorMode mode = IntegratorMode::Image);
+                            IntegratorMode mode = IntegratorMode::Image, bool productTablesInBuffer = false);
 KernelParts referenceParts(const Scene& scene, const TechniqueData& brdfData, const EnvChunking& chunking);
 
 }  // namespace iblx

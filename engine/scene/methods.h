@@ -90,6 +90,10 @@ struct SequenceInfo {
 // uniform grid of the env technique's unit square (warp composition): env-hier's (product-warp) or env-ot's
 // (product-warp-ot, engine/sampling/env_ot_product.h).
 enum class Strategy { SingleEnv, SingleBrdf, Mis, Ris, Product, ProductMis, ProductWarp };
+// The strategies that build a per-pixel product table (shaders/lib/product_sampling.glsl).
+inline bool buildsProductTable(Strategy s) {
+  return s == Strategy::Product || s == Strategy::ProductMis || s == Strategy::ProductWarp;
+}
 
 struct MethodInfo {
   std::string name;

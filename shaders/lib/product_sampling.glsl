@@ -9,7 +9,12 @@
 // productPrepare(s), once per shading point: weights w_j = (1 - d) E_j F_j / sum_k E_k F_k + d E_j over the
 // level's nodes (E_j the node's env-hier probability, F_j = mean_rgb(f) cos at the node's direction closest to
 // the mirror direction of wo, d = PRODUCT_DEFENSIVE),
-// kept as running sums per row (gProductColumnSums) and over rows (gProductRowSums). productSample chooses a row
+// kept as running sums per row (gProductColumnSums) and over rows (gProductRowSums). With PRODUCT_TABLE_BINDING
+// (the host's choice when the image's tables fit one buffer: engine/render/renderer.cpp) the first dispatch
+// after a restart (frame.sampleOffset 0) also stores a pixel's column sums in a per-pixel buffer, and every
+// later dispatch of the accumulation copies them back instead of evaluating the BRDF at every node again (once
+// per accumulation, not once per dispatch of at most 256 samples). Sampling reads the private copy: on lavapipe
+// a storage-buffer load per step of the scans below cost more than the copy. productSample chooses a row
 // by u.y and a node in it by u.x, rescales u inside the choice, fills the node's rectangle in u with it and lets
 // env-hier's descent (envSample) finish, so pdf = P(j) / E_j * p_env-hier, with P(j) computed from the same
 // sums in sampling and in productPdf.
@@ -79,6 +84,11 @@ vec4 productNodeMapUv(uint j) {
 const uint kProductNodes = PRODUCT_NODES_X * PRODUCT_NODES_Y;
 float gProductColumnSums[kProductNodes];  // per row: inclusive running sums of the weights
 float gProductRowSums[PRODUCT_NODES_Y];   // inclusive running sums of the row totals
+#ifdef PRODUCT_TABLE_BINDING
+// PRODUCT_TABLE_STRIDE floats per pixel, pixels row-major: integrate.comp's invocation (x, y) shades pixel
+// (x, y) in the image mode that binds this buffer.
+layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING) buffer ProductTableData { float productTables[]; };
+#endif
 
 float productNodeArea(uint j) {
   vec4 r = productNodeRect(j);
@@ -95,7 +105,7 @@ vec3 productNodeDirection(vec3 centre, float cosRadius, vec3 towards) {
   return centre * cosRadius + tangent * (sqrt(max(0.0, 1.0 - cosRadius * cosRadius)) / len);
 }
 
-void productPrepare(Shading s) {
+void productBuildTable(Shading s) {
   float sumEF = 0.0;
   vec3 mirror = vec3(-s.woLocal.xy, s.woLocal.z);  // the mirror direction of wo about n, local frame
   [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) {
@@ -113,7 +123,6 @@ void productPrepare(Shading s) {
   }
   float envShare = sumEF > 0.0 && !isinf(sumEF) ? PRODUCT_DEFENSIVE : 1.0;
   float productScale = envShare < 1.0 ? (1.0 - envShare) / sumEF : 0.0;
-  float rows = 0.0;
   [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {
     float running = 0.0;
     [[dont_unroll]] for (uint x = 0u; x < PRODUCT_NODES_X; ++x) {
@@ -121,7 +130,25 @@ void productPrepare(Shading s) {
       running += productScale * gProductColumnSums[j] + envShare * productNodeArea(j);
       gProductColumnSums[j] = running;
     }
-    rows += running;
+  }
+}
+
+void productPrepare(Shading s) {
+#ifdef PRODUCT_TABLE_BINDING
+  uvec2 pixel = gl_GlobalInvocationID.xy;
+  uint stored = (pixel.y * frame.width + pixel.x) * PRODUCT_TABLE_STRIDE;
+  if (frame.sampleOffset == 0u) {
+    productBuildTable(s);
+    [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) productTables[stored + j] = gProductColumnSums[j];
+  } else {
+    [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) gProductColumnSums[j] = productTables[stored + j];
+  }
+#else
+  productBuildTable(s);
+#endif
+  float rows = 0.0;
+  [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {
+    rows += gProductColumnSums[y * PRODUCT_NODES_X + PRODUCT_NODES_X - 1u];
     gProductRowSums[y] = rows;
   }
 }

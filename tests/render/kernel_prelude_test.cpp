@@ -108,4 +108,26 @@ TEST_CASE(
   CHECK(contains(prelude, "#include \"strategy/mis.glsl\"\n"));
 }
 
+TEST_CASE(
+    "a product strategy's image kernel may keep its per-pixel tables in a set-0 buffer; others may not") {
+  Scene scene;
+  scene.brdf = std::make_shared<const BrdfInfo>(findBrdf("ggx"));
+  const EnvImage env = constantEnv(8, 4, 1.0f);
+  MethodSpec spec;
+  spec.method = "product";
+  const ResolvedMethod product = resolveMethod(spec, *scene.brdf);
+  const TechniqueData envData = product.method->envData(env);
+  const auto prelude = [&](const ResolvedMethod& m, IntegratorMode mode, bool inBuffer) {
+    return assemblePrelude(integratorParts(scene, {}, EnvChunking{1, 32}, m, envData, {}, mode, inBuffer));
+  };
+  const std::string kept = prelude(product, IntegratorMode::Image, true);
+  CHECK(contains(kept, "#define PRODUCT_TABLE_BINDING " + std::to_string(kProductTableBinding) + "\n"));
+  CHECK(contains(kept, "#define PRODUCT_TABLE_STRIDE 512u\n"));
+  CHECK(!contains(prelude(product, IntegratorMode::Image, false), "PRODUCT_TABLE_BINDING"));
+  // Recording puts its records at that binding and rebuilds its one pixel's table.
+  CHECK_THROWS_AS(prelude(product, IntegratorMode::RecordPixel, true), Error);
+  spec.method = "env-hier";
+  CHECK_THROWS_AS(prelude(resolveMethod(spec, *scene.brdf), IntegratorMode::Image, true), Error);
+}
+
 }  // namespace iblx
