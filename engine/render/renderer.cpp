@@ -64,19 +64,8 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   if (recording) layout.buffersPerSet[0] = kSampleRecordBinding + 1;
   if (productTablesInBuffer) layout.buffersPerSet[0] = kProductTableBinding + 1;
   kernel_ = std::make_unique<ComputeKernel>(context, spirv, layout, name);
-  if (recording) {
-    sampleRecords_ = Buffer(context, 0, "sample records");
-    bindRecordingFrameSet();
-  } else if (productTablesInBuffer) {
-    const auto frame = gpu_.frameSet();
-    static_assert(std::tuple_size_v<decltype(frame)> == kProductTableBinding,
-                  "the tables follow the frame set");
-    std::vector<const Buffer*> set(frame.begin(), frame.end());
-    set.push_back(&productTables_);
-    kernel_->bindBuffers(0, set);
-  } else {
-    kernel_->bindBuffers(0, gpu_.frameSet());
-  }
+  if (recording) sampleRecords_ = Buffer(context, 0, "sample records");
+  bindFrameSet();
   std::vector<const Buffer*> env;
   for (const auto& b : envBuffers_) env.push_back(&b);
   kernel_->bindBuffers(2, env);
@@ -84,11 +73,16 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   setupSeconds_ = since(created_);
 }
 
-void Renderer::bindRecordingFrameSet() {
+void Renderer::bindFrameSet() {
   const auto frame = gpu_.frameSet();
-  static_assert(std::tuple_size_v<decltype(frame)> == kSampleRecordBinding, "records follow the frame set");
+  static_assert(std::tuple_size_v<decltype(frame)> == kSampleRecordBinding &&
+                    kSampleRecordBinding == kProductTableBinding,
+                "the records or the product tables follow the frame set");
   std::vector<const Buffer*> set(frame.begin(), frame.end());
-  set.push_back(&sampleRecords_);
+  if (mode_ == IntegratorMode::RecordPixel)
+    set.push_back(&sampleRecords_);
+  else if (productTables_.size() > 0)
+    set.push_back(&productTables_);
   kernel_->bindBuffers(0, set);
 }
 
@@ -180,7 +174,7 @@ PassTiming Renderer::runPass(uint32_t samplesPerPass) {
         vk::DeviceSize(samplesPerPass) * method_.drawsPerSample() * sizeof(gpu::SampleRecord);
     if (sampleRecords_.size() < recordBytes) {
       sampleRecords_ = Buffer(context_, recordBytes, "sample records");
-      bindRecordingFrameSet();
+      bindFrameSet();
     }
     params.recordPixelX = recordX_;
     params.recordPixelY = recordY_;

@@ -80,7 +80,7 @@ class Renderer {
   Buffer productTables_;
   uint32_t recordX_ = 0, recordY_ = 0, lastPassSamples_ = 0;
   std::unique_ptr<ComputeKernel> kernel_;  // after the buffers its sets refer to: destroyed before them
-  void bindRecordingFrameSet();            // set 0: the frame buffers, then sampleRecords_
+  void bindFrameSet();  // set 0: the frame buffers, then sampleRecords_ or productTables_ when in use
   TimestampPair timestamps_;
   uint64_t samplesPerPixel_ = 0;
   uint32_t seed_ = 1;

@@ -198,6 +198,15 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
   const auto properties = physicalDevice_.getProperties();
   deviceName_ = properties.deviceName.data();
   limits_ = properties.limits;
+  // IBLX_MAX_BUFFER_MIB: behave as a device whose largest storage buffer holds that many MiB, so what a
+  // smaller device does (a table split or refused, a method skipped) can be seen and tested on any device.
+  if (const char* cap = std::getenv("IBLX_MAX_BUFFER_MIB")) {
+    char* end = nullptr;
+    const unsigned long mib = std::strtoul(cap, &end, 10);
+    if (end == cap || *end != '\0' || mib == 0 || mib > 4095)
+      throw Error("IBLX_MAX_BUFFER_MIB='" + std::string(cap) + "': use a whole number of MiB from 1 to 4095");
+    limits_.maxStorageBufferRange = std::min(limits_.maxStorageBufferRange, uint32_t(mib) << 20);
+  }
   timestampPeriodNs_ = properties.limits.timestampPeriod;
   hasTimestamps_ = physicalDevice_.getQueueFamilyProperties()[queueFamily_].timestampValidBits > 0 &&
                    properties.limits.timestampComputeAndGraphics;

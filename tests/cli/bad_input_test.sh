@@ -370,6 +370,16 @@ lines=$(wc -l < "$tmp/int/converge.csv" 2>/dev/null || echo 0)
 [ $status -eq 130 ] && [ "$lines" -gt 1 ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: Ctrl-C: exit $status, $lines CSV lines"; }
 expect_ok "hardcases quick" hardcases --case zero-half --quick --method env-cdf --seq sobol --max-spp 64 --out-dir "$tmp/hard"
 [ -s "$tmp/hard/hardcases.md" ] && [ -s "$tmp/hard/zero-half.csv" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: hardcases wrote no report"; }
+# A case where every method asked for is skipped at a device limit (here a 1 MiB buffer cap) is reported as such,
+# and the next case still runs.
+out=$(IBLX_MAX_BUFFER_MIB=1 "$iblx" hardcases --case sun-1e3 --case zero-half --method env-ot --seq sobol --max-spp 32 2>&1)
+if [ "$(grep -c "Nothing ran on" <<< "$out")" -eq 2 ] && grep -q "needs 3 MiB, more than this device's largest storage buffer (1 MiB)" <<< "$out" \
+  && grep -q "every method that ran passed; 2 skipped at a device limit" <<< "$out"; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: hardcases with every method skipped: $out"
+fi
+IBLX_MAX_BUFFER_MIB=lots expect_error "buffer cap not a number" "IBLX_MAX_BUFFER_MIB='lots': use a whole number of MiB from 1 to 4095" render --size 8x8 --out "$tmp/cap.png"
 
 # otmap: a missing map, a grid size out of range or an output that is not a PNG names the culprit; nothing is
 # written.
