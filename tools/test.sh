@@ -15,9 +15,9 @@ jobs=${IBLX_JOBS:-$(nproc)}
 # assertions on), so that a memory error, a leak or undefined behaviour fails the run: -fno-sanitize-recover
 # makes UB abort, and ASan halts on its first report. CPU only: the GPU suites run their kernels in lavapipe,
 # which is not instrumented, and would take many times the suite's budget under ASan. All of the CPU suites
-# run: under ASan they take about 45 s here, so no test case needs to be left out. The short run replays 1000
-# mutated inputs per target (2000 in the Release build), as each ASan run of OpenEXR's header allocations
-# costs a few milliseconds.
+# run, two at a time: under ASan they take about 65 s here (87 s one after another), so no test case needs to
+# be left out. The short run replays 1000 mutated inputs per target (2000 in the Release build), as each ASan
+# run of OpenEXR's header allocations costs a few milliseconds.
 sanitizer_stage() {
   local started=$SECONDS
   # Chained: `set -e` does not apply inside a function called as `sanitizer_stage || ...`.
@@ -25,7 +25,7 @@ sanitizer_stage() {
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DIBLX_FUZZ_SHORT_ITERATIONS=1000 > /dev/null &&
     cmake --build build-asan -j"$jobs" &&
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-      ctest --test-dir build-asan --output-on-failure --timeout 900 || return 1
+      ctest --test-dir build-asan -j"$jobs" --output-on-failure --timeout 900 || return 1
   echo "iblx: sanitizer stage passed in $((SECONDS - started)) s"
 }
 
@@ -37,6 +37,7 @@ fi
 bash tools/install.sh --no-render
 status=0
 # Validation layers check every GPU test's Vulkan usage when installed (a validation error fails the test).
-IBLX_VALIDATION=1 ctest --test-dir build --output-on-failure --timeout 1500 || status=1
+# The suites that render take turns (their RESOURCE_LOCK, tests/CMakeLists.txt); the CPU suites run beside them.
+IBLX_VALIDATION=1 ctest --test-dir build -j"$jobs" --output-on-failure --timeout 1500 || status=1
 sanitizer_stage || status=1
 exit $status
