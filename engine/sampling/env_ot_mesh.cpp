@@ -296,8 +296,7 @@ EnvOtData buildEnvOtMesh(std::span<const double> weights, int width, int height,
 EnvOtData buildEnvOt(const EnvImage& image) {
   const EnvOtMaps maps = solveEnvOtMaps(image, envOtGridSize(image));
   const QuadGridMap inverse = tabulatedInverse(forwardMap(maps.map), maps.map.n);
-  EnvOtData d = buildEnvOtMesh(maps.weights, image.width, image.height, maps.sun, inverse, maps.map.n);
-  return d;
+  return buildEnvOtMesh(maps.weights, image.width, image.height, maps.sun, inverse, maps.map.n);
 }
 
 EnvOtSampler::EnvOtSampler(EnvOtData data) : data_(std::move(data)) {

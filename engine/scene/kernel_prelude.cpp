@@ -2,7 +2,6 @@
 #include "engine/scene/kernel_prelude.h"
 
 #include "engine/core/error.h"
-#include "engine/sampling/env_product.h"
 #include "engine/scene/brdf_params.h"
 
 #include <regex>
@@ -125,8 +124,7 @@ std::vector<std::pair<std::string, std::string>> EnvChunking::defines() const {
           {"ENV_TEXELS_PER_CHUNK", std::to_string(texelsPerChunk) + "u"}};
 }
 
-static_assert(kProductTableStride == kEnvProductMaxNodes &&
-                  kEnvProductGridWidth * kEnvProductGridRows <= kProductTableStride,
+static_assert(kEnvProductGridWidth * kEnvProductGridRows <= kProductTableStride,
               "a pixel's product table holds every layout's nodes");
 
 KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, const EnvChunking& chunking,

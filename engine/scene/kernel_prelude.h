@@ -4,6 +4,7 @@
 // prelude is engine/render/kernel_assembly.h's.
 #pragma once
 
+#include "engine/sampling/env_product.h"
 #include "engine/sampling/technique_data.h"
 #include "engine/scene/scene.h"
 
@@ -72,8 +73,7 @@ inline constexpr uint32_t kSampleRecordBinding = 8;
 // accumulation in a set-0 buffer at this binding (RecordPixel mode puts its records there and rebuilds its
 // one pixel's table in private memory).
 inline constexpr uint32_t kProductTableBinding = 8;
-inline constexpr uint32_t kProductTableStride =
-    512;  // kEnvProductMaxNodes: every product layout's node count
+inline constexpr uint32_t kProductTableStride = kEnvProductMaxNodes;  // every product layout's node count
 
 // How the environment's radiance is split over the frame's radiance tables (engine/render/scene_gpu.h): the
 // definitions every kernel that includes frame_resources.glsl gets.

@@ -68,6 +68,14 @@ int cmdHardCases(const Args& args) {
       "by MSE at equal time; click a column's header to sort by it.");
   int failures = 0, skippedRuns = 0;
   InterruptGuard interrupt;
+  // A case that could not run (a device limit): its heading and why, on the terminal and in both reports.
+  const auto reportNotRun = [&](const std::string& name, const std::string& why) {
+    const std::string note = "### " + name + "\n\n" + why + "\n";
+    if (!render.json) std::printf("%s\n", note.c_str());
+    markdown << note << "\n";
+    report.heading(name);
+    report.paragraph(why);
+  };
   for (const auto& name : caseNames) {
     const HardCase& hardCase = findHardCase(name);
     const Scene scene = makeHardCaseScene(hardCase, quick ? HardCaseSize::Test : HardCaseSize::Full);
@@ -89,12 +97,7 @@ int cmdHardCases(const Args& args) {
                               showProgress, &interrupt.flag());
     } catch (const DeviceLimitError& e) {
       endProgressLine();
-      const std::string note =
-          "### " + name + "\n\nSkipped on " + context.deviceName() + ": " + e.what() + "\n";
-      std::printf("%s\n", note.c_str());
-      markdown << note << "\n";
-      report.heading(name);
-      report.paragraph(std::string("Skipped on ") + context.deviceName() + ": " + e.what());
+      reportNotRun(name, "Skipped on " + context.deviceName() + ": " + e.what());
       continue;
     }
     endProgressLine();
@@ -102,20 +105,15 @@ int cmdHardCases(const Args& args) {
     skippedRuns += int(result.skipped.size());
     if (result.runs.empty()) {
       // Every method asked for was skipped (a table above a device limit): say which and why, and go on.
-      std::string note = "### " + name + "\n\n" + hardCase.description + ". Nothing ran on " +
-                         context.deviceName() + ":\n\n";
+      std::string why = hardCase.description + ". Nothing ran on " + context.deviceName() + ":\n";
       for (const auto& skipped : result.skipped)
-        note.append("- ")
+        why.append("\n- ")
             .append(skipped.method)
             .append("/")
             .append(skipped.sequence)
             .append(": ")
-            .append(skipped.reason)
-            .append("\n");
-      if (!render.json) std::printf("%s\n", note.c_str());
-      markdown << note << "\n";
-      report.heading(name);
-      report.paragraph(note.substr(note.find("\n\n") + 2));
+            .append(skipped.reason);
+      reportNotRun(name, why);
       continue;
     }
     if (!outDir.empty()) writeConvergenceCsv(outDir / (name + ".csv"), result.runs);
