@@ -12,6 +12,8 @@ packages=(build-essential cmake ninja-build pkg-config
           libopenblas0-pthread  # their fast kernels; the OT solver figures in docs/ were measured with it
           libglfw3-dev libimgui-dev xvfb xauth  # the viewer, and its test under Xvfb
           nlohmann-json3-dev  # every --json output (engine/core/json_output.h)
+          libtomlplusplus-dev  # the plan files of `iblx study`
+          slurmctld slurmd slurm-client munge  # tests/cli/slurm_study_test.sh: a one-node Slurm cluster
           chromium  # the report.html test: the page loaded in a real browser, headless
           clang-14 libclang-rt-14-dev  # tools/fuzz.sh: libFuzzer (the sanitizer stage uses gcc's ASan/UBSan)
           blender-data)  # the CC0 HDRIs of tools/results.sh and the OT benchmarks (studiolights/world/*.exr)

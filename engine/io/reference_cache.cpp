@@ -4,10 +4,13 @@
 #include "engine/core/cache_file.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
+#include "engine/core/file_lock.h"
+#include "engine/core/log.h"
 #include "engine/io/env_image.h"
 #include "engine/io/image_write.h"
 
 #include <cmath>
+#include <optional>
 #include <cstdio>
 #include <string>
 
@@ -52,6 +55,49 @@ void writeReferenceCacheFile(const std::filesystem::path& path, int width, int h
   if (const std::string bad = width > 0 ? firstNonFinitePixel(rgb, width) : ""; !bad.empty())
     throw Error("not caching " + path.string() + ": the ground truth holds " + bad);
   writeSealedCacheFile(path, encodeExr(width, height, rgb));
+}
+
+namespace {
+
+// The valid entry at path, or nothing (a missing one silently, a damaged one with a warning).
+std::optional<std::vector<float>> readValidEntry(const std::filesystem::path& path, int width, int height) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return std::nullopt;
+  // Validated like any input: a torn, damaged, mis-sized or non-finite entry would poison every error
+  // measured against it, so it is reported and computed again.
+  try {
+    return readReferenceCacheFile(path, width, height);
+  } catch (const Error& e) {
+    warn("ignoring the cached ground truth " + std::string(e.what()) + "; computing it again");
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
+std::vector<float> readOrComputeCached(const std::filesystem::path& path, int width, int height,
+                                       const std::function<std::vector<float>()>& compute, bool* fromCache) {
+  if (fromCache) *fromCache = true;
+  if (auto cached = readValidEntry(path, width, height)) return std::move(*cached);
+  std::optional<FileLock> lock;
+  try {
+    lock.emplace(std::filesystem::path(path.string() + ".lock"),
+                 "the ground truth " + path.filename().string());
+  } catch (const Error& e) {  // a read-only cache still serves what it holds; the image is computed here
+    warn(std::string(e.what()) + "; computing the ground truth without sharing it");
+  }
+  // Another process may have stored it while this one waited for the lock.
+  if (lock)
+    if (auto cached = readValidEntry(path, width, height)) return std::move(*cached);
+  if (fromCache) *fromCache = false;
+  std::vector<float> rgb = compute();
+  try {
+    // Sealed and written under a temporary name, then renamed: a concurrent reader never sees half a file.
+    writeReferenceCacheFile(path, width, height, rgb);
+  } catch (const std::exception& e) {
+    warn("cannot store the ground truth in the cache: " + std::string(e.what()));
+  }
+  return rgb;
 }
 
 }  // namespace iblx

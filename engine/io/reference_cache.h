@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -18,5 +19,12 @@ std::vector<float> readReferenceCacheFile(const std::filesystem::path& path, int
 // cannot be written, or when the image holds a non-finite value (such an image is not worth keeping).
 void writeReferenceCacheFile(const std::filesystem::path& path, int width, int height,
                              std::span<const float> rgb);
+
+// The image cached at path when there is a valid one (a damaged entry is reported and replaced), else
+// compute()'s, stored there. Computing and storing hold a lock beside the entry (PATH.lock,
+// engine/core/file_lock.h): processes that share the cache directory, on one machine or on the machines of
+// a cluster, compute each ground truth once; the others wait and read it. `fromCache` says which happened.
+std::vector<float> readOrComputeCached(const std::filesystem::path& path, int width, int height,
+                                       const std::function<std::vector<float>()>& compute, bool* fromCache);
 
 }  // namespace iblx

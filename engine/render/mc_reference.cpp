@@ -79,32 +79,27 @@ ReferenceImage cachedMcReference(const VulkanContext& context, ShaderCompiler& c
   std::vector<float> halves[2];
   const std::uint32_t seeds[2] = {options.seedA, options.seedB};
   for (int h = 0; h < 2; ++h) {
-    const auto path = cacheDir.empty() ? std::filesystem::path()
-                                       : cacheDir / "references" /
-                                             (hexKey(halfKey(scene, method, options.seconds, seeds[h])) + ".exr");
-    std::error_code ec;
-    if (!path.empty() && std::filesystem::exists(path, ec)) {
-      try {
-        halves[h] = readReferenceCacheFile(path, width, height);
-        continue;
-      } catch (const Error& e) {
-        warn("ignoring the cached ground truth " + std::string(e.what()) + "; rendering it again");
-      }
-    }
-    allCached = false;
+    const auto path =
+        cacheDir.empty()
+            ? std::filesystem::path()
+            : cacheDir / "references" / (hexKey(halfKey(scene, method, options.seconds, seeds[h])) + ".exr");
     std::function<void(double)> progress;
     if (options.progress) progress = [&options, h](double f) { options.progress(0.5 * h + 0.5 * f); };
-    halves[h] = renderHalf(context, compiler, scene, method, seeds[h], 0.5 * options.seconds, progress);
-    if (path.empty()) continue;
-    try {
-      writeReferenceCacheFile(path, width, height, halves[h]);
-    } catch (const std::exception& e) {
-      warn("cannot store the ground truth in the cache " + cacheDir.string() + ": " + e.what());
+    const auto render = [&] {
+      return renderHalf(context, compiler, scene, method, seeds[h], 0.5 * options.seconds, progress);
+    };
+    if (path.empty()) {
+      halves[h] = render();
+      continue;
     }
+    bool cached = false;
+    halves[h] = readOrComputeCached(path, width, height, render, &cached);
+    allCached = allCached && cached;
   }
   if (fromCache) *fromCache = allCached;
-  return combine(scene, halves[0], halves[1],
-                 allCached ? 0.0 : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return combine(
+      scene, halves[0], halves[1],
+      allCached ? 0.0 : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 }  // namespace iblx

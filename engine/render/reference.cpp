@@ -110,8 +110,8 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
       const double k = energies[i] >= brightEnergy ? std::max(kCommon, double(brightFine)) : kCommon;
       // A row started in the run adds its own loop iterations (the row loop and its two column ranges).
       const double cost = 1.0 + k * k + (i % std::size_t(W) == 0 ? 3.0 : 0.0);
-      if (i > begin &&
-          (iterations + cost > kIterationBudget || (iterations + cost) * workPerIteration > options.maxWorkPerDispatch)) {
+      if (i > begin && (iterations + cost > kIterationBudget ||
+                        (iterations + cost) * workPerIteration > options.maxWorkPerDispatch)) {
         runs.emplace_back(begin, uint32_t(i));
         begin = uint32_t(i);
         iterations = 0;
@@ -171,26 +171,18 @@ ReferenceImage cachedReference(const VulkanContext& context, ShaderCompiler& com
   if (fromCache) *fromCache = false;
   if (cacheDir.empty()) return computeReference(context, compiler, scene, options);
   const auto path = cacheDir / "references" / (hexKey(referenceKey(scene, options)) + ".exr");
-  const int width = scene.gbuffer.width, height = scene.gbuffer.height;
-  std::error_code ec;
-  if (std::filesystem::exists(path, ec)) {
-    // Validated like any input (engine/io/reference_cache.h): a torn, damaged, mis-sized or non-finite entry
-    // would poison every error measured against it, so it is reported and computed again.
-    try {
-      std::vector<float> rgb = readReferenceCacheFile(path, width, height);
-      if (fromCache) *fromCache = true;
-      return {width, height, std::move(rgb), 0.0, 0};
-    } catch (const Error& e) {
-      warn("ignoring the cached ground truth " + std::string(e.what()) + "; computing it again");
-    }
-  }
-  ReferenceImage reference = computeReference(context, compiler, scene, options);
-  try {
-    // Sealed and written under a temporary name, then renamed: a concurrent reader never sees half a file.
-    writeReferenceCacheFile(path, reference.width, reference.height, reference.rgb);
-  } catch (const std::exception& e) {
-    warn("cannot store the ground truth in the cache " + cacheDir.string() + ": " + e.what());
-  }
+  ReferenceImage reference{scene.gbuffer.width, scene.gbuffer.height, {}, 0.0, 0};
+  bool cached = false;
+  reference.rgb = readOrComputeCached(
+      path, reference.width, reference.height,
+      [&] {
+        ReferenceImage computed = computeReference(context, compiler, scene, options);
+        reference.seconds = computed.seconds;
+        reference.fineSubdivisions = computed.fineSubdivisions;
+        return std::move(computed.rgb);
+      },
+      &cached);
+  if (fromCache) *fromCache = cached;
   return reference;
 }
 

@@ -6,11 +6,10 @@
 #include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "engine/io/image_write.h"
-#include "engine/render/scene_gpu.h"
-#include "engine/scene/brdf_params.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/converge_figures.h"
+#include "tools/cli/converge_scene.h"
 #include "tools/cli/measurement.h"
 #include "tools/cli/report_html.h"
 
@@ -33,19 +32,14 @@ std::string budgetText(const ConvergenceBudget& budget) {
 }  // namespace
 
 int cmdConverge(const Args& args) {
-  RenderSpec render;
-  MeasurementSpec spec;
-  std::string caseName;
+  ConvergeSceneFlags flags;
+  RenderSpec& render = flags.render;
+  const MeasurementSpec& spec = flags.spec;
   std::filesystem::path outDir = "converge";
   double targetRelMse = 1e-3;
   bool plots = true;
   ArgParser parser("converge");
-  addSceneFlags(parser, render);
-  parser.value("--case", "NAME",
-               "a scene of the hard-case suite instead of --env/--brdf/... (see `iblx hardcases --list`)",
-               [&](const std::string& v) { caseName = findHardCase(v).name; });
-  addMeasurementFlags(parser, spec);
-  addReferenceFlags(parser, spec);
+  addConvergeSceneFlags(parser, flags);
   addDeviceFlags(parser, render);
   parser.value("--target-relmse", "X", "the error whose time to reach is reported (default 1e-3)",
                [&](const std::string& v) { targetRelMse = parseDouble("--target-relmse", v, 1e-12, 1e6); });
@@ -54,29 +48,16 @@ int cmdConverge(const Args& args) {
   parser.toggle("--no-plots", "write no PNG figures", [&] { plots = false; });
   parser.toggle("--json", "print the summary as one JSON object per method instead of the table",
                 [&] { render.json = true; });
-  // Whether --size was given, in whatever spelling the parser accepts: no size until it sets one.
-  render.scene.width = render.scene.height = 0;
   if (parser.parseOrShowHelp(args)) return 0;
-  const bool sizeGiven = render.scene.width != 0;
-  if (!sizeGiven) render.scene.width = SceneSpec{}.width, render.scene.height = SceneSpec{}.height;
+  finishConvergeSceneFlags(flags);
 
   // Everything a user can get wrong is checked before anything heavy.
-  const HardCase* hardCase = caseName.empty() ? nullptr : &findHardCase(caseName);
+  const HardCase* hardCase = flags.hardCase();
   const ConvergenceBudget budget = spec.finalBudget();
-  LoadedBrdf brdf = loadBrdfArgument(hardCase ? hardCase->scene.brdf : render.scene.brdf);
-  resolveParams(*brdf.info, hardCase ? hardCase->scene.params : render.scene.params);
-  resolveMethods(spec, *brdf.info);  // an asked-for method that does not apply to the BRDF
+  LoadedBrdf brdf = checkConvergeScene(flags);
 
   VulkanContext context({render.device, render.validation ? Validation::On : Validation::Auto});
-  Scene scene = [&] {
-    if (!hardCase) return loadSceneFor(context, render.scene, std::move(brdf));
-    HardCase sized = *hardCase;
-    if (sizeGiven) {  // a hard case's own size fits every device
-      checkImageFitsDevice(context, render.scene.width, render.scene.height);
-      sized.scene.width = render.scene.width, sized.scene.height = render.scene.height;
-    }
-    return makeHardCaseScene(sized);
-  }();
+  Scene scene = loadConvergeScene(context, flags, std::move(brdf));
   const std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene.brdf);
   const std::vector<std::uint32_t> seeds = seedList(spec);
   ShaderCompiler compiler;
@@ -88,10 +69,7 @@ int cmdConverge(const Args& args) {
   if (!std::filesystem::is_directory(outDir))
     throw Error("--out-dir " + outDir.string() + ": cannot create it");
 
-  const std::string sceneTitle =
-      (hardCase ? "case " + hardCase->name + ", " : std::string()) + scene.brdf->name + ", env " +
-      std::to_string(scene.env.width) + "x" + std::to_string(scene.env.height) + ", " +
-      std::to_string(scene.gbuffer.width) + "x" + std::to_string(scene.gbuffer.height);
+  const std::string sceneTitle = convergeSceneTitle(flags, scene);
   std::fprintf(stderr, "converge: %zu methods x %zu seeds on %s (%s)\n", methods.size(), seeds.size(),
                context.deviceName().c_str(), sceneTitle.c_str());
   ConvergenceResult result;
@@ -161,10 +139,10 @@ int cmdConverge(const Args& args) {
     std::size_t nulls = 0;
     std::fputs(formatSummaryJson(summary, &nulls).c_str(), stdout);
     if (nulls > 0)
-      warn(std::to_string(nulls) + " figures are null in the JSON: not measured (a target never reached, an "
-                                   "equal time beyond a run)");
-  }
-  else
+      warn(std::to_string(nulls) +
+           " figures are null in the JSON: not measured (a target never reached, an "
+           "equal time beyond a run)");
+  } else
     std::printf("%s\nwrote %s: converge.csv, summary.md, report.html, reference.exr and %zu figures\n",
                 table.c_str(), outDir.string().c_str(), figureCount);
   for (const auto& row : summary.rows)

@@ -20,6 +20,7 @@ constexpr const char* kUsage =
     "  reference   compute the ground truth of a scene (deterministic convolution) to .exr\n"
     "  bench       samples per second of every method on one scene\n"
     "  converge    error against spp and time of methods on one scene: CSV, summary table, PNG plots\n"
+    "  study       many converge runs from a plan file: listed, sharded over tasks, resumed, merged\n"
     "  hardcases   the hard-case suite: every method on each hard scene, checked and ranked\n"
     "  samples     one pixel's samples as the integrator draws them (direction, uv, pdf, weight) to CSV\n"
     "  otmap       solve (or read from the cache) an environment's OT map; report it, draw its warped grid\n"
@@ -32,6 +33,24 @@ constexpr const char* kUsage =
 
 }  // namespace
 
+int iblx::cli::runCommand(const std::string& command, const Args& args) {
+  if (command == "render") return cmdRender(args);
+  if (command == "view") return cmdView(args);
+  if (command == "reference") return cmdReference(args);
+  if (command == "bench") return cmdBench(args);
+  if (command == "converge") return cmdConverge(args);
+  if (command == "study") return cmdStudy(args);
+  if (command == "hardcases") return cmdHardCases(args);
+  if (command == "samples") return cmdSamples(args);
+  if (command == "otmap") return cmdOtMap(args);
+  if (command == "devices") return cmdDevices(args);
+  if (command == "make-sky") return cmdMakeSky(args);
+  if (command == "make-teapot") return cmdMakeTeapot(args);
+  if (command == "merl-synth") return cmdMerlSynth(args);
+  if (command == "measured-synth") return cmdMeasuredSynth(args);
+  return -1;
+}
+
 int main(int argc, char** argv) {
   using namespace iblx::cli;
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
@@ -41,19 +60,8 @@ int main(int argc, char** argv) {
   const std::string command = argv[1];
   const Args args(argv + 2, argv + argc);
   try {
-    if (command == "render") return cmdRender(args);
-    if (command == "view") return cmdView(args);
-    if (command == "reference") return cmdReference(args);
-    if (command == "bench") return cmdBench(args);
-    if (command == "converge") return cmdConverge(args);
-    if (command == "hardcases") return cmdHardCases(args);
-    if (command == "samples") return cmdSamples(args);
-    if (command == "otmap") return cmdOtMap(args);
-    if (command == "devices") return cmdDevices(args);
-    if (command == "make-sky") return cmdMakeSky(args);
-    if (command == "make-teapot") return cmdMakeTeapot(args);
-    if (command == "merl-synth") return cmdMerlSynth(args);
-    if (command == "measured-synth") return cmdMeasuredSynth(args);
+    const int status = runCommand(command, args);
+    if (status >= 0) return status;
     std::fprintf(stderr, "iblx: unknown command '%s'\n%s", command.c_str(), kUsage);
     return 2;
   } catch (const iblx::Interrupted& e) {

@@ -16,9 +16,11 @@ namespace {
 std::atomic<bool> gInterrupted{false};
 static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
 
-extern "C" void onInterrupt(int) {
+int gGuardDepth = 0;  // guards alive (they nest: a measurement holds one around the ground truth's)
+
+extern "C" void onInterrupt(int signal) {
   gInterrupted.store(true);
-  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process
+  std::signal(signal, SIG_DFL);  // a second Ctrl-C (or SIGTERM) ends the process
 }
 
 }  // namespace
@@ -159,12 +161,18 @@ ObtainedReference obtainReference(const VulkanContext& context, ShaderCompiler& 
 }
 
 InterruptGuard::InterruptGuard() {
+  if (gGuardDepth++ > 0) return;  // the outer guard's flag and handlers stay
   gInterrupted.store(false);
   std::signal(SIGINT, onInterrupt);
+  // A job scheduler (Slurm's scancel, a time limit, a preemption) stops work with SIGTERM: the same as
+  // Ctrl-C.
+  std::signal(SIGTERM, onInterrupt);
 }
 
 InterruptGuard::~InterruptGuard() {
+  if (--gGuardDepth > 0) return;
   std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
 }
 
 const std::atomic<bool>& InterruptGuard::flag() const {

@@ -54,7 +54,8 @@ struct ObtainedReference {
 ObtainedReference obtainReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                   const HardCase* hardCase, const MeasurementSpec& spec);
 
-// While alive, Ctrl-C sets flag() instead of ending the process (a second Ctrl-C ends it).
+// While alive, Ctrl-C or SIGTERM sets flag() instead of ending the process (a second one ends it). Guards
+// nest: an inner one (the ground truth's, inside a measurement's) shares the outer one's flag.
 class InterruptGuard {
  public:
   InterruptGuard();

@@ -1,0 +1,26 @@
+// An exclusive lock on a file, shared by processes on one machine and, through the NFS lock manager, by the
+// machines of a cluster that mount one directory: the ground-truth cache and `iblx study` use it so that
+// several tasks needing the same artefact compute it once and the others wait and read it.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace iblx {
+
+class FileLock {
+ public:
+  // Blocks until the lock on `path` (created if missing, never removed: removing it would let two processes
+  // hold locks on different files of one name) is held. `what` names the artefact in the message printed
+  // when another process holds it ("waiting for another iblx computing WHAT"). Throws Error naming the path
+  // when it cannot be created or locked.
+  FileLock(const std::filesystem::path& path, const std::string& what);
+  ~FileLock();
+  FileLock(const FileLock&) = delete;
+  FileLock& operator=(const FileLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
+}  // namespace iblx

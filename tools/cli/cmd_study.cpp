@@ -1,0 +1,358 @@
+// `iblx study`: a study (scenes x methods x sequences x seeds, each a `converge` run) as one command over a
+// plan file (tools/cli/study_plan.h): `plan` lists its runs, `run` measures a task's share of them and
+// records each as it ends (tools/cli/study_records.h), `merge` gathers every record into one report
+// (tools/cli/study_merge.h). docs/STUDIES.md is the guide.
+#include "engine/core/error.h"
+#include "engine/core/file_io.h"
+#include "engine/core/json_output.h"
+#include "engine/core/log.h"
+#include "engine/io/image_write.h"
+#include "engine/render/convergence_runner.h"
+#include "tools/cli/cli_options.h"
+#include "tools/cli/commands.h"
+#include "tools/cli/converge_scene.h"
+#include "tools/cli/measurement.h"
+#include "tools/cli/study_merge.h"
+#include "tools/cli/study_plan.h"
+#include "tools/cli/study_records.h"
+
+#include <vulkan/vulkan_raii.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <unistd.h>
+
+namespace iblx::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kStudyUsage =
+    "usage: iblx study plan PLAN [--shard I/N] [--json]   list the runs, their ids and whether each is done\n"
+    "       iblx study run PLAN [--shard I/N | --task ID]... [--device D]\n"
+    "                                                     measure the runs not yet done (all, a shard, or "
+    "ids)\n"
+    "       iblx study merge PLAN [--out-dir DIR]         gather every record into tables, plots and a "
+    "report\n"
+    "A plan is a TOML file (docs/STUDIES.md). Runs already recorded are skipped; Ctrl-C or SIGTERM stops "
+    "after\n"
+    "the run in flight is abandoned, and a rerun finishes the rest.\n";
+
+std::string durationText(double seconds) {
+  char text[64];
+  if (seconds < 90)
+    std::snprintf(text, sizeof text, "%.0f s", seconds);
+  else if (seconds < 5400)
+    std::snprintf(text, sizeof text, "%.0f min", seconds / 60);
+  else
+    std::snprintf(text, sizeof text, "%.1f h", seconds / 3600);
+  return text;
+}
+
+std::string hostName() {
+  char name[256] = {};
+  if (::gethostname(name, sizeof name - 1) != 0) return "?";
+  return name;
+}
+
+// "about T of rendering (N runs x S s) plus setup and ground truths", from the budgets of the runs' scenes.
+std::string estimateText(const StudyPlan& plan, const std::vector<StudyRun>& runs) {
+  double seconds = 0.0;
+  std::size_t timed = 0;
+  std::map<std::size_t, std::optional<double>> budgets;
+  for (const auto& run : runs) {
+    auto it = budgets.find(run.scene);
+    if (it == budgets.end()) it = budgets.emplace(run.scene, sceneTimeBudget(plan.scenes[run.scene])).first;
+    if (it->second) seconds += *it->second, ++timed;
+  }
+  std::string text;
+  if (timed > 0)
+    text = "about " + durationText(seconds) + " of rendering for the " + std::to_string(timed) +
+           " runs with a time budget, plus setup and ground truths";
+  if (timed < runs.size())
+    text += (text.empty() ? "" : "; ") + std::to_string(runs.size() - timed) +
+            " runs have a sample budget: the progress lines estimate their time from the runs measured";
+  return text;
+}
+
+// The plan argument: the first word that is not a flag.
+struct StudyArgs {
+  fs::path plan;
+  Args flags;
+};
+StudyArgs splitPlan(const std::string& command, const Args& args) {
+  StudyArgs split;
+  for (const auto& a : args)
+    if (split.plan.empty() && !a.empty() && a[0] != '-')
+      split.plan = a;
+    else
+      split.flags.push_back(a);
+  if (split.plan.empty() && !(args.size() == 1 && (args[0] == "--help" || args[0] == "-h")))
+    throw Error("study " + command + ": no plan file (iblx study " + command + " PLAN.toml)");
+  return split;
+}
+
+// Selects the runs a task measures: a shard, ids, or all.
+std::vector<StudyRun> selectRuns(const std::vector<StudyRun>& runs, const std::optional<StudyShard>& shard,
+                                 const std::vector<std::string>& ids) {
+  if (ids.empty()) return shard ? shardOf(runs, *shard) : runs;
+  std::vector<StudyRun> selected;
+  for (const auto& id : ids) {
+    auto it = std::find_if(runs.begin(), runs.end(), [&](const StudyRun& r) { return r.id == id; });
+    if (it == runs.end())
+      throw Error("--task " + id + ": no run of the plan has this id (iblx study plan PLAN)");
+    selected.push_back(*it);
+  }
+  return selected;
+}
+
+int studyPlan(const Args& args) {
+  const StudyArgs split = splitPlan("plan", args);
+  std::optional<StudyShard> shard;
+  bool json = false;
+  ArgParser parser("study plan");
+  parser.value("--shard", "I/N", "list the I-th of N shards only",
+               [&](const std::string& v) { shard = parseStudyShard(v); });
+  parser.toggle("--json", "one JSON object per run", [&] { json = true; });
+  if (parser.parseOrShowHelp(split.flags)) return 0;
+  const StudyPlan plan = readStudyPlan(split.plan);
+  prepareStudyInputs(plan);
+  const std::vector<StudyRun> all = listStudyRuns(plan);
+  const std::vector<StudyRun> runs = selectRuns(all, shard, {});
+  std::map<std::string, std::size_t> counts;
+  for (const auto& run : runs) {
+    const auto record = readStudyRecord(runRecordPath(plan, run));
+    const std::string status = record ? runStatusName(record->status) : "missing";
+    ++counts[status];
+    const std::string& scene = plan.scenes[run.scene].name;
+    if (json) {
+      JsonObject line;
+      line["id"] = run.id;
+      line["scene"] = scene;
+      line["method"] = run.method;
+      line["sequence"] = run.sequence;
+      line["seed"] = run.seed;
+      line["status"] = status;
+      printJsonLine(line);
+    } else
+      std::printf("%s  %-24s %-28s %-7s seed %-4u %s\n", run.id.c_str(), scene.c_str(), run.method.c_str(),
+                  run.sequence.c_str(), run.seed, status.c_str());
+  }
+  std::string tally;
+  for (const auto& [status, count] : counts) tally += ", " + std::to_string(count) + " " + status;
+  std::fprintf(stderr, "study: %s: %zu scenes, %zu runs%s%s; results in %s\nstudy: %s\n", split.plan.c_str(),
+               plan.scenes.size(), runs.size(), shard ? " in this shard" : "", tally.c_str(),
+               plan.directory.c_str(), estimateText(plan, runs).c_str());
+  return 0;
+}
+
+// What the first task to reach a scene leaves for `merge`: the ground truth and which pixels are the object.
+void writeSceneData(const StudyPlan& plan, const StudyScene& studyScene, const Scene& scene,
+                    const ObtainedReference& reference, const std::string& title, const std::string& device) {
+  const fs::path dir = sceneDataDirectory(plan, studyScene);
+  std::error_code ec;
+  if (fs::exists(dir / "scene.json", ec)) return;
+  fs::create_directories(dir, ec);
+  writeExr(dir / "reference.exr", scene.gbuffer.width, scene.gbuffer.height, reference.rgb);
+  std::string mask;
+  for (const auto m : scene.gbuffer.objectMask()) mask += m ? '1' : '0';
+  JsonObject json;
+  json["title"] = title;
+  json["width"] = scene.gbuffer.width;
+  json["height"] = scene.gbuffer.height;
+  json["reference"] = reference.description;
+  json["noise_mse"] = reference.noise.mse;
+  json["noise_relmse"] = reference.noise.relMse;
+  json["device"] = device;
+  json["object_mask"] = mask;
+  writeFileAtomically(dir / "scene.json", json.dump() + "\n");  // last: it marks the folder complete
+}
+
+int studyRun(const Args& args) {
+  const StudyArgs split = splitPlan("run", args);
+  std::optional<StudyShard> shard;
+  std::vector<std::string> ids;
+  RenderSpec device;
+  ArgParser parser("study run");
+  parser.value("--shard", "I/N", "measure the I-th of N contiguous blocks of the plan's runs",
+               [&](const std::string& v) { shard = parseStudyShard(v); });
+  parser.value("--task", "ID", "measure the run with this id (repeatable; ids: iblx study plan PLAN)",
+               [&](const std::string& v) { ids.push_back(v); });
+  addDeviceFlags(parser, device);
+  if (parser.parseOrShowHelp(split.flags)) return 0;
+  if (shard && !ids.empty()) throw Error("study run: --shard and --task exclude each other");
+
+  const StudyPlan plan = readStudyPlan(split.plan);
+  prepareStudyInputs(plan);
+  const std::vector<StudyRun> selected = selectRuns(listStudyRuns(plan), shard, ids);
+  std::vector<StudyRun> pending;
+  for (const auto& run : selected)
+    if (!runIsComplete(readStudyRecord(runRecordPath(plan, run)))) pending.push_back(run);
+  std::error_code ec;
+  fs::create_directories(plan.directory / "runs", ec);
+  if (!fs::is_directory(plan.directory / "runs"))
+    throw Error(plan.file.string() + ": cannot create " + (plan.directory / "runs").string());
+  const std::string share = shard
+                                ? "shard " + std::to_string(shard->index) + "/" + std::to_string(shard->count)
+                            : ids.empty() ? "the whole plan"
+                                          : std::to_string(ids.size()) + " ids";
+  std::fprintf(stderr, "study: %s, %s: %zu runs, %zu already recorded, %zu to measure\n", split.plan.c_str(),
+               share.c_str(), selected.size(), selected.size() - pending.size(), pending.size());
+  if (pending.empty()) return 0;
+  std::fprintf(stderr, "study: %s\n", estimateText(plan, pending).c_str());
+
+  InterruptGuard interrupt;
+  VulkanContext context({device.device, device.validation ? Validation::On : Validation::Auto});
+  ShaderCompiler compiler;
+  const std::string host = hostName();
+  const auto taskStart = std::chrono::steady_clock::now();
+  std::size_t measured = 0, failed = 0;
+  double measuredSeconds = 0.0;
+  const auto recordFailure = [&](const StudyRun& run, const std::string& message) {
+    StudyRecord record{
+        run.id,  plan.scenes[run.scene].name, run.method, run.sequence, run.seed, RunStatus::Failed,
+        message, context.deviceName(),        host,       0.0,          {}};
+    writeStudyRecord(runRecordPath(plan, run), record);
+    ++failed;
+    std::fprintf(stderr, "study: %s %s/%s seed %u failed: %s\n", record.scene.c_str(), run.method.c_str(),
+                 run.sequence.c_str(), run.seed, message.c_str());
+  };
+  std::size_t next = 0;
+  while (next < pending.size() && !interrupt.flag().load()) {
+    // The pending runs of one scene: the scene and its ground truth are loaded once for them.
+    const std::size_t sceneIndex = pending[next].scene;
+    std::size_t end = next;
+    while (end < pending.size() && pending[end].scene == sceneIndex) ++end;
+    const StudyScene& studyScene = plan.scenes[sceneIndex];
+    ConvergeSceneFlags flags;
+    std::optional<Scene> scene;
+    ObtainedReference reference;
+    try {
+      ArgParser sceneParser("study");
+      addConvergeSceneFlags(sceneParser, flags);
+      sceneParser.parse(studyScene.flags);
+      finishConvergeSceneFlags(flags);
+      scene.emplace(loadConvergeScene(context, flags, checkConvergeScene(flags)));
+      reference = obtainReference(context, compiler, *scene, flags.hardCase(), flags.spec);
+      writeSceneData(plan, studyScene, *scene, reference, convergeSceneTitle(flags, *scene),
+                     context.deviceName());
+    } catch (const Interrupted&) {
+      break;
+    } catch (const std::exception& e) {  // every run of the scene fails alike; the other scenes go on
+      for (std::size_t i = next; i < end; ++i)
+        recordFailure(pending[i], "scene " + studyScene.name + ": " + e.what());
+      next = end;
+      continue;
+    }
+    for (; next < end && !interrupt.flag().load(); ++next) {
+      const StudyRun& run = pending[next];
+      const auto start = std::chrono::steady_clock::now();
+      StudyRecord record{run.id, studyScene.name,      run.method, run.sequence, run.seed, RunStatus::Done,
+                         "",     context.deviceName(), host,       0.0,          {}};
+      try {
+        MeasurementSpec spec = flags.spec;
+        spec.methods = {run.method};
+        spec.sequences = {run.sequence};
+        spec.seeds = 1;
+        spec.firstSeed = run.seed;
+        const std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene->brdf);
+        const std::vector<std::uint32_t> seeds = {run.seed};
+        ConvergenceResult result =
+            runConvergence(context, compiler, *scene, reference.rgb, methods, seeds, spec.finalBudget(),
+                           showProgress, &interrupt.flag(), reference.noise);
+        endProgressLine();
+        if (result.interrupted) break;  // the run in flight is abandoned, never half-recorded
+        if (!result.skipped.empty()) {
+          record.status = RunStatus::Skipped;
+          record.message = result.skipped.front().reason;
+        } else {
+          record.run = std::move(result.runs.front());
+          // The image goes first: the record is what marks the run complete.
+          if (run.firstSeed && !result.images.empty())
+            writeExr(runImagePath(plan, run), scene->gbuffer.width, scene->gbuffer.height,
+                     result.images.front().rgb);
+        }
+      } catch (const Interrupted&) {
+        break;
+      } catch (const vk::SystemError& e) {
+        recordFailure(run, std::string("Vulkan error: ") + e.what());
+        continue;
+      } catch (const std::exception& e) {
+        recordFailure(run, e.what());
+        continue;
+      }
+      record.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      writeStudyRecord(runRecordPath(plan, run), record);
+      ++measured;
+      measuredSeconds += record.seconds;
+      // The rest of the task: each run costs its budget plus the setup measured so far, or (a spp budget)
+      // what the runs so far cost on average.
+      const std::size_t left = pending.size() - next - 1;
+      const double perRun = measuredSeconds / double(measured);
+      char line[512];
+      if (record.status == RunStatus::Skipped)
+        std::snprintf(line, sizeof line, "skipped: %s", record.message.c_str());
+      else {
+        const ConvergencePoint& last = record.run.points.back();
+        std::snprintf(line, sizeof line, "%llu spp in %.2f s, relMSE %.3g",
+                      static_cast<unsigned long long>(last.spp), last.wallSeconds, last.relMse);
+      }
+      std::fprintf(stderr, "study: [%zu/%zu] %s %s/%s seed %u: %s; about %s left\n", next + 1, pending.size(),
+                   studyScene.name.c_str(), run.method.c_str(), run.sequence.c_str(), run.seed, line,
+                   durationText(double(left) * perRun).c_str());
+    }
+  }
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - taskStart).count();
+  if (interrupt.flag().load()) {
+    std::fprintf(stderr,
+                 "study: interrupted after %zu runs (%s); the run in flight was dropped; rerun the same "
+                 "command to finish the other %zu\n",
+                 measured, durationText(elapsed).c_str(), pending.size() - measured - failed);
+    return 130;
+  }
+  std::fprintf(stderr, "study: %zu runs measured in %s, %zu failed%s\n", measured,
+               durationText(elapsed).c_str(), failed,
+               failed ? " (recorded with their errors; a rerun tries them again)" : "");
+  return failed ? 1 : 0;
+}
+
+int studyMerge(const Args& args) {
+  const StudyArgs split = splitPlan("merge", args);
+  fs::path outDir;
+  ArgParser parser("study merge");
+  parser.value("--out-dir", "DIR", "where the report goes (default: the plan's report_directory)",
+               [&](const std::string& v) { outDir = v; });
+  if (parser.parseOrShowHelp(split.flags)) return 0;
+  StudyPlan plan = readStudyPlan(split.plan);
+  if (!outDir.empty()) plan.reportDirectory = outDir;
+  prepareStudyInputs(plan);
+  const MergeOutcome outcome = mergeStudy(plan, listStudyRuns(plan));
+  std::printf("wrote %s: tables.md, study.csv, study.json, report.html and %zu scene folders\n",
+              plan.reportDirectory.c_str(), outcome.scenesWritten);
+  if (outcome.missing || outcome.failed) {
+    warn(std::to_string(outcome.missing) + " runs missing and " + std::to_string(outcome.failed) +
+         " failed (listed in tables.md and study.json): `iblx study run " + split.plan.string() +
+         "` measures them");
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int cmdStudy(const Args& args) {
+  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+    std::fputs(kStudyUsage, args.empty() ? stderr : stdout);
+    return args.empty() ? 2 : 0;
+  }
+  const Args rest(args.begin() + 1, args.end());
+  if (args[0] == "plan") return studyPlan(rest);
+  if (args[0] == "run") return studyRun(rest);
+  if (args[0] == "merge") return studyMerge(rest);
+  throw Error("study: unknown subcommand '" + args[0] + "' (plan, run or merge)");
+}
+
+}  // namespace iblx::cli
