@@ -1,5 +1,5 @@
 // The integrator: one invocation per pixel adds frame.samplesPerPass estimates to the running mean and the
-// running mean of squares (DESIGN §6: means, not float32 sums, so precision does not decay with the count).
+// running mean of squares (docs/DESIGN.md §6: means, not float32 sums, so precision does not decay with the count).
 // Non-finite estimates are replaced by 0 and counted in stats.nonFiniteSamples, which must stay 0.
 // Assembled with one part per role by engine/scene/kernel_prelude.cpp. With IBLX_RECORD_SAMPLES it
 // integrates one pixel (frame.recordPixelX/Y) through this same code and stores every sample's record

@@ -1,4 +1,4 @@
-// The ground truth (DESIGN §4): Lo = sum over texels j of L_j * integral over texel j of f cos, by composite
+// The ground truth (docs/DESIGN.md §4): Lo = sum over texels j of L_j * integral over texel j of f cos, by composite
 // 2-point Gauss-Legendre quadrature on the texel's area-preserving parameterisation (texelToDirection), so each
 // point's weight is the texel's exact solid angle / point count. Texels whose centre lies within the fine-zone
 // cone around the mirror direction get frame.quadrature.y subdivisions per axis, texels the horizon may cross at

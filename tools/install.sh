@@ -14,9 +14,10 @@ packages=(build-essential cmake ninja-build pkg-config
           nlohmann-json3-dev  # every --json output (engine/core/json_output.h)
           libtomlplusplus-dev  # the plan files of `iblx study`
           slurmctld slurmd slurm-client munge  # tests/cli/slurm_study_test.sh: a one-node Slurm cluster
+          python3  # the study tests compare merged CSVs
           chromium  # the report.html test: the page loaded in a real browser, headless
           clang-14 libclang-rt-14-dev  # tools/fuzz.sh: libFuzzer (the sanitizer stage uses gcc's ASan/UBSan)
-          blender-data)  # the CC0 HDRIs of tools/results.sh and the OT benchmarks (studiolights/world/*.exr)
+          blender-data)  # the CC0 HDRIs of the studies in docs/studies/ and the OT benchmarks (studiolights/world/*.exr)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,4 +1,4 @@
-// Speed against error (DESIGN §7): the measurements of `iblx converge` (error after each pass of each method,
+// Speed against error (docs/DESIGN.md §7): the measurements of `iblx converge` (error after each pass of each method,
 // sequence and seed) and what is derived from them: the sample schedule, log-log fits and interpolation, the
 // summary table (time to a target error, equal-time MSE ratio, slope, efficiency, spread over seeds), CSV.
 // Plain CPU code on plain values, so every figure can be unit-tested on synthetic curves.

@@ -1,4 +1,4 @@
-// The conventions of DESIGN §3 written once: lat-long <-> direction, texel solid angles, camera pixels.
+// The conventions of docs/DESIGN.md §3 written once: lat-long <-> direction, texel solid angles, camera pixels.
 // shaders/lib/latlong.glsl is the GPU twin of this file; tests/sampling/sphere_mapping_test.cpp checks both
 // agree with the design document.
 #pragma once
@@ -34,7 +34,7 @@ inline glm::dvec2 directionToLatLong(glm::dvec3 w) {
 inline double cosDifference(double a, double b) {
   return 2.0 * std::sin(0.5 * (a + b)) * std::sin(0.5 * (b - a));
 }
-// cos(pi a) - cos(pi b) for latitudes given as v = theta / pi (DESIGN §3), likewise.
+// cos(pi a) - cos(pi b) for latitudes given as v = theta / pi (docs/DESIGN.md §3), likewise.
 inline double cosDifferenceOfV(double a, double b) {
   return 2.0 * std::sin(0.5 * kPi * (a + b)) * std::sin(0.5 * kPi * (b - a));
 }

@@ -1,5 +1,5 @@
-// The camera of DESIGN §3 with an orbit and a zoom: orthographic, rotating about the origin. The default
-// camera (orbit 0,0, zoom 1) is DESIGN §3's exactly: it looks down -Z at the unit sphere, which fills the
+// The camera of docs/DESIGN.md §3 with an orbit and a zoom: orthographic, rotating about the origin. The default
+// camera (orbit 0,0, zoom 1) is docs/DESIGN.md §3's exactly: it looks down -Z at the unit sphere, which fills the
 // image.
 #pragma once
 

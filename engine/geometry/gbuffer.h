@@ -1,7 +1,7 @@
-// G-buffers (DESIGN §2): per pixel the shading frame and view direction of the object, or the direction the
+// G-buffers (docs/DESIGN.md §2): per pixel the shading frame and view direction of the object, or the direction the
 // background shows. The object is the analytic unit sphere, or a triangle mesh (the plane, the teapot, an OBJ
 // file) rasterized on the CPU (engine/geometry/rasterizer.h); the camera is engine/geometry/camera.h's.
-// Every vector is in world space. There is no visibility term (DESIGN §1): a G-buffer is all the kernels see.
+// Every vector is in world space. There is no visibility term (docs/DESIGN.md §1): a G-buffer is all the kernels see.
 #pragma once
 
 #include "engine/geometry/camera.h"
@@ -33,7 +33,7 @@ GBuffer makeBackgroundGBuffer(const CameraFrame& frame, int width, int height);
 // An object pixel: normal.w = 1, tangentFromNormal(n), view = wo.
 void setObjectPixel(gpu::GPixel& pixel, glm::dvec3 normal, glm::dvec3 view);
 
-// The analytic unit sphere. With the default camera this is DESIGN §3: pixel (x, y) inside the unit circle
+// The analytic unit sphere. With the default camera this is docs/DESIGN.md §3: pixel (x, y) inside the unit circle
 // has n = (x, y, sqrt(1-x²-y²)) and wo = +Z; the tangent follows the latitude about +Y. With an orbit the
 // same camera-space normal is turned into the world by the camera's frame, so a pixel sees what the rotated
 // camera sees; the zoom scales the image-plane point.

@@ -1,5 +1,5 @@
 // Loading lat-long environment maps (.exr through OpenEXR, Radiance .hdr through our own decoder) and the
-// sanitation that guarantees every texel handed to the samplers is finite and >= 0 (DESIGN §5).
+// sanitation that guarantees every texel handed to the samplers is finite and >= 0 (docs/DESIGN.md §5).
 #include "engine/io/env_image.h"
 
 #include "engine/core/error.h"

@@ -16,7 +16,7 @@ struct EnvImage {
 
   std::size_t texelCount() const { return std::size_t(width) * std::size_t(height); }
   std::size_t index(int x, int y) const { return std::size_t(y) * std::size_t(width) + std::size_t(x); }
-  // Sampling weight of a texel: the mean of R, G and B (DESIGN §3).
+  // Sampling weight of a texel: the mean of R, G and B (docs/DESIGN.md §3).
   double weight(int x, int y) const {
     const float* p = &rgb[3 * index(x, y)];
     return (double(p[0]) + double(p[1]) + double(p[2])) / 3.0;
@@ -32,7 +32,7 @@ struct SanitizeReport {
 SanitizeReport sanitize(EnvImage& image);
 
 // The largest radiance an environment map may hold. The GPU keeps running means of squared estimates in float
-// (DESIGN §6): with values up to 1e15, a pass of 4096 squared estimates stays 1e5 below float's 3.4e38 even
+// (docs/DESIGN.md §6): with values up to 1e15, a pass of 4096 squared estimates stays 1e5 below float's 3.4e38 even
 // for estimator weights of 100, while real maps, a physically scaled sun included (about 1.6e9 cd/m^2), stay
 // far below it.
 inline constexpr double kMaxEnvRadiance = 1e15;

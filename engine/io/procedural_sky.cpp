@@ -75,7 +75,7 @@ EnvImage makeProceduralSky(const ProceduralSkyOptions& options) {
   if (!std::isfinite(options.sunElevationDegrees) || !std::isfinite(options.sunAzimuthDegrees))
     throw invalid("sun direction must be finite");
 
-  // The sun direction in the lat-long convention of DESIGN §3: theta = 90 deg - elevation, phi = azimuth.
+  // The sun direction in the lat-long convention of docs/DESIGN.md §3: theta = 90 deg - elevation, phi = azimuth.
   constexpr double kDegree = kPi / 180.0;
   const double sunU = options.sunAzimuthDegrees / 360.0 - std::floor(options.sunAzimuthDegrees / 360.0);
   const double sunV = (90.0 - options.sunElevationDegrees) / 180.0;

@@ -1,5 +1,5 @@
 // The project's default environment map: an analytic lat-long sky with ground, horizon and a small, very
-// bright sun, i.e. the "sun 10^4 times the sky in a few texels" hard case of DESIGN §5 with no file to ship.
+// bright sun, i.e. the "sun 10^4 times the sky in a few texels" hard case of docs/DESIGN.md §5 with no file to ship.
 #pragma once
 
 #include "engine/io/env_image.h"

@@ -1,4 +1,4 @@
-// Synthetic environment maps: the hard cases of DESIGN §5 (suns, exactly-zero regions, energy at a pole) and
+// Synthetic environment maps: the hard cases of docs/DESIGN.md §5 (suns, exactly-zero regions, energy at a pole) and
 // smooth skies, made in code so tests and the hard-case suite (engine/render/hard_cases.h) need no files.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Runs methods on one scene and records their error after each pass (DESIGN §7): the measuring loop of
+// Runs methods on one scene and records their error after each pass (docs/DESIGN.md §7): the measuring loop of
 // `iblx converge` and `iblx hardcases`. The figures derived from the records are
 // engine/analysis/convergence.h.
 #pragma once

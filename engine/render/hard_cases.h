@@ -1,4 +1,4 @@
-// The hard-case suite (DESIGN §5): named scenes that stress samplers (suns 1e3-1e6 over a few
+// The hard-case suite (docs/DESIGN.md §5): named scenes that stress samplers (suns 1e3-1e6 over a few
 // texels, an exactly-zero half, energy at a pole, grazing-only pixels, a near-mirror GGX, a file with NaN,
 // Inf and negative texels, a map of more than 2^24 texels). `iblx hardcases` runs every method on each and
 // checks finite output and convergence to the reference; `iblx converge --case NAME` measures one; the GPU

@@ -10,7 +10,7 @@
 namespace iblx {
 namespace {
 
-// DESIGN §7: the squared error relative to the reference, with eps = 0.01 for dark pixels.
+// docs/DESIGN.md §7: the squared error relative to the reference, with eps = 0.01 for dark pixels.
 double relativeSquaredError(double x, double r) { return (x - r) * (x - r) / (r * r + 0.01); }
 
 }  // namespace

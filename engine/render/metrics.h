@@ -1,4 +1,4 @@
-// Error of an image against its reference over object pixels (DESIGN §7): MSE, relMSE with eps = 0.01, and
+// Error of an image against its reference over object pixels (docs/DESIGN.md §7): MSE, relMSE with eps = 0.01, and
 // the mean signed error with its standard error (for unbiasedness z-tests).
 #pragma once
 
@@ -24,7 +24,7 @@ ErrorMetrics compareToReference(const GBuffer& gbuffer, std::span<const float> e
 std::vector<double> relativeSquaredErrorPerPixel(const GBuffer& gbuffer, std::span<const float> estimate,
                                                  std::span<const float> reference);
 
-// Unbiasedness z-test (DESIGN §5) of the image-mean signed error per channel: the sum over object pixels of
+// Unbiasedness z-test (docs/DESIGN.md §5) of the image-mean signed error per channel: the sum over object pixels of
 // (x_p - r_p) divided by its standard deviation sqrt(sum var_p / N), pixels being independent and var_p the
 // measured per-pixel variance of one sample's estimate. A zero-variance image must match to float rounding.
 struct MeanErrorZTest {

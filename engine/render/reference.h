@@ -1,4 +1,4 @@
-// The ground truth of a scene (DESIGN §4): a deterministic convolution over every environment texel on the
+// The ground truth of a scene (docs/DESIGN.md §4): a deterministic convolution over every environment texel on the
 // GPU, integrating the same nearest-texel reconstruction the estimators see, with finer quadrature inside
 // texels that the BRDF's narrow lobe or the horizon cuts through.
 #pragma once

@@ -1,4 +1,4 @@
-// The progressive renderer (DESIGN §2, §6): builds the method's sampling data, assembles and compiles its
+// The progressive renderer (docs/DESIGN.md §2, §6): builds the method's sampling data, assembles and compiles its
 // integrator, and adds one batch of samples per pixel per pass to a running mean, timed on the GPU and the
 // wall.
 //

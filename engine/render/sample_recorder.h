@@ -40,9 +40,9 @@ struct RecordedSample {
   // Registry name of the technique that drew it (e.g. "env-cdf", "ggx-vndf"), "none" when nothing was drawn
   // (ris: every candidate had zero weight; all other fields are then 0).
   std::string_view technique;
-  glm::dvec3 direction{0.0};     // world space (DESIGN §3)
+  glm::dvec3 direction{0.0};     // world space (docs/DESIGN.md §3)
   glm::dvec3 envDirection{0.0};  // the same in the environment's frame (they differ under --env-rotation)
-  glm::dvec2 uv{0.0};            // lat-long coordinates of envDirection (DESIGN §3): its place on the map
+  glm::dvec2 uv{0.0};            // lat-long coordinates of envDirection (docs/DESIGN.md §3): its place on the map
   double pdf = 0.0;              // solid-angle density of the technique that drew it
   double misWeight = 0.0;        // MIS weight; 1 for a single technique and ris; 0 if it contributes nothing
   // Contribution weight per channel, as the strategy uses it: estimate = radiance * weight. Single technique:

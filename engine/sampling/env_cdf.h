@@ -56,14 +56,14 @@ EnvCdfData buildEnvCdf(const EnvImage& image);
 //   texelToDirection(x, y, t); pdfSolidAngle = P / Omega_f(y), Omega_f = rowSolidAngles(W, H). Zero-width
 //   bins are never chosen.
 //
-// Trade-offs (DESIGN §4; Mitsuba 3 distr_2d.h; sampling_sota §1 and §6.1):
+// Trade-offs (docs/DESIGN.md §4; Mitsuba 3's DiscreteDistribution2D, distr_2d.h):
 // - Continuous in u.x within a row and affine inside each texel, but discontinuous in u.x at every row
 //   boundary of u.y (each row has its own conditional): under QMC every row boundary becomes an edge in the
 //   integrand, which pushes convergence towards the N^-1.5 "edges" regime (Mitchell 1996).
 // - Float precision of globally normalised CDFs: near the top of a CDF the float spacing is 2^-24 ~ 6e-8,
 //   comparable to a sky texel's share of a sun row. With rows accumulated in double and stored as float, the
 //   worst bin's probability is off by 0.09 % at a sun of 1e3, 0.79 % at 1e4, 6.5 % at 1e5 and 50 % at 1e6
-//   (8192 x 4096 map, measured in sampling_sota §6.1); smaller shares round to zero-width bins that are never
+//   (for an 8192 x 4096 map); smaller shares round to zero-width bins that are never
 //   sampled. The estimator stays unbiased wherever P > 0 because the pdf is the probability actually sampled
 //   (a float CDF difference), never f/integral recomputed; zero-width texels are covered only through MIS.
 // - Cost: two guide-table lookups, each followed by a binary search over the few bins of the cell (none when

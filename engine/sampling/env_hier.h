@@ -83,7 +83,7 @@ glm::vec4 envHierNodeRect(const EnvHierGpuData& gpu, uint32_t level, uint32_t x,
 // There, t = clamp((u - min) / size, 0, 1 - 2^-24) gives direction = texelToDirection(x, y, t), and
 // pdfSolidAngle = sizeX * sizeY / Omega_f(y).
 //
-// Trade-offs (sampling_sota §1 and §6.1; Mitsuba 3 Hierarchical2D in distr_2d.h; Clarberg et al. 2005):
+// Trade-offs (Mitsuba 3's Hierarchical2D, distr_2d.h; Clarberg et al. 2005):
 // - Each level splits by the local ratio q0 / (q0 + q1), computed in double from the child sums; the split is
 //   placed in u with float precision (2^-24 near 1, finer towards 0). A u is itself a float on a 2^-24 grid,
 //   so no warp can resolve finer than that; here the reported probability is the area of exactly the set of u

@@ -1,5 +1,5 @@
 // Offline diagnostics of where an environment sampler's pdf departs from the texel pdf that env-cdf samples
-// (docs/BENCHMARKS.md "Optimal-transport sampling", tools/ot_decompose.sh, `iblx otmap --diagnose`):
+// (docs/BENCHMARKS.md "Optimal-transport sampling", docs/studies/ot_decompose.toml, `iblx otmap --diagnose`):
 // - chi^2(p_texel || p_sampler) = sum over texels of p_texel^2 / p_sampler - 1: the relative variance per
 //   sample of the estimate p_texel / p_sampler, i.e. what the pdf alone costs on an integrand proportional
 //   to the environment;

@@ -29,7 +29,7 @@ EnvProductLevel buildEnvProductLevel(const EnvHierSampler& env, uint32_t maxNode
   for (uint32_t y = 0; y < l.rows; ++y)
     for (uint32_t x = 0; x < l.width; ++x) {
       l.rects.push_back(envHierNodeRect(env.gpuData(), level, x, y));
-      // The centre of the node's texels (the part of its block inside the map): u, v of DESIGN §3.
+      // The centre of the node's texels (the part of its block inside the map): u, v of docs/DESIGN.md §3.
       const double x0 = double(x * l.texelsPerNode), y0 = double(y * l.texelsPerNode);
       const double x1 = std::min(x0 + l.texelsPerNode, double(data.width)),
                    y1 = std::min(y0 + l.texelsPerNode, double(data.height));

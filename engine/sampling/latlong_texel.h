@@ -94,7 +94,7 @@ inline std::vector<float> envRowTable(int width, int height) {
 }
 
 // Sampling weight of every texel, row-major: image.weight(x, y) * Omega(y), the texel's share of
-// the integral of the nearest-texel radiance (DESIGN §3). An all-zero image gets Omega(y) (uniform sphere)
+// the integral of the nearest-texel radiance (docs/DESIGN.md §3). An all-zero image gets Omega(y) (uniform sphere)
 // with a warning. Throws iblx::Error naming `builder` on an empty, mis-sized, negative or non-finite image.
 inline std::vector<double> texelSamplingWeights(const EnvImage& image, const std::string& builder) {
   const int width = image.width, height = image.height;

@@ -1,5 +1,5 @@
 // What a technique's (or a table-driven BRDF's) builder hands to the GPU: named read-only tables of plain
-// bytes and preprocessor definitions for its GLSL part (DESIGN §2). A GLSL part declares each table it reads
+// bytes and preprocessor definitions for its GLSL part (docs/DESIGN.md §2). A GLSL part declares each table it reads
 // by the same name and element width, IBLX_TABLE(name, words) (shaders/lib/table.glsl); the kernel assembler
 // (engine/scene/kernel_prelude.h) binds the tables in order and defines each one's set and binding under its
 // name and width, so a part that reads a table its builder did not provide, or at another width, fails to

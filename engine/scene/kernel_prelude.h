@@ -1,4 +1,4 @@
-// Assembles a kernel from one part per role (DESIGN §2, STYLE "For iblx" 3) as the text of a prelude:
+// Assembles a kernel from one part per role (docs/DESIGN.md §2) as the text of a prelude:
 // #version, the interfaces, the techniques' definitions, the binding of every table the kernel's builders
 // provide, the BRDF parameter block, the kernel and one #include per chosen part. CPU only: compiling the
 // prelude is engine/render/kernel_assembly.h's.
@@ -24,7 +24,7 @@ struct KernelTable {
   std::string owner;  // who provides it, for messages: e.g. "env technique env-cdf"
 };
 
-// The descriptor sets of every kernel that renders a scene (DESIGN §2): 0 the frame, 1 the kernel's own
+// The descriptor sets of every kernel that renders a scene (docs/DESIGN.md §2): 0 the frame, 1 the kernel's own
 // I/O, 2 the env technique's tables, 3 the BRDF (its parameter block at binding 0, the BRDF's own tables from
 // binding kBrdfDataBinding on, then the BRDF technique's).
 inline constexpr std::uint32_t kFrameSet = 0, kEnvTechniqueSet = 2, kBrdfSet = 3;

@@ -1,4 +1,4 @@
-// The registry (DESIGN §2, STYLE "For iblx" 7): every BRDF, technique, sequence and method iblx knows, in one
+// The registry (docs/DESIGN.md §4): every BRDF, technique, sequence and method iblx knows, in one
 // explicit list each. The CLI, --list-methods, the benchmark and the tests iterate over these lists; adding a
 // method is one builder (with its TechniqueData, engine/sampling/), one GLSL part and one line in
 // methods.cpp.

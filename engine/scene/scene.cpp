@@ -314,9 +314,13 @@ MethodSpec parseMethodVariant(const std::string& text) {
     auto isIn = [&](auto registry) {
       return std::any_of(registry.begin(), registry.end(), [&](const auto& t) { return t.name == word; });
     };
-    if (isIn(envTechniqueRegistry())) {
+    // `cosine` names an env and a BRDF technique: it is the BRDF technique for a method that uses no env
+    // technique (brdf:cosine), or once an env technique has been named (mis:env-cdf:cosine).
+    const bool env = isIn(envTechniqueRegistry()), brdf = isIn(brdfTechniqueRegistry());
+    const bool brdfOnly = findMethod(spec.method).strategy == Strategy::SingleBrdf;
+    if (env && !(brdf && (brdfOnly || !spec.envSampler.empty()))) {
       spec.envSampler = word;
-    } else if (isIn(brdfTechniqueRegistry())) {
+    } else if (brdf) {
       spec.brdfSampler = word;
     } else if (word == "balance" || word == "power") {
       spec.misHeuristic = word;

@@ -1,4 +1,4 @@
-// A scene (DESIGN §2: object, camera, environment, BRDF) and the method that renders it, as plain values
+// A scene (docs/DESIGN.md §2: object, camera, environment, BRDF) and the method that renders it, as plain values
 // (their GPU copies: engine/render/scene_gpu.h).
 #pragma once
 

@@ -1,4 +1,4 @@
-// A compute pipeline with its four role descriptor sets (DESIGN §2 / STYLE "For iblx" 6: 0 frame, 1 sequence,
+// A compute pipeline with its four role descriptor sets (docs/DESIGN.md §2: 0 frame, 1 sequence,
 // 2 env sampler, 3 BRDF), each holding buffers numbered from 0, plus one push-constant block. A binding is a
 // storage buffer or a read-only table: a uniform texel buffer whose elements are 1, 2 or 4 32-bit words
 // (R32 / R32G32 / R32G32B32A32_UINT, Buffer::tableElementWords), read in GLSL through shaders/lib/table.glsl.

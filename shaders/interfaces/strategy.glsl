@@ -15,7 +15,7 @@ vec2 samplePair(SamplePoint p, uint pair) { return sequenceSample(p.pixel, p.ind
 // Once per shading point and dispatch, before its samples: per-pixel tables of a strategy (the product
 // strategies' node weights); empty for the others.
 void prepareStrategy(Shading s);
-// One Monte Carlo estimate of the integral of DESIGN §1 at the shading point s.
+// One Monte Carlo estimate of the integral of docs/DESIGN.md §1 at the shading point s.
 // Every strategy also describes each direction it draws through lib/sample_record.glsl's RECORD_DRAW and
 // RECORD_WEIGHT (empty unless the kernel records samples): which technique role drew it from which 2D point,
 // that technique's pdf, and the weight with contribution = radiance * weight.

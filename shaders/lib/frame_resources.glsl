@@ -7,7 +7,7 @@
 
 layout(std430, set = 0, binding = 0) readonly buffer GBufferData { GPixel gbuffer[]; };
 layout(std430, set = 0, binding = 1) buffer AccumData { AccumPixel accum[]; };
-// Linear RGB of every texel, top row first, 3 floats per texel (nearest-texel reconstruction, DESIGN §3).
+// Linear RGB of every texel, top row first, 3 floats per texel (nearest-texel reconstruction, docs/DESIGN.md §3).
 // A map larger than one buffer may be (maxStorageBufferRange, maxTexelBufferElements) is split into
 // ENV_RADIANCE_CHUNKS runs of ENV_TEXELS_PER_CHUNK texels at bindings 2, 5, 6, 7 (engine/render/scene_gpu.cpp
 // uploadScene); read it through envTexelRadiance (lib/latlong.glsl).

@@ -1,4 +1,4 @@
-// GPU twin of engine/sampling/sphere_mapping.h and latlong_texel.h: lat-long <-> direction (DESIGN §3),
+// GPU twin of engine/sampling/sphere_mapping.h and latlong_texel.h: lat-long <-> direction (docs/DESIGN.md §3),
 // the texel of a direction, the area-preserving map from [0,1)^2 onto one texel, and the radiance lookup.
 #ifndef IBLX_LIB_LATLONG
 #define IBLX_LIB_LATLONG

@@ -187,7 +187,7 @@ bool quadMapInvert(vec2 y, out vec2 x, out float jac) {
   return false;
 }
 
-// The OT maps' density square: column u = phi / 2pi as in DESIGN §3, and row r of OT_DENSITY_GRID covering
+// The OT maps' density square: column u = phi / 2pi as in docs/DESIGN.md §3, and row r of OT_DENSITY_GRID covering
 // theta in [pi r / N, pi (r+1) / N] as in the lat-long map, but with cos(theta) (not theta) linear inside the
 // row. Each cell keeps its mass (otDensityFromEnv integrates over the same cells), while the solid angle per
 // unit parameter area becomes constant within a row: the pdf stays bounded at the poles instead of growing

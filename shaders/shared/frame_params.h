@@ -1,4 +1,4 @@
-// Structs that cross the host/GPU line, compiled by both C++ and glslang (STYLE "For iblx" 6).
+// Structs that cross the host/GPU line, compiled by both C++ and glslang (docs/DESIGN.md §2).
 // Only scalars and vec4 are used so std430 and C++ layouts agree; the C++ side static_asserts the sizes.
 #ifndef IBLX_SHARED_FRAME_PARAMS_H
 #define IBLX_SHARED_FRAME_PARAMS_H
@@ -19,7 +19,7 @@ struct GPixel {
   vec4 view;     // xyz: direction to the viewer wo (world); for background pixels the direction seen
 };
 
-// One accumulation entry per pixel (set 0, binding 1): running means over all samples so far (DESIGN §6).
+// One accumulation entry per pixel (set 0, binding 1): running means over all samples so far (docs/DESIGN.md §6).
 struct AccumPixel {
   vec4 mean;        // rgb: mean estimate; a: unused
   vec4 meanSquare;  // rgb: mean of the squared estimates (per-pixel variance = meanSquare - mean^2)

@@ -1,4 +1,4 @@
-// Tests of the DESIGN §3 conventions in engine/core/sphere_mapping.h and the texel warp in
+// Tests of the docs/DESIGN.md §3 conventions in engine/core/sphere_mapping.h and the texel warp in
 // latlong_texel.h.
 #include "engine/sampling/latlong_texel.h"
 #include "engine/core/sphere_mapping.h"
@@ -21,7 +21,7 @@ glm::dvec3 uniformDirection(glm::dvec2 u) {
 
 }  // namespace
 
-TEST_CASE("sphere_mapping: lat-long axes follow DESIGN §3") {
+TEST_CASE("sphere_mapping: lat-long axes follow docs/DESIGN.md §3") {
   // v = 0 is +Y (top row), v = 1/2 the horizon; u = 0 is +X, u = 1/4 is +Z.
   CHECK(glm::length(latLongToDirection({0.0, 0.0}) - glm::dvec3(0, 1, 0)) < 1e-12);
   CHECK(glm::length(latLongToDirection({0.0, 0.5}) - glm::dvec3(1, 0, 0)) < 1e-12);

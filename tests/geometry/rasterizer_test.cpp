@@ -22,7 +22,7 @@ glm::dvec3 xyz(const gpu::vec4& v) {
   return {v.x, v.y, v.z};
 }
 
-// The sphere G-buffer exactly as iblx built it before cameras had an orbit (DESIGN §3), kept here verbatim so
+// The sphere G-buffer exactly as iblx built it before cameras had an orbit (docs/DESIGN.md §3), kept here verbatim so
 // that the default camera can be checked bit for bit against it.
 GBuffer designSphereGBuffer(int width, int height) {
   GBuffer g{width, height, std::vector<gpu::GPixel>(std::size_t(width) * height)};
@@ -86,7 +86,7 @@ void checkFrames(const GBuffer& g, const CameraSpec& camera) {
 
 }  // namespace
 
-TEST_CASE("camera: the default frame is DESIGN §3's; orbits rotate it about the origin") {
+TEST_CASE("camera: the default frame is docs/DESIGN.md §3's; orbits rotate it about the origin") {
   const CameraFrame f = cameraFrame({});
   CHECK(f.right == glm::dvec3(1, 0, 0));
   CHECK(f.up == glm::dvec3(0, 1, 0));
@@ -134,7 +134,7 @@ TEST_CASE("camera: the tangent field follows latitudes about +Y, with +X at the 
   }
 }
 
-TEST_CASE("sphere G-buffer: the default camera is bit-identical to DESIGN §3's sphere") {
+TEST_CASE("sphere G-buffer: the default camera is bit-identical to docs/DESIGN.md §3's sphere") {
   for (const auto& [w, h] : {std::pair{64, 64}, std::pair{33, 17}, std::pair{16, 40}}) {
     const GBuffer expected = designSphereGBuffer(w, h);
     const GBuffer actual = makeSphereGBuffer(w, h);

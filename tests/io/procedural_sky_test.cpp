@@ -1,4 +1,4 @@
-// Tests of the default procedural sky: valid radiance, the sun where DESIGN §3 says it is and as bright as
+// Tests of the default procedural sky: valid radiance, the sun where docs/DESIGN.md §3 says it is and as bright as
 // the hard case needs, ground darker than sky, determinism.
 #include "engine/io/procedural_sky.h"
 
@@ -41,7 +41,7 @@ TEST_CASE("makeProceduralSky: default map is finite, non-negative, 256x128") {
 TEST_CASE("makeProceduralSky: the sun is where its options put it, >= 1e3 x the median texel") {
   const ProceduralSkyOptions options;
   const EnvImage sky = makeProceduralSky(options);
-  // Sun direction by DESIGN §3: elevation e, azimuth a -> theta = 90 - e, phi = a.
+  // Sun direction by docs/DESIGN.md §3: elevation e, azimuth a -> theta = 90 - e, phi = a.
   const double degree = kPi / 180.0;
   const glm::dvec3 sunDirection =
       latLongToDirection({options.sunAzimuthDegrees / 360.0, (90.0 - options.sunElevationDegrees) / 180.0});

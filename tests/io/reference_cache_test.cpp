@@ -12,8 +12,12 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 using namespace iblx;
 using namespace iblx::test;
@@ -101,4 +105,64 @@ TEST_CASE("reference cache: torn, bit-flipped, unsealed or mis-sized entries are
   // An unsealed EXR (the layout before the seal) is not trusted either.
   writeExr(path, 8, 4, rgb);
   CHECK(contains(errorMessage([&] { readReferenceCacheFile(path, 8, 4); }), "checksum"));
+}
+
+TEST_CASE(
+    "reference cache: processes needing one ground truth compute it once; the others wait and read it") {
+  // Each thread opens the lock file itself, so flock() makes them wait on one another as separate processes
+  // (or the nodes of a cluster sharing the directory) would.
+  ScratchDir dir;
+  const auto path = dir.file("references/00000000000000aa.exr");
+  const auto rgb = gradient(6, 4);
+  std::atomic<int> computed{0};
+  std::vector<std::vector<float>> results(4);
+  std::vector<int> fromCache(4, -1);
+  std::vector<std::thread> tasks;
+  for (std::size_t t = 0; t < results.size(); ++t)
+    tasks.emplace_back([&, t] {
+      bool cached = false;
+      results[t] = readOrComputeCached(
+          path, 6, 4,
+          [&] {
+            ++computed;
+            std::this_thread::sleep_for(
+                std::chrono::milliseconds(200));  // long enough for the others to wait
+            return rgb;
+          },
+          &cached);
+      fromCache[t] = cached;
+    });
+  for (auto& task : tasks) task.join();
+  CHECK(computed.load() == 1);
+  for (std::size_t t = 0; t < results.size(); ++t) CHECK(results[t] == rgb);
+  CHECK(std::count(fromCache.begin(), fromCache.end(), 1) == 3);
+  CHECK(readReferenceCacheFile(path, 6, 4) == rgb);
+}
+
+TEST_CASE("reference cache: a damaged entry is computed again and replaced") {
+  ScratchDir dir;
+  const auto path = dir.file("references/00000000000000bb.exr");
+  std::filesystem::create_directories(path.parent_path());
+  writeFileAtomically(path, std::string("not an EXR"));
+  const auto rgb = gradient(3, 2);
+  bool cached = true;
+  int computed = 0;
+  CHECK(readOrComputeCached(
+            path, 3, 2,
+            [&] {
+              ++computed;
+              return rgb;
+            },
+            &cached) == rgb);
+  CHECK(computed == 1);
+  CHECK_FALSE(cached);
+  CHECK(readOrComputeCached(
+            path, 3, 2,
+            [&] {
+              ++computed;
+              return rgb;
+            },
+            &cached) == rgb);
+  CHECK(computed == 1);
+  CHECK(cached);
 }

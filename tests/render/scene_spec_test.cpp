@@ -34,6 +34,14 @@ TEST_CASE("method words: options by name, errors that say what is valid") {
   const MethodSpec b = parseMethodVariant("ris:M=32");
   CHECK(*b.risCandidates == 32);
   CHECK(parseMethodVariant("brdf:brdf-tab").brdfSampler == "brdf-tab");
+  // `cosine` is an env and a BRDF technique: brdf:cosine used to set the env technique (ignored by brdf, with
+  // a warning) and sample with the BRDF's best technique instead.
+  CHECK(parseMethodVariant("brdf:cosine").brdfSampler == "cosine");
+  CHECK(parseMethodVariant("brdf:cosine").envSampler.empty());
+  CHECK(parseMethodVariant("mis:cosine").envSampler == "cosine");
+  const MethodSpec both = parseMethodVariant("mis:env-cdf:cosine");
+  CHECK(both.envSampler == "env-cdf");
+  CHECK(both.brdfSampler == "cosine");
   CHECK(parseMethodVariant("mis:compensated").misCompensation);
   const auto [setting, message] = settingErrorOf([] { parseMethodVariant("mis:bogus"); });
   CHECK(setting == Setting::Method);

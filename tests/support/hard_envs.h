@@ -1,4 +1,4 @@
-// Named environment-map fixtures shared by every sampler test: the hard cases of DESIGN §5 at small sizes
+// Named environment-map fixtures shared by every sampler test: the hard cases of docs/DESIGN.md §5 at small sizes
 // (the generators are engine/io/synthetic_envs.h).
 #pragma once
 

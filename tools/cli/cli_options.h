@@ -1,4 +1,4 @@
-// The shared flags of DESIGN §8, parsed once into one RenderSpec for every subcommand that renders.
+// The shared flags of docs/DESIGN.md §8, parsed once into one RenderSpec for every subcommand that renders.
 #pragma once
 
 #include "engine/io/image_write.h"
@@ -92,8 +92,8 @@ void checkImagePath(const std::string& flag, const std::string& path, bool exrOn
 void checkTableOutput(const std::string& out, const std::string& extension, const std::string& kind);
 // The scene a tabulation command evaluates `brdf` in: one pixel, no light (only the BRDF's part runs).
 Scene tabulationScene(SceneSpec spec, LoadedBrdf brdf);
-// The ground truth of --reference-file (an EXR of `iblx reference`): W x H RGB, every value finite. Errors name
-// the flag and file; a size mismatch says "does not match <sizeName> WxH".
+// The ground truth of --reference-file (an EXR of `iblx reference`): W x H RGB, every value finite. Errors
+// name the flag and file; a size mismatch says "does not match <sizeName> WxH".
 std::vector<float> readReferenceFile(const std::filesystem::path& path, int width, int height,
                                      const std::string& sizeName);
 // The warning for estimates the GPU replaced by 0 because they were NaN or Inf: with finite inputs below

@@ -1,6 +1,6 @@
-// `iblx converge`: speed against error (DESIGN §7). Runs methods x sequences x seeds on one scene, records
-// MSE and relMSE against the ground truth after each point of a log-spaced sample schedule, and writes the
-// CSV, the summary table and the PNG figures.
+// `iblx converge`: speed against error (docs/DESIGN.md §7). Runs methods x sequences x seeds on one scene,
+// records MSE and relMSE against the ground truth after each point of a log-spaced sample schedule, and
+// writes the CSV, the summary table and the PNG figures.
 #include "engine/analysis/convergence.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"

@@ -1,6 +1,6 @@
-// `iblx hardcases`: the hard-case suite (DESIGN §5). Runs every method on each case and checks that the
-// output is finite and converges to the reference (z-test of the image-mean error, family-wise false-alarm
-// rate 1e-3), then ranks the methods by MSE at equal time. Exit status 1 when any check fails.
+// `iblx hardcases`: the hard-case suite (docs/DESIGN.md §5). Runs every method on each case and checks that
+// the output is finite and converges to the reference (z-test of the image-mean error, family-wise
+// false-alarm rate 1e-3), then ranks the methods by MSE at equal time. Exit status 1 when any check fails.
 #include "engine/analysis/convergence.h"
 #include "engine/core/error.h"
 #include "engine/core/json_output.h"

@@ -3,7 +3,7 @@
 // lat-long map as grey log sampling weight, with the pre-images of a uniform grid over the unit square drawn
 // on top. A sampler maps uniform points through the inverse map, so where those lines crowd, samples crowd.
 // With --diagnose it draws nothing and reports, per env sampler, how far its pdf is from the texel pdf
-// (engine/sampling/env_ot_diagnostics.h): the offline part of tools/ot_decompose.sh.
+// (engine/sampling/env_ot_diagnostics.h): the offline part of the OT decomposition (docs/BENCHMARKS.md).
 #include "engine/core/cache_dir.h"
 #include "engine/core/error.h"
 #include "engine/core/file_names.h"
@@ -53,8 +53,8 @@ struct Figure {
   }
 };
 
-// The environment's sampling weight (mean RGB, DESIGN §3) box-filtered to width x height, as grey on a log
-// scale: the brightest pixel near white, the dimmest non-zero ones dark grey, exact zeros black.
+// The environment's sampling weight (mean RGB, docs/DESIGN.md §3) box-filtered to width x height, as grey on
+// a log scale: the brightest pixel near white, the dimmest non-zero ones dark grey, exact zeros black.
 Figure logWeightBackground(const EnvImage& env, int width, int height) {
   std::vector<double> weight(std::size_t(width) * height, 0.0);
   for (int py = 0; py < height; ++py) {
@@ -289,7 +289,7 @@ int cmdOtMap(const Args& args) {
       "--diagnose",
       "draw nothing; report per env sampler (env-cdf, env-hier, env-ot, env-ot-inv, env-ot-fwd) chi^2 of "
       "the texel pdf against its pdf, and for the OT samplers the share of non-convex quads and the "
-      "map's round trip (the samplers' own map; tools/ot_decompose.sh)",
+      "map's round trip (the samplers' own map; docs/BENCHMARKS.md)",
       [&] { diagnose = true; });
   parser.value("--subgrid", "K",
                "with --diagnose: integrate each sampler's pdf over a texel on K x K points, 1-16 (default 4)",

@@ -1,4 +1,4 @@
-// `iblx reference`: the ground truth of a scene (DESIGN §4) written as a linear EXR.
+// `iblx reference`: the ground truth of a scene (docs/DESIGN.md §4) written as a linear EXR.
 #include "engine/io/image_write.h"
 #include "engine/render/reference.h"
 #include "engine/render/scene_gpu.h"

@@ -18,6 +18,7 @@
 
 #include <vulkan/vulkan_raii.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -78,19 +79,25 @@ std::string estimateText(const StudyPlan& plan, const std::vector<StudyRun>& run
   return text;
 }
 
-// The plan argument: the first word that is not a flag.
+// The plan argument: the first word that is neither a flag nor the value of one of `valueFlags`.
 struct StudyArgs {
   fs::path plan;
   Args flags;
 };
-StudyArgs splitPlan(const std::string& command, const Args& args) {
+StudyArgs splitPlan(const std::string& command, const Args& args, const std::set<std::string>& valueFlags) {
   StudyArgs split;
-  for (const auto& a : args)
-    if (split.plan.empty() && !a.empty() && a[0] != '-')
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (split.plan.empty() && !a.empty() && a[0] != '-') {
       split.plan = a;
-    else
-      split.flags.push_back(a);
-  if (split.plan.empty() && !(args.size() == 1 && (args[0] == "--help" || args[0] == "-h")))
+      continue;
+    }
+    split.flags.push_back(a);
+    if (valueFlags.count(a) && i + 1 < args.size()) split.flags.push_back(args[++i]);
+  }
+  const bool help = std::find(args.begin(), args.end(), "--help") != args.end() ||
+                    std::find(args.begin(), args.end(), "-h") != args.end();
+  if (split.plan.empty() && !help)
     throw Error("study " + command + ": no plan file (iblx study " + command + " PLAN.toml)");
   return split;
 }
@@ -110,7 +117,7 @@ std::vector<StudyRun> selectRuns(const std::vector<StudyRun>& runs, const std::o
 }
 
 int studyPlan(const Args& args) {
-  const StudyArgs split = splitPlan("plan", args);
+  const StudyArgs split = splitPlan("plan", args, {"--shard"});
   std::optional<StudyShard> shard;
   bool json = false;
   ArgParser parser("study plan");
@@ -171,8 +178,149 @@ void writeSceneData(const StudyPlan& plan, const StudyScene& studyScene, const S
   writeFileAtomically(dir / "scene.json", json.dump() + "\n");  // last: it marks the folder complete
 }
 
+// A task of `study run`: its runs, scene by scene, on one device.
+class StudyTask {
+ public:
+  StudyTask(const StudyPlan& plan, const RenderSpec& device)
+      : plan_(plan),
+        context_({device.device, device.validation ? Validation::On : Validation::Auto}),
+        host_(hostName()) {}
+
+  // Measures `pending` (in plan order) until done or interrupted; returns the exit status.
+  int measure(const std::vector<StudyRun>& pending) {
+    const auto start = std::chrono::steady_clock::now();
+    std::size_t next = 0;
+    while (next < pending.size() && !interrupt_.flag().load()) {
+      // The pending runs of one scene: the scene and its ground truth are loaded once for them.
+      std::size_t end = next;
+      while (end < pending.size() && pending[end].scene == pending[next].scene) ++end;
+      try {
+        loadScene(plan_.scenes[pending[next].scene]);
+      } catch (const Interrupted&) {
+        break;
+      } catch (const std::exception& e) {  // every run of the scene fails alike; the other scenes go on
+        for (; next < end; ++next)
+          recordFailure(pending[next], "scene " + plan_.scenes[pending[next].scene].name + ": " + e.what());
+        continue;
+      }
+      for (; next < end && !interrupt_.flag().load(); ++next)
+        if (!measureRun(pending[next], pending.size() - next - 1)) break;
+    }
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (interrupt_.flag().load()) {
+      std::fprintf(stderr,
+                   "study: interrupted after %zu runs (%s); the run in flight was dropped; rerun the same "
+                   "command to finish the other %zu\n",
+                   measured_, durationText(elapsed).c_str(), pending.size() - measured_ - failed_);
+      return 130;
+    }
+    std::fprintf(stderr, "study: %zu runs measured in %s, %zu failed%s\n", measured_,
+                 durationText(elapsed).c_str(), failed_,
+                 failed_ ? " (recorded with their errors; a rerun tries them again)" : "");
+    return failed_ ? 1 : 0;
+  }
+
+ private:
+  void loadScene(const StudyScene& studyScene) {
+    studyScene_ = &studyScene;
+    scene_.reset();
+    flags_ = ConvergeSceneFlags{};
+    ArgParser parser("study");
+    addConvergeSceneFlags(parser, flags_);
+    parser.parse(studyScene.flags);
+    finishConvergeSceneFlags(flags_);
+    scene_.emplace(loadConvergeScene(context_, flags_, checkConvergeScene(flags_)));
+    reference_ = obtainReference(context_, compiler_, *scene_, flags_.hardCase(), flags_.spec);
+    writeSceneData(plan_, studyScene, *scene_, reference_, convergeSceneTitle(flags_, *scene_),
+                   context_.deviceName());
+  }
+
+  // Measures one run of the loaded scene and records it; false when interrupted (nothing is recorded).
+  bool measureRun(const StudyRun& run, std::size_t runsLeft) {
+    const auto start = std::chrono::steady_clock::now();
+    StudyRecord record{run.id, studyScene_->name,     run.method, run.sequence, run.seed, RunStatus::Done,
+                       "",     context_.deviceName(), host_,      0.0,          {}};
+    try {
+      MeasurementSpec spec = flags_.spec;
+      spec.methods = {run.method};
+      spec.sequences = {run.sequence};
+      spec.seeds = 1;
+      spec.firstSeed = run.seed;
+      const std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene_->brdf);
+      const std::vector<std::uint32_t> seeds = {run.seed};
+      ConvergenceResult result =
+          runConvergence(context_, compiler_, *scene_, reference_.rgb, methods, seeds, spec.finalBudget(),
+                         showProgress, &interrupt_.flag(), reference_.noise);
+      endProgressLine();
+      if (result.interrupted) return false;  // the run in flight is dropped, never half-recorded
+      if (!result.skipped.empty()) {
+        record.status = RunStatus::Skipped;
+        record.message = result.skipped.front().reason;
+      } else {
+        record.run = std::move(result.runs.front());
+        // The image goes first: the record is what marks the run complete.
+        if (run.firstSeed && !result.images.empty())
+          writeExr(runImagePath(plan_, run), scene_->gbuffer.width, scene_->gbuffer.height,
+                   result.images.front().rgb);
+      }
+    } catch (const Interrupted&) {
+      return false;
+    } catch (const vk::SystemError& e) {
+      recordFailure(run, std::string("Vulkan error: ") + e.what());
+      return true;
+    } catch (const std::exception& e) {
+      recordFailure(run, e.what());
+      return true;
+    }
+    record.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    writeStudyRecord(runRecordPath(plan_, run), record);
+    ++measured_;
+    measuredSeconds_ += record.seconds;
+    reportProgress(run, record, runsLeft);
+    return true;
+  }
+
+  // One line per run, with the rest of the task estimated from what the runs so far cost on average.
+  void reportProgress(const StudyRun& run, const StudyRecord& record, std::size_t runsLeft) const {
+    char line[512];
+    if (record.status == RunStatus::Skipped)
+      std::snprintf(line, sizeof line, "skipped: %s", record.message.c_str());
+    else {
+      const ConvergencePoint& last = record.run.points.back();
+      std::snprintf(line, sizeof line, "%llu spp in %.2f s, relMSE %.3g",
+                    static_cast<unsigned long long>(last.spp), last.wallSeconds, last.relMse);
+    }
+    const double perRun = measuredSeconds_ / double(measured_);
+    std::fprintf(stderr, "study: [%zu/%zu] %s %s/%s seed %u: %s; about %s left\n", measured_ + failed_,
+                 measured_ + failed_ + runsLeft, studyScene_->name.c_str(), run.method.c_str(),
+                 run.sequence.c_str(), run.seed, line, durationText(double(runsLeft) * perRun).c_str());
+  }
+
+  void recordFailure(const StudyRun& run, const std::string& message) {
+    const StudyRecord record{
+        run.id,  plan_.scenes[run.scene].name, run.method, run.sequence, run.seed, RunStatus::Failed,
+        message, context_.deviceName(),        host_,      0.0,          {}};
+    writeStudyRecord(runRecordPath(plan_, run), record);
+    ++failed_;
+    std::fprintf(stderr, "study: %s %s/%s seed %u failed: %s\n", record.scene.c_str(), run.method.c_str(),
+                 run.sequence.c_str(), run.seed, message.c_str());
+  }
+
+  const StudyPlan& plan_;
+  InterruptGuard interrupt_;  // before the device: Ctrl-C during its creation is kept for the first check
+  VulkanContext context_;
+  ShaderCompiler compiler_;
+  std::string host_;
+  const StudyScene* studyScene_ = nullptr;
+  ConvergeSceneFlags flags_;
+  std::optional<Scene> scene_;
+  ObtainedReference reference_;
+  std::size_t measured_ = 0, failed_ = 0;
+  double measuredSeconds_ = 0.0;
+};
+
 int studyRun(const Args& args) {
-  const StudyArgs split = splitPlan("run", args);
+  const StudyArgs split = splitPlan("run", args, {"--shard", "--task", "--device"});
   std::optional<StudyShard> shard;
   std::vector<std::string> ids;
   RenderSpec device;
@@ -203,124 +351,12 @@ int studyRun(const Args& args) {
                share.c_str(), selected.size(), selected.size() - pending.size(), pending.size());
   if (pending.empty()) return 0;
   std::fprintf(stderr, "study: %s\n", estimateText(plan, pending).c_str());
-
-  InterruptGuard interrupt;
-  VulkanContext context({device.device, device.validation ? Validation::On : Validation::Auto});
-  ShaderCompiler compiler;
-  const std::string host = hostName();
-  const auto taskStart = std::chrono::steady_clock::now();
-  std::size_t measured = 0, failed = 0;
-  double measuredSeconds = 0.0;
-  const auto recordFailure = [&](const StudyRun& run, const std::string& message) {
-    StudyRecord record{
-        run.id,  plan.scenes[run.scene].name, run.method, run.sequence, run.seed, RunStatus::Failed,
-        message, context.deviceName(),        host,       0.0,          {}};
-    writeStudyRecord(runRecordPath(plan, run), record);
-    ++failed;
-    std::fprintf(stderr, "study: %s %s/%s seed %u failed: %s\n", record.scene.c_str(), run.method.c_str(),
-                 run.sequence.c_str(), run.seed, message.c_str());
-  };
-  std::size_t next = 0;
-  while (next < pending.size() && !interrupt.flag().load()) {
-    // The pending runs of one scene: the scene and its ground truth are loaded once for them.
-    const std::size_t sceneIndex = pending[next].scene;
-    std::size_t end = next;
-    while (end < pending.size() && pending[end].scene == sceneIndex) ++end;
-    const StudyScene& studyScene = plan.scenes[sceneIndex];
-    ConvergeSceneFlags flags;
-    std::optional<Scene> scene;
-    ObtainedReference reference;
-    try {
-      ArgParser sceneParser("study");
-      addConvergeSceneFlags(sceneParser, flags);
-      sceneParser.parse(studyScene.flags);
-      finishConvergeSceneFlags(flags);
-      scene.emplace(loadConvergeScene(context, flags, checkConvergeScene(flags)));
-      reference = obtainReference(context, compiler, *scene, flags.hardCase(), flags.spec);
-      writeSceneData(plan, studyScene, *scene, reference, convergeSceneTitle(flags, *scene),
-                     context.deviceName());
-    } catch (const Interrupted&) {
-      break;
-    } catch (const std::exception& e) {  // every run of the scene fails alike; the other scenes go on
-      for (std::size_t i = next; i < end; ++i)
-        recordFailure(pending[i], "scene " + studyScene.name + ": " + e.what());
-      next = end;
-      continue;
-    }
-    for (; next < end && !interrupt.flag().load(); ++next) {
-      const StudyRun& run = pending[next];
-      const auto start = std::chrono::steady_clock::now();
-      StudyRecord record{run.id, studyScene.name,      run.method, run.sequence, run.seed, RunStatus::Done,
-                         "",     context.deviceName(), host,       0.0,          {}};
-      try {
-        MeasurementSpec spec = flags.spec;
-        spec.methods = {run.method};
-        spec.sequences = {run.sequence};
-        spec.seeds = 1;
-        spec.firstSeed = run.seed;
-        const std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene->brdf);
-        const std::vector<std::uint32_t> seeds = {run.seed};
-        ConvergenceResult result =
-            runConvergence(context, compiler, *scene, reference.rgb, methods, seeds, spec.finalBudget(),
-                           showProgress, &interrupt.flag(), reference.noise);
-        endProgressLine();
-        if (result.interrupted) break;  // the run in flight is abandoned, never half-recorded
-        if (!result.skipped.empty()) {
-          record.status = RunStatus::Skipped;
-          record.message = result.skipped.front().reason;
-        } else {
-          record.run = std::move(result.runs.front());
-          // The image goes first: the record is what marks the run complete.
-          if (run.firstSeed && !result.images.empty())
-            writeExr(runImagePath(plan, run), scene->gbuffer.width, scene->gbuffer.height,
-                     result.images.front().rgb);
-        }
-      } catch (const Interrupted&) {
-        break;
-      } catch (const vk::SystemError& e) {
-        recordFailure(run, std::string("Vulkan error: ") + e.what());
-        continue;
-      } catch (const std::exception& e) {
-        recordFailure(run, e.what());
-        continue;
-      }
-      record.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      writeStudyRecord(runRecordPath(plan, run), record);
-      ++measured;
-      measuredSeconds += record.seconds;
-      // The rest of the task: each run costs its budget plus the setup measured so far, or (a spp budget)
-      // what the runs so far cost on average.
-      const std::size_t left = pending.size() - next - 1;
-      const double perRun = measuredSeconds / double(measured);
-      char line[512];
-      if (record.status == RunStatus::Skipped)
-        std::snprintf(line, sizeof line, "skipped: %s", record.message.c_str());
-      else {
-        const ConvergencePoint& last = record.run.points.back();
-        std::snprintf(line, sizeof line, "%llu spp in %.2f s, relMSE %.3g",
-                      static_cast<unsigned long long>(last.spp), last.wallSeconds, last.relMse);
-      }
-      std::fprintf(stderr, "study: [%zu/%zu] %s %s/%s seed %u: %s; about %s left\n", next + 1, pending.size(),
-                   studyScene.name.c_str(), run.method.c_str(), run.sequence.c_str(), run.seed, line,
-                   durationText(double(left) * perRun).c_str());
-    }
-  }
-  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - taskStart).count();
-  if (interrupt.flag().load()) {
-    std::fprintf(stderr,
-                 "study: interrupted after %zu runs (%s); the run in flight was dropped; rerun the same "
-                 "command to finish the other %zu\n",
-                 measured, durationText(elapsed).c_str(), pending.size() - measured - failed);
-    return 130;
-  }
-  std::fprintf(stderr, "study: %zu runs measured in %s, %zu failed%s\n", measured,
-               durationText(elapsed).c_str(), failed,
-               failed ? " (recorded with their errors; a rerun tries them again)" : "");
-  return failed ? 1 : 0;
+  StudyTask task(plan, device);
+  return task.measure(pending);
 }
 
 int studyMerge(const Args& args) {
-  const StudyArgs split = splitPlan("merge", args);
+  const StudyArgs split = splitPlan("merge", args, {"--out-dir"});
   fs::path outDir;
   ArgParser parser("study merge");
   parser.value("--out-dir", "DIR", "where the report goes (default: the plan's report_directory)",

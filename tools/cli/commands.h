@@ -22,8 +22,8 @@ int cmdSamples(const Args& args);
 int cmdOtMap(const Args& args);
 int cmdStudy(const Args& args);
 
-// Runs the subcommand `command` (e.g. "render") with its flags; -1 when there is no such command. `iblx study`
-// generates its inputs with it.
+// Runs the subcommand `command` (e.g. "render") with its flags; -1 when there is no such command. `iblx
+// study` generates its inputs with it.
 int runCommand(const std::string& command, const Args& args);
 
 }  // namespace iblx::cli

@@ -2,6 +2,7 @@
 #include "tools/cli/study_merge.h"
 
 #include "engine/analysis/convergence.h"
+#include "engine/analysis/loss_decomposition.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/core/json_output.h"
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -97,14 +99,16 @@ struct SceneResult {
   std::vector<ConvergenceImage> images;
   std::map<std::string, std::string> planMethodOfLabel;  // "mis(env-cdf+cosine, balance)" -> "mis"
   std::set<std::string> devices;
+  std::vector<SamplerRuns> samplers;  // per plan method, in plan order: its random and sobol runs
   std::optional<ConvergenceSummary> summary;
   std::optional<TextTable> table;
 };
 
 // Keeps the files of `written` named in `keep` (by their stem, e.g. "relmse_vs_time"); removes the others.
 std::vector<std::string> keepPlots(const fs::path& dir, const std::vector<std::string>& written,
-                                   const std::vector<std::string>& keep) {
-  if (keep.empty()) return written;
+                                   const std::optional<std::vector<std::string>>& keepList) {
+  if (!keepList) return written;
+  const std::vector<std::string>& keep = *keepList;
   std::vector<std::string> kept;
   for (const auto& file : written) {
     if (std::find(keep.begin(), keep.end(), fs::path(file).stem().string()) != keep.end())
@@ -117,10 +121,10 @@ std::vector<std::string> keepPlots(const fs::path& dir, const std::vector<std::s
   return kept;
 }
 
-// A matrix over scenes: one row per plan method and sequence, one column per scene, each cell the summary
-// table's cell in `column` (the same text as the scene's summary.md).
+// A matrix over scenes: one row per plan method and sequence, one column per scene, each cell cell(scene, i)
+// of the scene's summary row i for that method and sequence, "—" where it has none.
 TextTable matrix(const std::vector<RowKey>& rows, const std::vector<SceneResult>& scenes,
-                 std::size_t column) {
+                 const std::function<std::string(const SceneResult&, std::size_t)>& cell) {
   TextTable t;
   t.headers = {"method", "seq"};
   t.rightAligned = {false, false};
@@ -131,19 +135,74 @@ TextTable matrix(const std::vector<RowKey>& rows, const std::vector<SceneResult>
   for (const auto& row : rows) {
     std::vector<std::string> cells = {row.method, row.sequence};
     for (const auto& s : scenes) {
-      std::string cell = "—";
+      std::string text = "—";
       if (s.summary)
         for (std::size_t i = 0; i < s.summary->rows.size(); ++i) {
           const auto& r = s.summary->rows[i];
           const auto it = s.planMethodOfLabel.find(r.method);
           if (it != s.planMethodOfLabel.end() && it->second == row.method && r.sequence == row.sequence)
-            cell = s.table->rows[i][column];
+            text = cell(s, i);
         }
-      cells.push_back(cell);
+      cells.push_back(text);
     }
     t.rows.push_back(std::move(cells));
   }
   return t;
+}
+
+constexpr const char* kDecompositionLegend =
+    "Per scene, from the median curves over seeds (fits skip the first two points of six or more): C, the "
+    "variance per sample with `random` (MSE = C / spp, slope fixed at -1); Q, the `sobol` MSE over C / N at "
+    "the spp N each method reaches at equal GPU time T (the end of the shortest `sobol` run); the free "
+    "log-log slopes; ns per sample (GPU time over spp x object pixels, `sobol`); R, the equal-time `sobol` "
+    "MSE "
+    "over the baseline's. R = pdf (C / C_h) x QMC (Q / Q_h at the same N) x cost ((N_h / N)^-b_h, b_h the "
+    "baseline's `sobol` slope) x residual (the baseline's curve off its power law; 1 when it follows it). "
+    "docs/STUDIES.md, \"Decomposition\".";
+
+std::string format(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+// One scene's decomposition against `baseline` (engine/analysis/loss_decomposition.h): a table and the
+// attribution of each method's R, or a line saying why there is none.
+std::string decompositionSection(const std::string& baseline, const SceneResult& scene,
+                                 const std::optional<SceneData>& data) {
+  std::string text = "### " + scene.scene->name + "\n\n";
+  std::vector<SamplerRuns> samplers;
+  for (const auto& s : scene.samplers)
+    if (!s.random.empty() && !s.sobol.empty()) samplers.push_back(s);
+  const auto h = std::find_if(samplers.begin(), samplers.end(),
+                              [&](const SamplerRuns& s) { return s.name == baseline; });
+  if (h == samplers.end() || !data)
+    return text + "No decomposition: " +
+           (data ? baseline + " has no `random` and `sobol` runs here" : "no scene data") + ".\n\n";
+  try {
+    const LossDecomposition d =
+        decomposeLoss(samplers, std::size_t(h - samplers.begin()), data->mask.objectPixelCount());
+    TextTable t;
+    t.headers = {"method", "C", "C / baseline", "Q", "slopes random / sobol", "ns / sample", "N at T", "R"};
+    t.rightAligned = {false, true, true, true, true, true, true, true};
+    for (const auto& r : d.rows)
+      t.rows.push_back({r.name, format("%.3g", r.c), format("%.2f", r.cRatio), format("%.3g", r.q),
+                        format("%.2f", r.slopeRandom) + " / " + format("%.2f", r.slopeSobol),
+                        format("%.1f", r.nsPerSample), format("%.0f", r.spp), format("%.2f", r.ratio)});
+    text += "Equal GPU time T = " + format("%.3g", d.equalTimeSeconds) + " s; " +
+            std::to_string(data->mask.objectPixelCount()) +
+            " object pixels; the baseline's `sobol` slope b_h = " + format("%.2f", d.baselineSlope) +
+            ".\n\n" + formatMarkdownTable(t) + "\n";
+    for (const auto& r : d.rows)
+      if (r.name != baseline)
+        text += "- `" + r.name + "`: R = " + format("%.2f", r.ratio) + " = pdf " + format("%.2f", r.pdf) +
+                " × QMC " + format("%.2f", r.qmc) + " × cost " + format("%.2f", r.cost) +
+                " (N = " + format("%.0f", r.spp) + " against " + format("%.0f", d.baselineSpp) +
+                ") × residual " + format("%.2f", r.residual) + "\n";
+    return text + "\n";
+  } catch (const Error& e) {
+    return text + "No decomposition: " + e.what() + ".\n\n";
+  }
 }
 
 }  // namespace
@@ -210,6 +269,12 @@ MergeOutcome mergeStudy(const StudyPlan& plan, const std::vector<StudyRun>& runs
           << numberText(point.mse) << ',' << numberText(point.relMse) << '\n';
     }
     scene.runs.push_back(measured);
+    auto sampler = std::find_if(scene.samplers.begin(), scene.samplers.end(),
+                                [&](const SamplerRuns& r) { return r.name == run.method; });
+    if (sampler == scene.samplers.end())
+      sampler = scene.samplers.insert(sampler, SamplerRuns{run.method, {}, {}});
+    if (run.sequence == "random") sampler->random.push_back(measured);
+    if (run.sequence == "sobol") sampler->sobol.push_back(measured);
     if (run.firstSeed) {
       std::error_code exists;
       if (fs::exists(runImagePath(plan, run), exists)) {
@@ -240,6 +305,16 @@ MergeOutcome mergeStudy(const StudyPlan& plan, const std::vector<StudyRun>& runs
     if (scene.runs.empty()) continue;
     const fs::path dir = plan.reportDirectory / scene.scene->name;
     fs::create_directories(dir, ec);
+    // The figures of an earlier merge go: their numbering follows the runs, which a plan's change shifts.
+    std::vector<fs::path> stale;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (entry.path().extension() == ".png" &&
+          (name.rfind("final-", 0) == 0 || name.rfind("heat-", 0) == 0 ||
+           name.find("_vs_") != std::string::npos))
+        stale.push_back(entry.path());
+    }
+    for (const auto& path : stale) fs::remove(path, ec);
     const std::optional<SceneData> data = readSceneData(sceneDataDirectory(plan, *scene.scene));
     scene.summary = summarize(scene.runs, plan.targetRelMse);
     if (data) {
@@ -276,8 +351,8 @@ MergeOutcome mergeStudy(const StudyPlan& plan, const std::vector<StudyRun>& runs
       std::vector<ConvergenceImage> heat;
       for (const auto& image : scene.images) {
         const std::string key = scene.planMethodOfLabel[image.method] + "/" + image.sequence;
-        if (plan.heatMaps.empty() ||
-            std::find(plan.heatMaps.begin(), plan.heatMaps.end(), key) != plan.heatMaps.end())
+        if (!plan.heatMaps ||
+            std::find(plan.heatMaps->begin(), plan.heatMaps->end(), key) != plan.heatMaps->end())
           heat.push_back(image);
       }
       const std::vector<std::string> heats = writeErrorHeatMaps(dir, data->mask, heat, data->referenceRgb);
@@ -311,15 +386,32 @@ MergeOutcome mergeStudy(const StudyPlan& plan, const std::vector<StudyRun>& runs
     ++outcome.scenesWritten;
   }
 
+  std::string decompositions;
+  if (!plan.decomposeAgainst.empty())
+    for (std::size_t s = 0; s < scenes.size(); ++s)
+      if (scenes[s].summary)
+        decompositions += decompositionSection(plan.decomposeAgainst, scenes[s],
+                                               readSceneData(sceneDataDirectory(plan, *scenes[s].scene)));
   std::vector<RowKey> rows;
   for (const auto& sequence : sequenceOrder)
     for (const auto& method : methodOrder)
       if (seenRows.count({method, sequence})) rows.push_back({method, sequence});
-  // The matrices over scenes: the columns of summaryTable they show.
+  // The matrices over scenes: three columns of summaryTable (the same text as the scenes' summary.md), the
+  // variance per sample and the speed.
+  const auto column = [](std::size_t c) {
+    return [c](const SceneResult& s, std::size_t i) { return s.table->rows[i][c]; };
+  };
   constexpr std::size_t kRatioColumn = 11, kSlopeColumn = 8, kTimeToTargetColumn = 9;
-  const TextTable ratios = matrix(rows, scenes, kRatioColumn);
-  const TextTable slopes = matrix(rows, scenes, kSlopeColumn);
-  const TextTable times = matrix(rows, scenes, kTimeToTargetColumn);
+  const TextTable ratios = matrix(rows, scenes, column(kRatioColumn));
+  const TextTable slopes = matrix(rows, scenes, column(kSlopeColumn));
+  const TextTable times = matrix(rows, scenes, column(kTimeToTargetColumn));
+  const TextTable variances = matrix(rows, scenes, [](const SceneResult& s, std::size_t i) {
+    const MethodSummary& r = s.summary->rows[i];
+    return format("%.3g", r.mse * double(r.spp));
+  });
+  const TextTable speeds = matrix(rows, scenes, [](const SceneResult& s, std::size_t i) {
+    return format("%.3g", s.summary->rows[i].samplesPerSecond);
+  });
   char target[32];
   std::snprintf(target, sizeof target, "%g", plan.targetRelMse);
   std::string problemText;
@@ -334,6 +426,14 @@ MergeOutcome mergeStudy(const StudyPlan& plan, const std::vector<StudyRun>& runs
   tables += "## MSE at equal time over the best method's, per scene\n\n" + formatMarkdownTable(ratios) + "\n";
   tables += "## Log-log slope of MSE against spp\n\n" + formatMarkdownTable(slopes) + "\n";
   tables += std::string("## Time to relMSE ") + target + "\n\n" + formatMarkdownTable(times) + "\n";
+  tables +=
+      "## MSE × spp at the end of the runs (mean over seeds): the variance per sample with `random`\n\n" +
+      formatMarkdownTable(variances) + "\n";
+  tables += "## Samples per pixel per second of wall time (median over seeds)\n\n" +
+            formatMarkdownTable(speeds) + "\n";
+  if (!decompositions.empty())
+    tables += "## Where each method loses against " + plan.decomposeAgainst +
+              "/sobol at equal time, in factors\n\n" + kDecompositionLegend + "\n\n" + decompositions;
   tables += summaries;
   if (!problems.empty()) tables += "## Runs not in the tables\n\n" + problemText;
   writeFileAtomically(plan.reportDirectory / "tables.md", tables);
@@ -357,6 +457,10 @@ MergeOutcome mergeStudy(const StudyPlan& plan, const std::vector<StudyRun>& runs
   report.table(slopes);
   report.heading(std::string("Time to relMSE ") + target);
   report.table(times);
+  report.heading("MSE × spp at the end of the runs: the variance per sample with random numbers");
+  report.table(variances);
+  report.heading("Samples per pixel per second of wall time");
+  report.table(speeds);
   for (std::size_t s = 0; s < scenes.size(); ++s) {
     if (!scenes[s].summary) continue;
     report.heading(scenes[s].scene->name);

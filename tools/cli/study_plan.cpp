@@ -36,6 +36,7 @@ const std::set<std::string> kRunListKeys = {"methods", "sequences", "seeds", "se
 // Keys whose relative paths are relative to the plan's folder.
 const std::set<std::string> kPathKeys = {"env", "brdf", "object"};
 constexpr const char* kInputsVariable = "${inputs}/";
+constexpr const char* kPlanDirVariable = "${plan_dir}";
 
 std::string location(const fs::path& file, const toml::node& node) {
   const auto line = node.source().begin.line;
@@ -128,6 +129,7 @@ StudyScene makeScene(const StudyPlan& plan, const std::string& name, const KeyVa
     if (scene.definition.find(kInputsVariable + input.name) != std::string::npos) {
       scene.definition += " [" + input.name + ":";
       for (const auto& word : input.command) scene.definition += " " + word;
+      if (!input.text.empty()) scene.definition += " text " + hexKey(ContentHash().add(input.text).value());
       scene.definition += "]";
     }
   return scene;
@@ -234,16 +236,24 @@ StudyPlan readStudyPlan(const fs::path& file) {
   if (const toml::node* node = root.get("report")) {
     const auto* table = node->as_table();
     if (!table) throw Error(location(file, *node) + ": report: expected a table");
-    plan.plots = stringList(file, *table, "plots");
-    plan.heatMaps = stringList(file, *table, "heat_maps");
+    if (table->contains("plots")) plan.plots = stringList(file, *table, "plots");
+    if (table->contains("heat_maps")) plan.heatMaps = stringList(file, *table, "heat_maps");
+    plan.decomposeAgainst = (*table)["decompose_against"].value_or(std::string());
+    for (const auto& [key, value] : *table)
+      if (key.str() != "plots" && key.str() != "heat_maps" && key.str() != "decompose_against")
+        throw Error(location(file, value) + ": unknown key 'report." + std::string(key.str()) +
+                    "' (plots, heat_maps, decompose_against)");
   }
   if (const auto* inputs = arrayOfTables(file, root, "input"))
     for (const auto& node : *inputs) {
       const auto& table = *node.as_table();
-      StudyInput input{requiredName(file, table, "input"), stringList(file, table, "command")};
+      StudyInput input{requiredName(file, table, "input"), stringList(file, table, "command"),
+                       table["text"].value_or(std::string())};
       static const std::set<std::string> kGenerators = {"merl-synth", "measured-synth", "make-sky",
                                                         "make-teapot"};
-      if (input.command.empty() || !kGenerators.count(input.command.front()))
+      if (input.command.empty() == input.text.empty())
+        throw Error(location(file, table) + ": input " + input.name + ": give a command or a text");
+      if (!input.command.empty() && !kGenerators.count(input.command.front()))
         throw Error(location(file, table) + ": input " + input.name +
                     ": command must start with merl-synth, measured-synth, make-sky or make-teapot");
       plan.inputs.push_back(std::move(input));
@@ -288,7 +298,7 @@ StudyPlan readStudyPlan(const fs::path& file) {
       plan.scenes.push_back(makeScene(plan, requiredName(file, table, "scene"), values));
     }
   if (plan.scenes.empty())
-    throw Error(file.string() + ": no scenes ([[scene]], or [[env]] and [[material]])");
+    throw Error(file.string() + ": no scenes ([[scene]], or [[map]] and [[material]])");
   std::set<std::string> names;
   for (const auto& scene : plan.scenes)
     if (!names.insert(scene.name).second) throw Error(file.string() + ": two scenes are named " + scene.name);
@@ -306,14 +316,26 @@ void prepareStudyInputs(const StudyPlan& plan) {
     // renamed: a reader never sees a partial input.
     const fs::path temporary =
         plan.directory / "inputs" / (".tmp-" + std::to_string(::getpid()) + "-" + input.name);
-    Args args(input.command.begin() + 1, input.command.end());
+    Args args;
+    // ${plan_dir}: the plan's folder, so a command can name a file of the repository wherever it runs.
+    const std::string planDir = fs::absolute(plan.file).parent_path().string();
+    for (std::size_t i = 1; i < input.command.size(); ++i) {
+      std::string word = input.command[i];
+      for (auto at = word.find(kPlanDirVariable); at != std::string::npos; at = word.find(kPlanDirVariable))
+        word.replace(at, std::string(kPlanDirVariable).size(), planDir);
+      args.push_back(word);
+    }
     args.push_back("--out");
     args.push_back(temporary.string());
     std::fprintf(stderr, "study: writing input %s\n", input.name.c_str());
     try {
       StdoutToStderr quiet;
-      if (runCommand(input.command.front(), args) != 0) throw Error("it exited with an error");
-      fs::rename(temporary, path);
+      if (!input.text.empty())
+        writeFileAtomically(path, input.text);
+      else if (runCommand(input.command.front(), args) != 0)
+        throw Error("it exited with an error");
+      else
+        fs::rename(temporary, path);
     } catch (const std::exception& e) {
       fs::remove(temporary, ec);
       throw Error(plan.file.string() + ": input " + input.name + ": " + e.what());
@@ -343,8 +365,9 @@ std::vector<StudyRun> listStudyRuns(const StudyPlan& plan) {
     if (sequences.empty())
       for (const auto& q : sequenceRegistry()) sequences.push_back(q.name);
     const std::vector<std::uint32_t> seeds = seedList(flags.spec);
-    for (const auto& method : methods)
-      for (const auto& sequence : sequences)
+    // Sequence by sequence, as `converge` runs them, so a scene's summary and figures come in its order.
+    for (const auto& sequence : sequences)
+      for (const auto& method : methods)
         for (const std::uint32_t seed : seeds) {
           StudyRun run{"", s, method, sequence, seed, seed == seeds.front()};
           ContentHash hash;

@@ -19,7 +19,8 @@ namespace iblx::cli {
 // under the study directory's inputs/, referred to as ${inputs}/NAME.
 struct StudyInput {
   std::string name;
-  Args command;  // the command and its flags, without --out
+  Args command;      // the command and its flags, without --out; or
+  std::string text;  // the file's text (e.g. an ALTA function file written by hand)
 };
 
 struct StudyScene {
@@ -46,8 +47,11 @@ struct StudyPlan {
   std::vector<StudyInput> inputs;
   std::vector<StudyScene> scenes;
   // Which figures `merge` keeps per scene: plot names (e.g. "relmse_vs_time") and "method/sequence" heat
-  // maps; empty: all.
-  std::vector<std::string> plots, heatMaps;
+  // maps; unset: all (an empty list: none).
+  std::optional<std::vector<std::string>> plots, heatMaps;
+  // `merge` splits each method's equal-time loss against this method's (`decompose_against`) into factors
+  // (engine/analysis/loss_decomposition.h); empty: no decomposition.
+  std::string decomposeAgainst;
 };
 
 // Reads and checks a plan: TOML syntax, known keys of the right types, unique scene names. Errors name the
@@ -58,9 +62,10 @@ StudyPlan readStudyPlan(const std::filesystem::path& file);
 // that start together generate each once).
 void prepareStudyInputs(const StudyPlan& plan);
 
-// Every run of the plan, scene by scene in plan order, then method, sequence, seed: the scene's flags are
-// parsed as converge parses them (an error names the plan and the scene), and without `methods` a scene gets
-// every method that applies to its BRDF, which reads the BRDF file. Needs the plan's inputs.
+// Every run of the plan, scene by scene in plan order, then sequence, method, seed (converge's order): the
+// scene's flags are parsed as converge parses them (an error names the plan and the scene), and without
+// `methods` a scene gets every method that applies to its BRDF, which reads the BRDF file. Needs the plan's
+// inputs.
 std::vector<StudyRun> listStudyRuns(const StudyPlan& plan);
 
 // The scene's time budget per run (its --time), if it has one.
