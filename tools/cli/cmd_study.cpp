@@ -32,15 +32,15 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kStudyUsage =
-    "usage: iblx study plan PLAN [--shard I/N] [--json]   list the runs, their ids and whether each is done\n"
-    "       iblx study run PLAN [--shard I/N | --task ID]... [--device D]\n"
-    "                                                     measure the runs not yet done (all, a shard, or "
-    "ids)\n"
-    "       iblx study merge PLAN [--out-dir DIR]         gather every record into tables, plots and a "
-    "report\n"
-    "A plan is a TOML file (docs/STUDIES.md). Runs already recorded are skipped; Ctrl-C or SIGTERM stops "
-    "after\n"
-    "the run in flight is abandoned, and a rerun finishes the rest.\n";
+    "usage: iblx study plan PLAN [--shard I/N] [--json]\n"
+    "         list the runs, their ids and whether each is recorded, with a time estimate\n"
+    "       iblx study run PLAN [--shard I/N | --task ID...] [--device D]\n"
+    "         measure the runs not recorded yet: all of them, a shard, or runs by id\n"
+    "       iblx study merge PLAN [--out-dir DIR]\n"
+    "         gather every record into tables, plots and a report (no device needed)\n"
+    "A plan is a TOML file of converge's flags (docs/STUDIES.md). Each run is recorded when it ends; Ctrl-C "
+    "or\n"
+    "SIGTERM drops the run in flight and stops, and the same command run again measures the rest.\n";
 
 std::string durationText(double seconds) {
   char text[64];
