@@ -100,26 +100,8 @@ for _ in $(seq 100); do
 done
 sinfo -h -o %T | grep -qx idle && pass || { fail "the node did not come up: $(sinfo 2>&1; tail -5 "$cluster/log/slurmctld.log")"; exit 1; }
 
-# The plan: two scenes x two methods x two sequences x two seeds, a fixed spp budget (deterministic errors).
-plan_text() {
-  cat << EOF
-title = "Slurm test"
-directory = "$1"
-size = 24
-max_spp = 512
-seeds = 2
-methods = ["env-cdf", "mis"]
-sequences = ["random", "sobol"]
-target_relmse = 1e-2
-[[scene]]
-name = "lambert"
-brdf = "lambert"
-[[scene]]
-name = "ggx"
-brdf = "ggx"
-params = { roughness = 0.3 }
-EOF
-}
+# The plan: common.sh's two scenes x env-cdf and mis x random and sobol x two seeds, a fixed spp budget.
+plan_text() { study_plan "$1" 24 512 '"random", "sobol"' '"env-cdf", "mis"'; }
 plan_text "$tmp/work/cluster-study" > "$tmp/work/plan.toml"
 plan_text "$tmp/work/one-process" > "$tmp/work/one.toml"
 
@@ -179,13 +161,8 @@ grep -q "attempt 2" "iblx-study-${array}_2.out" && pass || fail "task 2 did not 
 # Nothing lost: every run merged, with the errors of the one-process run at every recorded spp.
 grep -q '"missing": 0' cluster-study/study.json && grep -q '"failed": 0' cluster-study/study.json && pass ||
   fail "the merged study is incomplete: $(grep -o '"done": [0-9]*, "skipped": [0-9]*, "failed": [0-9]*, "missing": [0-9]*' cluster-study/study.json)"
-errors() { python3 -c '
-import csv, sys
-rows = sorted((r["scene"], r["id"], r["label"], r["sequence"], r["seed"], r["spp"], r["mse"], r["relmse"])
-              for r in csv.DictReader(open(sys.argv[1])))
-print(len(rows)); [print(*r) for r in rows]' "$1"; }
-errors cluster-study/study.csv > cluster.txt
-errors one-process/study.csv > one.txt
+study_errors cluster-study/study.csv > cluster.txt
+study_errors one-process/study.csv > one.txt
 [ "$(head -1 cluster.txt)" -gt 100 ] && cmp -s cluster.txt one.txt && pass ||
   fail "the merged errors differ from the one-process run: $(diff cluster.txt one.txt | head -5)"
 # The tables' error columns likewise (times differ between runs; the matrices of equal-time ratios need not).

@@ -10,31 +10,11 @@ source "$(dirname "$0")/common.sh"
 started=$SECONDS
 cd "$tmp" || exit 1
 
-# A small plan: two scenes x two methods x two seeds, fixed spp budget.
+# The small plan of common.sh with `sobol`, env-cdf and mis (and a third method when given).
 plan_text() {  # DIRECTORY [EXTRA METHOD] (SIZE and SPP from the environment: 16 and 256)
-  cat << EOF
-title = "study test"
-directory = "$1"
-size = ${SIZE:-16}
-max_spp = ${SPP:-256}
-seeds = 2
-methods = ["env-cdf", "mis"${2:+, \"$2\"}]
-sequences = ["sobol"]
-[[scene]]
-name = "lambert"
-brdf = "lambert"
-[[scene]]
-name = "ggx"
-brdf = "ggx"
-params = { roughness = 0.3 }
-EOF
+  study_plan "$1" "${SIZE:-16}" "${SPP:-256}" '"sobol"' "\"env-cdf\", \"mis\"${2:+, \"$2\"}"
 }
-# Sorted error rows of a merged study.csv: scene, id, label, sequence, seed, spp, mse, relmse.
-errors() { python3 -c '
-import csv, sys
-rows = sorted((r["scene"], r["id"], r["label"], r["sequence"], r["seed"], r["spp"], r["mse"], r["relmse"])
-              for r in csv.DictReader(open(sys.argv[1])))
-print(len(rows)); [print(*r) for r in rows]' "$1"; }
+errors() { study_errors "$1"; }
 expect_error() {  # EXPECTED-TEXT COMMAND...: exit status 1 and one line holding the text
   local expected="$1" out status
   shift
