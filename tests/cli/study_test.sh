@@ -60,6 +60,13 @@ wait $! && pass || fail "shard 1/2: $(cat shard1.log)"
 "$iblx" study merge shards.toml > /dev/null 2>&1 && errors shards/study.csv | cmp -s - one.txt && pass ||
   fail "two shards merged differ from one process"
 
+# The decomposition of each method's equal-time loss against a baseline (engine/analysis/loss_decomposition.h).
+{ study_plan "$tmp/decomposed" 16 256 '"random", "sobol"' '"env-cdf", "mis"'; printf '[report]\ndecompose_against = "env-cdf"\n'; } > decomposed.toml
+"$iblx" study run decomposed.toml > /dev/null 2>&1 && "$iblx" study merge decomposed.toml > /dev/null 2>&1 &&
+  grep -q '^## Where each method loses against env-cdf/sobol at equal time, in factors' decomposed/tables.md &&
+  [ "$(grep -c '^- `mis`: R = [0-9.]* = pdf [0-9.]* × QMC [0-9.]* × cost [0-9.]*' decomposed/tables.md)" -eq 2 ] && pass ||
+  fail "merge wrote no decomposition of mis against env-cdf on both scenes: $(grep -A3 'Where each' decomposed/tables.md)"
+
 # Plan errors: one line naming the file (and line, scene, flag).
 printf 'directory = "x"\nsize = 16\nbogus = 3\n[[scene]]\nname = "a"\n' > bad-key.toml
 expect_error "bad-key.toml:3: unknown key 'bogus'" "$iblx" study plan bad-key.toml
