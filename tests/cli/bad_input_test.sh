@@ -66,6 +66,9 @@ expect_error "output dir missing" "does not exist" render --out "$tmp/no/such/di
 expect_error "reference needs exr" "use .exr" reference --out "$tmp/x.png"
 expect_error "bad device" "no usable Vulkan device" render --device no-such-gpu --size 8x8 --passes 1 --out "$tmp/d.png"
 expect_error "unknown command" "unknown command" frobnicate
+# One line, naming the commands (it printed the whole usage after the error).
+[ "$("$iblx" frobnicate 2>&1 | wc -l)" -eq 1 ] && "$iblx" frobnicate 2>&1 | grep -q "commands: render, .*study" &&
+  passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: an unknown command is not reported in one line"; }
 expect_error "too many color values" "too many values" render --brdf lambert --param albedo=1,1,1,1
 expect_error "trailing comma" "trailing comma" render --brdf lambert --param albedo=0.5,
 expect_error "spp cap" "out of range" render --spp 5000

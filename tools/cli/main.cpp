@@ -8,53 +8,73 @@
 
 #include <cstdio>
 #include <cstring>
+#include <string>
 
 namespace {
 
-constexpr const char* kUsage =
-    "iblx: progressive image-based-lighting renderer and importance-sampling laboratory\n"
-    "usage: iblx COMMAND [flags]      (iblx COMMAND --help for the flags of one command)\n"
-    "commands:\n"
-    "  render      render a scene progressively to .png/.exr, report speed (and error with --reference)\n"
-    "  view        the desktop viewer: live progressive rendering, methods and parameters switched live\n"
-    "  reference   compute the ground truth of a scene (deterministic convolution) to .exr\n"
-    "  bench       samples per second of every method on one scene\n"
-    "  converge    error against spp and time of methods on one scene: CSV, summary table, PNG plots\n"
-    "  study       many converge runs from a plan file: listed, sharded over tasks, resumed, merged\n"
-    "  hardcases   the hard-case suite: every method on each hard scene, checked and ranked\n"
-    "  samples     one pixel's samples as the integrator draws them (direction, uv, pdf, weight) to CSV\n"
-    "  otmap       solve (or read from the cache) an environment's OT map; report it, draw its warped grid\n"
-    "  devices     list the Vulkan devices and whether iblx can use them\n"
-    "  make-sky    write the procedural sky used as the default environment map\n"
-    "  make-teapot tessellate the Utah teapot's Bezier patches into an .obj (assets/teapot.obj)\n"
-    "  merl-synth  tabulate a BRDF into a MERL .binary file (synthetic measured materials)\n"
-    "  measured-synth  tabulate a BRDF into a measured format (UTIA .bin, MIT .dat, MERL .binary)\n"
-    "                  or fit it as an ALTA function file (.func)\n";
+using iblx::cli::Args;
+
+// Every subcommand, in the order the usage lists them: the usage, the dispatch and the unknown-command error
+// read this one list.
+struct Command {
+  const char* name;
+  int (*run)(const Args&);
+  const char* summary;  // may hold a newline and an indented continuation
+};
+constexpr Command kCommands[] = {
+    {"render", iblx::cli::cmdRender,
+     "render a scene progressively to .png/.exr, report speed (and error with --reference)"},
+    {"view", iblx::cli::cmdView,
+     "the desktop viewer: live progressive rendering, methods and parameters switched live"},
+    {"reference", iblx::cli::cmdReference,
+     "compute the ground truth of a scene (deterministic convolution) to .exr"},
+    {"bench", iblx::cli::cmdBench, "samples per second of every method on one scene"},
+    {"converge", iblx::cli::cmdConverge,
+     "error against spp and time of methods on one scene: CSV, summary table, PNG plots"},
+    {"study", iblx::cli::cmdStudy,
+     "many converge runs from a plan file: listed, sharded over tasks, resumed, merged"},
+    {"hardcases", iblx::cli::cmdHardCases,
+     "the hard-case suite: every method on each hard scene, checked and ranked"},
+    {"samples", iblx::cli::cmdSamples,
+     "one pixel's samples as the integrator draws them (direction, uv, pdf, weight) to CSV"},
+    {"otmap", iblx::cli::cmdOtMap,
+     "solve (or read from the cache) an environment's OT map; report it, draw its warped grid"},
+    {"devices", iblx::cli::cmdDevices, "list the Vulkan devices and whether iblx can use them"},
+    {"make-sky", iblx::cli::cmdMakeSky, "write the procedural sky used as the default environment map"},
+    {"make-teapot", iblx::cli::cmdMakeTeapot,
+     "tessellate the Utah teapot's Bezier patches into an .obj (assets/teapot.obj)"},
+    {"merl-synth", iblx::cli::cmdMerlSynth,
+     "tabulate a BRDF into a MERL .binary file (synthetic measured materials)"},
+    {"measured-synth", iblx::cli::cmdMeasuredSynth,
+     "tabulate a BRDF into a measured format (UTIA .bin, MIT .dat, MERL .binary)\n"
+     "                  or fit it as an ALTA function file (.func)"},
+};
+
+std::string usage() {
+  std::string text =
+      "iblx: progressive image-based-lighting renderer and importance-sampling laboratory\n"
+      "usage: iblx COMMAND [flags]      (iblx COMMAND --help for the flags of one command)\n"
+      "commands:\n";
+  for (const Command& c : kCommands) {
+    std::string name = c.name;
+    name.resize(name.size() < 12 ? 12 : name.size() + 2, ' ');  // a column of 12, or two spaces past it
+    text += "  " + name + c.summary + "\n";
+  }
+  return text;
+}
 
 }  // namespace
 
 int iblx::cli::runCommand(const std::string& command, const Args& args) {
-  if (command == "render") return cmdRender(args);
-  if (command == "view") return cmdView(args);
-  if (command == "reference") return cmdReference(args);
-  if (command == "bench") return cmdBench(args);
-  if (command == "converge") return cmdConverge(args);
-  if (command == "study") return cmdStudy(args);
-  if (command == "hardcases") return cmdHardCases(args);
-  if (command == "samples") return cmdSamples(args);
-  if (command == "otmap") return cmdOtMap(args);
-  if (command == "devices") return cmdDevices(args);
-  if (command == "make-sky") return cmdMakeSky(args);
-  if (command == "make-teapot") return cmdMakeTeapot(args);
-  if (command == "merl-synth") return cmdMerlSynth(args);
-  if (command == "measured-synth") return cmdMeasuredSynth(args);
+  for (const Command& c : kCommands)
+    if (command == c.name) return c.run(args);
   return -1;
 }
 
 int main(int argc, char** argv) {
   using namespace iblx::cli;
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
-    std::fputs(kUsage, argc < 2 ? stderr : stdout);
+    std::fputs(usage().c_str(), argc < 2 ? stderr : stdout);
     return argc < 2 ? 2 : 0;
   }
   const std::string command = argv[1];
@@ -62,7 +82,11 @@ int main(int argc, char** argv) {
   try {
     const int status = runCommand(command, args);
     if (status >= 0) return status;
-    std::fprintf(stderr, "iblx: unknown command '%s'\n%s", command.c_str(), kUsage);
+    // One line, as for every other error; the usage is one `iblx --help` away.
+    std::string names;
+    for (const Command& c : kCommands) names += (names.empty() ? "" : ", ") + std::string(c.name);
+    std::fprintf(stderr, "iblx: unknown command '%s' (commands: %s; iblx --help)\n", command.c_str(),
+                 names.c_str());
     return 2;
   } catch (const iblx::Interrupted& e) {
     std::fprintf(stderr, "iblx: interrupted: %s\n", e.what());
