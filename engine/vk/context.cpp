@@ -175,12 +175,14 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     const std::string name = properties.deviceName.data();
     if (reason.empty() && !selector.empty()) {
       const bool isIndex = std::all_of(selector.begin(), selector.end(), ::isdigit);
-      const bool match =
-          isIndex ? std::stoul(selector) == i : lower(name).find(lower(selector)) != std::string::npos;
+      // An index of more digits than any device count (it once overflowed std::stoul) matches nothing.
+      const bool match = isIndex ? selector.size() <= 9 && std::stoul(selector) == i
+                                 : lower(name).find(lower(selector)) != std::string::npos;
       if (!match) reason = "does not match the device selector '" + selector + "'";
     }
-    report += "\n  [" + std::to_string(i) + "] " + name + " (" + typeName(properties.deviceType) +
-              "): " + (reason.empty() ? "usable" : reason);
+    // One line for every device, so that the error stays one line (`iblx devices` lists them one per line).
+    report += std::string(report.empty() ? " " : "; ") + "[" + std::to_string(i) + "] " + name + " (" +
+              typeName(properties.deviceType) + "): " + (reason.empty() ? "usable" : reason);
     if (!reason.empty()) continue;
     if (best < 0 || typeRank(properties.deviceType) < typeRank(devices[best].getProperties().deviceType)) {
       best = int(i);
@@ -226,7 +228,9 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
   nameObject(*commandPool_, "shared command pool");
 }
 
-double gpuTimeoutSeconds() { return environmentNumber("IBLX_GPU_TIMEOUT_S", 600.0, 1e7); }
+double gpuTimeoutSeconds() {
+  return environmentNumber("IBLX_GPU_TIMEOUT_S", 600.0, 1e7);
+}
 
 void VulkanContext::submitAndWait(const std::function<void(vk::CommandBuffer)>& record) const {
   // The pool and the queue are shared by every thread (the viewer builds renderers and ground truths in the

@@ -65,6 +65,12 @@ expect_error "bad output format" "unsupported image format" render --out "$tmp/x
 expect_error "output dir missing" "does not exist" render --out "$tmp/no/such/dir.png"
 expect_error "reference needs exr" "use .exr" reference --out "$tmp/x.png"
 expect_error "bad device" "no usable Vulkan device" render --device no-such-gpu --size 8x8 --passes 1 --out "$tmp/d.png"
+# One line, naming each device and why it was not chosen; an index too long for a number matches nothing.
+for selector in 99 99999999999999999999999; do
+  out=$("$iblx" render --device "$selector" --size 8x8 --passes 1 --out "$tmp/d.png" 2>&1)
+  [ "$(printf '%s\n' "$out" | wc -l)" -eq 1 ] && printf '%s' "$out" | grep -q "\[0\] .*does not match the device selector '$selector'" &&
+    passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: --device $selector: $out"; }
+done
 expect_error "unknown command" "unknown command" frobnicate
 # One line, naming the commands (it printed the whole usage after the error).
 [ "$("$iblx" frobnicate 2>&1 | wc -l)" -eq 1 ] && "$iblx" frobnicate 2>&1 | grep -q "commands: render, .*study" &&
