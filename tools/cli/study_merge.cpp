@@ -102,6 +102,7 @@ struct SceneResult {
   std::vector<SamplerRuns> samplers;  // per plan method, in plan order: its random and sobol runs
   std::optional<ConvergenceSummary> summary;
   std::optional<TextTable> table;
+  std::optional<SceneData> data;  // read once: the figures and the decomposition use it
 };
 
 // Keeps the files of `written` named in `keep` (by their stem, e.g. "relmse_vs_time"); removes the others.
@@ -315,7 +316,8 @@ MergeOutcome mergeStudy(const StudyPlan& plan, const std::vector<StudyRun>& runs
         stale.push_back(entry.path());
     }
     for (const auto& path : stale) fs::remove(path, ec);
-    const std::optional<SceneData> data = readSceneData(sceneDataDirectory(plan, *scene.scene));
+    scene.data = readSceneData(sceneDataDirectory(plan, *scene.scene));
+    const std::optional<SceneData>& data = scene.data;
     scene.summary = summarize(scene.runs, plan.targetRelMse);
     if (data) {
       scene.summary->referenceNoiseMse = data->noise.mse;
@@ -390,8 +392,7 @@ MergeOutcome mergeStudy(const StudyPlan& plan, const std::vector<StudyRun>& runs
   if (!plan.decomposeAgainst.empty())
     for (std::size_t s = 0; s < scenes.size(); ++s)
       if (scenes[s].summary)
-        decompositions += decompositionSection(plan.decomposeAgainst, scenes[s],
-                                               readSceneData(sceneDataDirectory(plan, *scenes[s].scene)));
+        decompositions += decompositionSection(plan.decomposeAgainst, scenes[s], scenes[s].data);
   std::vector<RowKey> rows;
   for (const auto& sequence : sequenceOrder)
     for (const auto& method : methodOrder)
