@@ -8,8 +8,7 @@ packages=(build-essential cmake ninja-build pkg-config
           libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
           glslang-dev glslang-tools spirv-tools libglm-dev libopenexr-dev libstb-dev libtinyobjloader-dev
           doctest-dev
-          liblapack-dev libblas-dev  # the dense fronts of the OT solver's grid LU
-          libopenblas0-pthread  # their fast kernels; the OT solver figures in docs/ were measured with it
+          libopenblas-dev liblapacke-dev  # the dense fronts of the OT solver's grid LU (OpenBLAS, lapack.h)
           libglfw3-dev libimgui-dev xvfb xauth  # the viewer, and its test under Xvfb
           nlohmann-json3-dev  # every --json output (engine/core/json_output.h)
           libtomlplusplus-dev  # the plan files of `iblx study`

@@ -2,8 +2,9 @@
 // n = 1024). Two things the default allocator does that cost there:
 // - std::vector value-initialises what it grows into, so the kernel zeroes each fresh page and then the
 //   library zeroes it again; BigBufferAllocator default-initialises (no zeroing) instead;
-// - every fresh 4 KiB page is a separate fault, and faults are expensive in a VM (measured: 2.1 s of system
-//   time in a 9.8 s solve at n = 1024, 444 000 faults). Blocks of 2 MiB and more are therefore 2 MiB-aligned
+// - every fresh 4 KiB page is a separate fault, and faults are expensive in a VM (at n = 1024 a solve took
+//   hundreds of thousands of them, and their system time was a sizeable share of its wall time;
+//   docs/ot_solver.md, "What the figures say"). Blocks of 2 MiB and more are therefore 2 MiB-aligned
 //   and advised as transparent huge pages (madvise(MADV_HUGEPAGE); Debian's default THP mode honours it).
 //   Where the kernel has no huge page to give, the advice is ignored and nothing else changes.
 #pragma once

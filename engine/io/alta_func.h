@@ -1,7 +1,6 @@
 // ALTA function files (`#ALTA FUNC HEADER`, .func): the fitted BRDFs written by ALTA (Pacanowski, Belcour,
-// Barla et al., "ALTA: A BRDF Analysis Library", Inria), read into a value type, evaluated on the CPU (the
-// twin of the generated GLSL part, engine/scene/alta_func_brdf.h), written back, and fitted: a rational
-// function by linear least squares as in Pacanowski et al. 2012, "Rational BRDF", IEEE TVCG 18(11).
+// Barla et al., "ALTA: A BRDF Analysis Library", Inria), read into a value type and written back.
+// Evaluated on the CPU by alta_func_eval.h and fitted by alta_func_fit.h.
 //
 // Grammar (ALTA's function-file format):
 //   #ALTA FUNC HEADER                       first line, exactly
@@ -87,35 +86,5 @@ bool looksLikeAltaFunc(const std::filesystem::path& path);
 
 std::string formatAltaFunc(const AltaFunc& func);
 void writeAltaFunc(const std::filesystem::path& path, const AltaFunc& func);
-
-// ---- evaluation (double; the GLSL part computes the same in float)
-// The basis polynomial of degree n at x: x^n, T_n(x) (Chebyshev, first kind) or P_n(x) (Legendre), by their
-// three-term recurrences (Abramowitz & Stegun 22.7).
-double altaBasisValue(AltaBasis basis, int degree, double x);
-// A channel's P/Q at the parametrisation's coordinates x (clamped to the box first), 0 where Q = 0.
-double evalAltaRational(const AltaRational& r, AltaBasis basis, int channel, std::span<const double> x);
-// The coordinates of (wi = light, wo = view), local frame n = +z, with angles folded into the box of `r` by
-// the symmetries of an isotropic reciprocal BRDF (phi_d by pi, phi_l - phi_v by 2 pi and its sign).
-std::vector<double> altaCoordinates(AltaParam p, const glm::dvec3& wi, const glm::dvec3& wo,
-                                    std::span<const double> min, std::span<const double> max);
-// Each lobe's value in 1/sr (ALTA's plugin formulas, alta_func.cpp) and their sum; 0 below the horizon.
-glm::dvec3 evalAltaLobe(const AltaFunc& f, const AltaLobe& lobe, const glm::dvec3& wi, const glm::dvec3& wo);
-glm::dvec3 evalAltaFunc(const AltaFunc& f, const glm::dvec3& wi, const glm::dvec3& wo);
-
-// The directions of Rusinkiewicz's (theta_h, theta_d, phi_d) with phi_h = 0 (wi = light).
-
-// ---- fitting
-// A rational function of total degree `degreeP` over `degreeQ` in the Chebyshev basis, per channel, over
-// samples x (dimX each) with values y (per channel): linear least squares on P(x) - y Q(x) = 0 with Q's
-// constant coefficient fixed to 1 (the normalisation), rows weighted by 1 / (y + 0.01 mean y) so the fit
-// minimises relative error. A channel whose Q is not positive at every sample is refitted as a polynomial
-// (Q = 1). Returns the lobe and sets rmsRelative = sqrt(mean((fit - y)^2 / (y^2 + 0.01))) over all channels.
-struct AltaFitResult {
-  AltaRational rational;
-  double rmsRelative = 0.0;
-};
-AltaFitResult fitAltaRational(int dimX, std::span<const double> x, std::span<const std::vector<double>> y,
-                              std::span<const double> min, std::span<const double> max, int degreeP,
-                              int degreeQ);
 
 }  // namespace iblx

@@ -1,7 +1,7 @@
 // RGL-EPFL measured materials (.bsdf; Dupuy & Jakob, "An adaptive parameterization for efficient material
 // acquisition and rendering", SIGGRAPH Asia 2018): the tables of a tensor file (engine/io/tensor_file.h),
 // checked field by field, spectral files converted to linear sRGB; and the writer of `iblx measured-synth`.
-// engine/sampling/rgl_sampling.h turns the tables into the warps that evaluate and sample the material.
+// engine/sampling/brdf/rgl_sampling.h turns the tables into the warps that evaluate and sample the material.
 //
 // Fields: theta_i f32[nt] and phi_i f32[np] (the incident directions measured; np <= 2 means isotropic),
 // ndf and sigma f32[H, W] over (u_theta, u_phi) of a direction, vndf f32[np, nt, H, W] over the microfacet

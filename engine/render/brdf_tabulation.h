@@ -6,9 +6,9 @@
 #include "engine/io/mit_brdf.h"
 #include "engine/scene/scene.h"
 #include "engine/vk/context.h"
-#include "engine/sampling/merl_sampling.h"
-#include "engine/sampling/alta_grid.h"
-#include "engine/sampling/rgl_sampling.h"
+#include "engine/sampling/brdf/merl_sampling.h"
+#include "engine/sampling/brdf/alta_grid.h"
+#include "engine/sampling/brdf/rgl_sampling.h"
 #include "engine/vk/shader_compiler.h"
 
 #include <glm/glm.hpp>
@@ -57,9 +57,9 @@ std::vector<glm::dvec3> evaluateBrdf(const VulkanContext& context, ShaderCompile
 // texels.
 double estimateLobeWidth(const VulkanServices& gpu, const Scene& scene);
 
-// brdf-tab's tables: the half-vector tables of merl-table (engine/sampling/merl_sampling.h) with the sampling
-// weight mean(f) of the scene's compiled BRDF, evaluated on the GPU. Kept in memory per BRDF source and
-// parameter values, so the renderers of one scene (bench, converge) build them once.
+// brdf-tab's tables: the half-vector tables of merl-table (engine/sampling/brdf/merl_sampling.h) with the
+// sampling weight mean(f) of the scene's compiled BRDF, evaluated on the GPU. Kept in memory per BRDF source
+// and parameter values, so the renderers of one scene (bench, converge) build them once.
 std::shared_ptr<const MerlTableData> tabulateBrdfTable(const VulkanServices& gpu, const Scene& scene);
 
 // A built-in BRDF tabulated in MERL's layout: the values of writeMerl (3 * kMerlBins, planar, 1/sr), each the
@@ -88,14 +88,14 @@ std::vector<double> tabulateUtia(const VulkanContext& context, ShaderCompiler& c
 std::vector<float> tabulateMit(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                const MitDims& dims);
 
-// A BRDF tabulated in the RGL-EPFL .bsdf layout (engine/sampling/rgl_sampling.h, planRglSynth). A layout
+// A BRDF tabulated in the RGL-EPFL .bsdf layout (engine/sampling/brdf/rgl_sampling.h, planRglSynth). A layout
 // whose alpha is 0 takes the warps' GGX width from the BRDF's measured lobe (0.6 for a lobe-less BRDF, where
 // a Lambert fixture is then within 1 % on average, 8 % at worst).
 RglTables tabulateRgl(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                       RglSynthLayout layout);
 
-// A BRDF sampled for an ALTA data file (engine/sampling/alta_grid.h, planAltaSynth): on a regular grid of
-// `param`, or at `scattered` random direction pairs when that is > 0 (always for CARTESIAN).
+// A BRDF sampled for an ALTA data file (engine/sampling/brdf/alta_grid.h, planAltaSynth): on a regular grid
+// of `param`, or at `scattered` random direction pairs when that is > 0 (always for CARTESIAN).
 AltaData tabulateAltaData(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                           AltaParam param, AltaOutput output, std::size_t scattered);
 

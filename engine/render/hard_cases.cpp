@@ -5,7 +5,7 @@
 #include "engine/core/join.h"
 #include "engine/io/image_write.h"
 #include "engine/io/synthetic_envs.h"
-#include "engine/sampling/latlong_texel.h"
+#include "engine/io/latlong_texel.h"
 #include "engine/core/sphere_mapping.h"
 
 #include <unistd.h>
@@ -29,8 +29,12 @@ SceneSpec sceneOf(std::string brdf, Params params, std::string object = "sphere"
 }
 
 // A smooth sky, w x w/2, with a sun `ratio` times its mean in 2 x 2 texels at (w/3, w/5).
-EnvImage skyWithSun(int w, double ratio) { return sunOverSky(w, w / 2, ratio, 2, w / 3, w / 5); }
-EnvImage skyWithSun1e4(int w) { return skyWithSun(w, 1e4); }
+EnvImage skyWithSun(int w, double ratio) {
+  return sunOverSky(w, w / 2, ratio, 2, w / 3, w / 5);
+}
+EnvImage skyWithSun1e4(int w) {
+  return skyWithSun(w, 1e4);
+}
 
 HardCase sunCase(const std::string& exponent, double ratio) {
   return {"sun-" + exponent,
@@ -103,11 +107,9 @@ std::vector<HardCase> makeHardCases() {
       {"grazing",
        "a plane seen 85 degrees from its normal (every pixel has n.wo = 0.087) under a 1e4 sun; GGX "
        "a = 0.3",
-       sceneOf("ggx", {{"roughness", "0.3"}}, "plane", {0.0, 85.0, 1.0}),
-       skyWithSun1e4});
+       sceneOf("ggx", {{"roughness", "0.3"}}, "plane", {0.0, 85.0, 1.0}), skyWithSun1e4});
   HardCase mirror{"mirror", "GGX a = 1e-3, metal (a near-mirror lobe) under a smooth sky with a 1e4 sun",
-                  sceneOf("ggx", {{"roughness", "0.001"}, {"metallic", "1"}}),
-                  skyWithSun1e4};
+                  sceneOf("ggx", {{"roughness", "0.001"}, {"metallic", "1"}}), skyWithSun1e4};
   // The reference's cost grows with (texel / lobe)^2 per texel near the mirror direction: on 64-texel-wide
   // maps a 1e-3 lobe needs 197^2 sub-cells per texel (minutes), on 256-wide ones 49^2 (seconds).
   mirror.testEnvWidth = 256;

@@ -11,7 +11,7 @@
 #include "engine/render/brdf_tabulation.h"
 #include "engine/render/kernel_assembly.h"
 #include "engine/render/scene_gpu.h"
-#include "engine/sampling/latlong_texel.h"
+#include "engine/io/latlong_texel.h"
 #include "engine/core/sphere_mapping.h"
 #include "engine/vk/compute_kernel.h"
 

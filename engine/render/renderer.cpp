@@ -4,7 +4,7 @@
 #include "engine/core/error.h"
 #include "engine/render/brdf_tabulation.h"
 #include "engine/render/kernel_assembly.h"
-#include "engine/sampling/mis_compensation.h"
+#include "engine/sampling/env/mis_compensation.h"
 #include "engine/core/sphere_mapping.h"
 #include "engine/scene/brdf_params.h"
 
@@ -51,7 +51,7 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   const vk::DeviceSize productTableBytes = vk::DeviceSize(scene.gbuffer.width) *
                                            vk::DeviceSize(scene.gbuffer.height) * kProductTableStride *
                                            sizeof(float);
-  const bool productTablesInBuffer = !recording && buildsProductTable(method.method->strategy) &&
+  const bool productTablesInBuffer = !recording && method.method->strategyInfo().buildsProductTable &&
                                      productTableBytes <= context.limits().maxStorageBufferRange &&
                                      productTableBytes <= kProductTableBudget;
   if (productTablesInBuffer) productTables_ = Buffer(context, productTableBytes, "product tables");

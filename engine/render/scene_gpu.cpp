@@ -4,7 +4,7 @@
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/core/setting.h"
-#include "engine/sampling/latlong_texel.h"
+#include "engine/io/latlong_texel.h"
 #include "engine/scene/brdf_params.h"
 
 #include <algorithm>

@@ -2,7 +2,7 @@
 // merl-thetah, merl-table), with the float-exact search and remap their CPU twins share with the GLSL parts.
 #pragma once
 
-#include "engine/sampling/latlong_texel.h"  // kOneMinusEpsilonF
+#include "engine/io/latlong_texel.h"  // kOneMinusEpsilonF
 
 #include <algorithm>
 #include <cstdint>

@@ -2,6 +2,7 @@
 // (alta_func_brdf.h).
 #include "engine/scene/alta_func_brdf.h"
 
+#include "engine/io/alta_func_eval.h"
 #include "engine/core/hash.h"
 
 #include <algorithm>
@@ -76,7 +77,7 @@ vec3 iblxAltaWard(vec3 wi, vec3 wo, vec3 h, vec3 ks, vec3 ax, vec3 ay) {
   return ks / (4.0 * kAltaPi * ax * ay * sqrt(wi.z * wo.z)) * exp(-e);
 }
 // An angle folded into [lo, hi] by the symmetries of an isotropic reciprocal BRDF, then clamped
-// (engine/io/alta_func.h, altaCoordinates).
+// (engine/io/alta_func_eval.h, altaCoordinates).
 float iblxAltaFold(float a, float lo, float hi, bool reciprocity) {
   if (a > hi)
     a = a - 2.0 * kAltaPi >= lo ? a - 2.0 * kAltaPi : (reciprocity ? a - kAltaPi : 2.0 * kAltaPi - a);
@@ -136,7 +137,8 @@ vec3 iblxAltaPdfBeckmann(vec3 wi, vec3 wo, vec3 ax, vec3 ay) {
 float iblxAltaWeight(float w) { return w >= 0.0 && w <= 3.0e38 ? w : 0.0; }
 )";
 
-// The coordinates of the file's parametrisation, as x0, x1, x2 (engine/io/alta_func.cpp, altaCoordinates).
+// The coordinates of the file's parametrisation, as x0, x1, x2 (engine/io/alta_func_eval.cpp,
+// altaCoordinates).
 void emitCoordinates(std::ostringstream& s, const AltaFunc& f, const AltaRational& r) {
   s << "  vec3 h = normalize(wi + wo);\n"
     << "  float cosH = clamp(h.z, -1.0, 1.0), cosD = clamp(dot(wi, h), -1.0, 1.0);\n";

@@ -59,7 +59,7 @@ std::uint32_t KernelParts::bindTables(std::uint32_t set, std::uint32_t firstBind
 std::string assemblePrelude(const KernelParts& parts) {
   std::ostringstream s;
   s << "#version 460\n#extension GL_GOOGLE_include_directive : require\n";
-  for (const char* interface : {"sequence", "env_sampler", "brdf", "brdf_sampler", "strategy"})
+  for (const char* interface : {"sequence", "env_technique", "brdf", "brdf_technique", "strategy"})
     s << "#include \"interfaces/" << interface << ".glsl\"\n";
   for (const auto& [name, value] : parts.defines) s << "#define " << name << " " << value << "\n";
   std::set<std::string> names;
@@ -136,7 +136,8 @@ KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, c
   if (method.envTechnique) parts.push_back(method.envTechnique->part);
   parts.push_back(scene.brdf->evalPart);
   if (method.brdfTechnique) parts.push_back(method.brdfTechnique->part);
-  parts.push_back(strategyPart(method.method->strategy));
+  const StrategyInfo& strategy = method.method->strategyInfo();
+  parts.push_back(strategy.part);
   KernelParts k = brdfKernelParts("integrate.comp", *scene.brdf, brdfData, std::move(parts));
   if (mode == IntegratorMode::RecordPixel) {
     k.defines.emplace_back("IBLX_RECORD_SAMPLES", "1");
@@ -144,7 +145,7 @@ KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, c
     k.defines.emplace_back("SAMPLE_RECORD_DRAWS", std::to_string(method.drawsPerSample()) + "u");
   }
   if (productTablesInBuffer) {
-    if (mode != IntegratorMode::Image || !buildsProductTable(method.method->strategy))
+    if (mode != IntegratorMode::Image || !strategy.buildsProductTable)
       throw Error("integratorParts: product tables in a buffer need a product strategy's image mode");
     k.defines.emplace_back("PRODUCT_TABLE_BINDING", std::to_string(kProductTableBinding));
     k.defines.emplace_back("PRODUCT_TABLE_STRIDE", std::to_string(kProductTableStride) + "u");
@@ -157,7 +158,7 @@ KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, c
   const auto chunkDefines = chunking.defines();
   k.defines.insert(k.defines.end(), chunkDefines.begin(), chunkDefines.end());
   if (method.misOneSample) k.defines.emplace_back("MIS_ONE_SAMPLE", "1");
-  if (method.method->strategy == Strategy::Ris)
+  if (strategy.risCandidates)
     k.defines.emplace_back("RIS_CANDIDATES", std::to_string(method.risCandidates) + "u");
   return k;
 }

@@ -4,7 +4,7 @@
 // prelude is engine/render/kernel_assembly.h's.
 #pragma once
 
-#include "engine/sampling/env_product.h"
+#include "engine/sampling/product/env_hier_product.h"
 #include "engine/sampling/technique_data.h"
 #include "engine/scene/scene.h"
 
@@ -24,9 +24,9 @@ struct KernelTable {
   std::string owner;  // who provides it, for messages: e.g. "env technique env-cdf"
 };
 
-// The descriptor sets of every kernel that renders a scene (docs/DESIGN.md §2): 0 the frame, 1 the kernel's own
-// I/O, 2 the env technique's tables, 3 the BRDF (its parameter block at binding 0, the BRDF's own tables from
-// binding kBrdfDataBinding on, then the BRDF technique's).
+// The descriptor sets of every kernel that renders a scene (docs/DESIGN.md §2): 0 the frame, 1 the kernel's
+// own I/O, 2 the env technique's tables, 3 the BRDF (its parameter block at binding 0, the BRDF's own tables
+// from binding kBrdfDataBinding on, then the BRDF technique's).
 inline constexpr std::uint32_t kFrameSet = 0, kEnvTechniqueSet = 2, kBrdfSet = 3;
 inline constexpr std::uint32_t kBrdfDataBinding = 1;
 

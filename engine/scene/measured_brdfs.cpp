@@ -4,7 +4,7 @@
 #include <cctype>
 
 #include "engine/io/alta_func.h"
-#include "engine/sampling/alta_grid.h"
+#include "engine/sampling/brdf/alta_grid.h"
 #include "engine/sampling/technique_data.h"
 #include "engine/scene/alta_func_brdf.h"
 
@@ -147,6 +147,17 @@ std::span<const MaterialFileFormat> materialFileFormats() {
        [](const std::filesystem::path& p) { return makeAltaFuncBrdf(loadAltaFunc(p), p); }},
   };
   return formats;
+}
+
+std::string materialFileKindsText() {
+  std::vector<std::string> kinds;
+  for (const BrdfInfo& b : brdfRegistry())
+    if (!b.fileExtension.empty()) kinds.push_back(b.name + " " + b.fileExtension);
+  for (const MaterialFileFormat& format : materialFileFormats()) kinds.push_back(format.name);
+  std::string text;
+  for (std::size_t i = 0; i < kinds.size(); ++i)
+    text += (i == 0 ? "a " : i + 1 == kinds.size() ? " or " : ", ") + kinds[i];
+  return text + " file, or a .brdf or .bparam file (BRDF Explorer)";
 }
 
 std::vector<std::string> brdfFileExtensions() {

@@ -2,9 +2,10 @@
 // file's colour convention as parameters (prescale, srgb, scale), and an MIT CSAIL .dat
 // (engine/io/mit_brdf.h; shaders/brdf/mit.glsl) with a scale, so `--param` and the viewer's sliders change
 // how the stored values are read. Both are sampled by brdf-tab (its half-vector tables follow an anisotropic
-// lobe's azimuth). An RGL-EPFL .bsdf (engine/sampling/rgl_sampling.h; shaders/brdf/rgl.glsl) is sampled by
-// its own luminance and VNDF warps, technique rgl-vndf. An ALTA data file (engine/sampling/alta_grid.h;
-// shaders/brdf/alta_data.glsl) becomes a grid of its parametrisation, sampled by brdf-tab.
+// lobe's azimuth). An RGL-EPFL .bsdf (engine/sampling/brdf/rgl_sampling.h; shaders/brdf/rgl.glsl) is sampled
+// by its own luminance and VNDF warps, technique rgl-vndf. An ALTA data file
+// (engine/sampling/brdf/alta_grid.h; shaders/brdf/alta_data.glsl) becomes a grid of its parametrisation,
+// sampled by brdf-tab.
 //
 // materialFileFormats() lists every format read from a file by content (ALTA function files too), in the
 // order loadBrdfArgument (engine/scene/scene.h) tries them.
@@ -13,7 +14,7 @@
 #include "engine/io/alta_data.h"
 #include "engine/io/mit_brdf.h"
 #include "engine/io/utia.h"
-#include "engine/sampling/rgl_sampling.h"
+#include "engine/sampling/brdf/rgl_sampling.h"
 #include "engine/scene/methods.h"
 
 #include <filesystem>
@@ -43,6 +44,10 @@ struct MaterialFileFormat {
   std::shared_ptr<const BrdfInfo> (*load)(const std::filesystem::path&);
 };
 std::span<const MaterialFileFormat> materialFileFormats();
+
+// Every kind of material file --brdf reads, for messages and listings, in one phrase: the registry's BRDFs
+// read from a file (MERL), materialFileFormats(), and BRDF Explorer's .brdf and .bparam.
+std::string materialFileKindsText();
 
 // The extensions of every BRDF file --brdf reads (BRDF Explorer's and MERL's too), for file dialogs and
 // messages; and whether a file is one, by its extension or by its content.

@@ -3,13 +3,13 @@
 
 #include "engine/core/setting.h"
 #include "engine/core/join.h"
-#include "engine/sampling/env_cdf.h"
-#include "engine/sampling/env_hier.h"
-#include "engine/sampling/env_ot.h"
-#include "engine/sampling/env_ot_mesh.h"
-#include "engine/sampling/env_ot_product.h"
-#include "engine/sampling/env_product.h"
-#include "engine/sampling/merl_sampling.h"
+#include "engine/sampling/env/env_cdf.h"
+#include "engine/sampling/env/env_hier.h"
+#include "engine/sampling/env/env_ot_maps.h"
+#include "engine/sampling/env/env_ot.h"
+#include "engine/sampling/product/env_ot_product.h"
+#include "engine/sampling/product/env_hier_product.h"
+#include "engine/sampling/brdf/merl_sampling.h"
 #include "engine/scene/measured_brdfs.h"
 #include "engine/scene/scene.h"
 
@@ -69,17 +69,18 @@ const BrdfInfo kBrdfs[] = {
 };
 
 const EnvTechniqueInfo kEnvTechniques[] = {
-    {"uniform", "uniform directions on the sphere (baseline)", "env/uniform.glsl", noData},
-    {"cosine", "cosine-weighted hemisphere around the normal (baseline)", "env/cosine.glsl", noData},
-    {"env-cdf", "marginal/conditional CDF over texels", "env/env_cdf.glsl", envCdfTechniqueData},
-    {"env-hier", "hierarchical 2x2 mip-pyramid warp", "env/env_hier.glsl",
+    {"uniform", "uniform directions on the sphere (baseline)", "env_technique/uniform.glsl", noData},
+    {"cosine", "cosine-weighted hemisphere around the normal (baseline)", "env_technique/cosine.glsl",
+     noData},
+    {"env-cdf", "marginal/conditional CDF over texels", "env_technique/env_cdf.glsl", envCdfTechniqueData},
+    {"env-hier", "hierarchical 2x2 mip-pyramid warp", "env_technique/env_hier.glsl",
      [](const EnvImage& image) { return envHierTechniqueData(image); }},
     {"env-ot", "optimal-transport grid made texel-exact: rows, cells, then texel pieces by CDF",
-     "env/env_ot.glsl", [](const EnvImage& image) { return envOtTechniqueData(image); }},
+     "env_technique/env_ot.glsl", [](const EnvImage& image) { return envOtTechniqueData(image); }},
     {"env-ot-inv", "optimal-transport map, tabulated inverse: one bilinear lookup per sample",
-     "env/env_ot_inv.glsl", envOtInvTechniqueData},
+     "env_technique/env_ot_inv.glsl", envOtInvTechniqueData},
     {"env-ot-fwd", "optimal-transport forward quad mesh inverted per sample (quadtree point location)",
-     "env/env_ot_fwd.glsl", envOtFwdTechniqueData},
+     "env_technique/env_ot_fwd.glsl", envOtFwdTechniqueData},
 };
 
 bool isBrdf(const BrdfInfo& brdf, const char* name) {
@@ -87,27 +88,27 @@ bool isBrdf(const BrdfInfo& brdf, const char* name) {
 }
 
 const BrdfTechniqueInfo kBrdfTechniques[] = {
-    {"cosine", "cosine-weighted hemisphere", "brdf_sampler/cosine.glsl", "any BRDF", nullptr, nullptr},
+    {"cosine", "cosine-weighted hemisphere", "brdf_technique/cosine.glsl", "any BRDF", nullptr, nullptr},
     {"ggx-vndf", "GGX visible normals (Heitz 2018) + cosine for the diffuse lobe",
-     "brdf_sampler/ggx_vndf.glsl", "ggx", [](const BrdfInfo& b) { return isBrdf(b, "ggx"); }, nullptr},
+     "brdf_technique/ggx_vndf.glsl", "ggx", [](const BrdfInfo& b) { return isBrdf(b, "ggx"); }, nullptr},
     {"merl-thetah", "1D inverse CDF over MERL's theta_h bins, phi_h uniform (baseline)",
-     "brdf_sampler/merl_thetah.glsl", "merl", [](const BrdfInfo& b) { return isBrdf(b, "merl"); },
+     "brdf_technique/merl_thetah.glsl", "merl", [](const BrdfInfo& b) { return isBrdf(b, "merl"); },
      makeMerlThetaH},
     {"merl-table", "per-theta_o 2D tables of f cos over the half vector (sqrt-warped theta_h x phi_h)",
-     "brdf_sampler/half_vector_table.glsl", "merl", [](const BrdfInfo& b) { return isBrdf(b, "merl"); },
+     "brdf_technique/half_vector_table.glsl", "merl", [](const BrdfInfo& b) { return isBrdf(b, "merl"); },
      makeMerlTable},
     {"brdf-tab",
      "merl-table's tables of f cos over the half vector, tabulated on the GPU from the compiled BRDF",
-     "brdf_sampler/half_vector_table.glsl", "any BRDF", nullptr, makeBrdfTab},
+     "brdf_technique/half_vector_table.glsl", "any BRDF", nullptr, makeBrdfTab},
     {"isfunc",
      "the file's own sampling routine: a .brdf file's sampleBRDF and pdfBRDF (its ::begin isFunc section) or "
      "an ALTA function's closed-form lobes",
-     "brdf_sampler/isfunc.glsl",
+     "brdf_technique/isfunc.glsl",
      ".brdf files whose isFunc defines sampleBRDF and pdfBRDF; ALTA function files without a rational "
      "function",
      [](const BrdfInfo& b) { return b.hasSampleHook; }, nullptr},
     {"rgl-vndf", "the .bsdf file's own luminance and VNDF warps (Dupuy & Jakob 2018)",
-     "brdf_sampler/rgl_vndf.glsl", "RGL-EPFL .bsdf files", isRglBrdf, nullptr},
+     "brdf_technique/rgl_vndf.glsl", "RGL-EPFL .bsdf files", isRglBrdf, nullptr},
 };
 
 const SequenceInfo kSequences[] = {
@@ -115,6 +116,57 @@ const SequenceInfo kSequences[] = {
     {"sobol", "Owen-scrambled Sobol (randomized QMC, Burley 2020)", "sequence/sobol.glsl"},
     {"cp-shared", "one shared Sobol point set, Cranley-Patterson-shifted per pixel",
      "sequence/cp_shared.glsl"},
+};
+
+const StrategyInfo kStrategies[] = {
+    {.id = Strategy::SingleEnv,
+     .name = "single-env",
+     .description = "one env technique alone",
+     .part = "strategy/single_env.glsl",
+     .usesEnvTechnique = true},
+    {.id = Strategy::SingleBrdf,
+     .name = "single-brdf",
+     .description = "one BRDF technique alone",
+     .part = "strategy/single_brdf.glsl",
+     .usesBrdfTechnique = true},
+    {.id = Strategy::Mis,
+     .name = "mis",
+     .description = "multiple importance sampling of an env and a BRDF technique (Veach 1995)",
+     .part = "strategy/mis.glsl",
+     .usesEnvTechnique = true,
+     .envTechniqueChosen = true,
+     .usesBrdfTechnique = true,
+     .misWeights = true,
+     .misSplit = true,
+     .drawsPerSample = 2},
+    {.id = Strategy::Ris,
+     .name = "ris",
+     .description = "resampled importance sampling of env candidates by f cos (Talbot 2005)",
+     .part = "strategy/ris.glsl",
+     .usesEnvTechnique = true,
+     .envTechniqueChosen = true,
+     .risCandidates = true},
+    {.id = Strategy::Product,
+     .name = "product",
+     .description = "env x f cos per pixel over a level of env-hier's pyramid",
+     .part = "strategy/product.glsl",
+     .usesEnvTechnique = true,
+     .buildsProductTable = true},
+    {.id = Strategy::ProductMis,
+     .name = "product-mis",
+     .description = "the product under two-sample MIS with a BRDF technique",
+     .part = "strategy/product_mis.glsl",
+     .usesEnvTechnique = true,
+     .usesBrdfTechnique = true,
+     .misWeights = true,
+     .drawsPerSample = 2,
+     .buildsProductTable = true},
+    {.id = Strategy::ProductWarp,
+     .name = "product-warp",
+     .description = "warp composition: f cos per pixel over an env technique's unit square (Hart 2020)",
+     .part = "strategy/product_warp.glsl",
+     .usesEnvTechnique = true,
+     .buildsProductTable = true},
 };
 
 // The methods beyond one env technique alone; those come first, one per entry of kEnvTechniques (methods()).
@@ -170,24 +222,18 @@ std::span<const MethodInfo> methodRegistry() {
   return methods();
 }
 
-std::string strategyPart(Strategy strategy) {
-  switch (strategy) {
-    case Strategy::SingleEnv:
-      return "strategy/single_env.glsl";
-    case Strategy::SingleBrdf:
-      return "strategy/single_brdf.glsl";
-    case Strategy::Mis:
-      return "strategy/mis.glsl";
-    case Strategy::Ris:
-      return "strategy/ris.glsl";
-    case Strategy::Product:
-      return "strategy/product.glsl";
-    case Strategy::ProductMis:
-      return "strategy/product_mis.glsl";
-    case Strategy::ProductWarp:
-      return "strategy/product_warp.glsl";
-  }
-  return {};
+std::span<const StrategyInfo> strategyRegistry() {
+  return kStrategies;
+}
+
+const StrategyInfo& findStrategy(Strategy id) {
+  for (const StrategyInfo& s : kStrategies)
+    if (s.id == id) return s;
+  throw Error("findStrategy: a strategy without a registry entry");
+}
+
+const StrategyInfo& MethodInfo::strategyInfo() const {
+  return findStrategy(strategy);
 }
 
 const BrdfInfo& findBrdf(const std::string& name) {
@@ -206,16 +252,11 @@ const BrdfInfo* findBrdfForArgument(const std::string& nameOrPath) {
       valid += (valid.empty() ? "" : ", ") + b.name;
     }
   for (const auto& b : brdfRegistry())
-    if (!b.fileExtension.empty()) {
-      if (b.name == nameOrPath)
-        throw SettingError(Setting::Brdf, "",
-                           " " + nameOrPath + ": this BRDF is read from a file; give the path of a " +
-                               b.fileExtension + " file");
-      valid += ", a " + b.fileExtension + " file (" + b.name + ")";
-    }
-  valid +=
-      ", a UTIA .bin, MIT .dat, RGL-EPFL .bsdf, ALTA data or ALTA function file, a .brdf or .bparam file "
-      "(BRDF Explorer)";
+    if (!b.fileExtension.empty() && b.name == nameOrPath)
+      throw SettingError(Setting::Brdf, "",
+                         " " + nameOrPath + ": this BRDF is read from a file; give the path of a " +
+                             b.fileExtension + " file");
+  valid += ", " + materialFileKindsText();
   throw SettingError(Setting::Brdf, "unknown ", " '" + nameOrPath + "'; valid: " + valid);
 }
 const EnvTechniqueInfo& findEnvTechnique(const std::string& name) {

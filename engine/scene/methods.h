@@ -21,7 +21,7 @@
 namespace iblx {
 
 struct Scene;          // engine/scene/scene.h
-struct MerlTableData;  // engine/sampling/merl_sampling.h
+struct MerlTableData;  // engine/sampling/brdf/merl_sampling.h
 
 // What a builder that needs the GPU gets: brdf-tab tabulates the compiled BRDF, and a .brdf file's lobe is
 // measured by evaluating it. The GPU part implements it (engine/render/brdf_tabulation.h, VulkanServices), so
@@ -62,14 +62,14 @@ struct BrdfInfo {
 struct EnvTechniqueInfo {
   std::string name;
   std::string description;
-  std::string part;  // implements interfaces/env_sampler.glsl
+  std::string part;  // implements interfaces/env_technique.glsl
   std::function<TechniqueData(const EnvImage&)> build;
 };
 
 struct BrdfTechniqueInfo {
   std::string name;
   std::string description;
-  std::string part;         // implements interfaces/brdf_sampler.glsl
+  std::string part;         // implements interfaces/brdf_technique.glsl
   std::string appliesText;  // for --list-methods, e.g. "any BRDF", "ggx"
   // Whether it can sample a BRDF; null = every BRDF.
   std::function<bool(const BrdfInfo&)> applies;
@@ -84,34 +84,57 @@ struct SequenceInfo {
   std::string part;  // implements interfaces/sequence.glsl
 };
 
-// ---- methods (what --method selects) ----------------------------------------------------------------------
+// ---- strategies (how an estimate combines techniques) -----------------------------------------------------
+// Each strategy's capabilities are data: the scene resolver, the kernel prelude, the CLI, the viewer and the
+// tests read them, so a strategy is one entry of strategyRegistry() and one GLSL part (docs/DESIGN.md §4).
 // Product and ProductMis sample env x f cos per pixel over a level of env-hier's pyramid
-// (engine/sampling/env_product.h), alone or under two-sample MIS with the BRDF technique; ProductWarp over a
-// uniform grid of the env technique's unit square (warp composition): env-hier's (product-warp) or env-ot's
-// (product-warp-ot, engine/sampling/env_ot_product.h).
+// (engine/sampling/product/env_hier_product.h), alone or under two-sample MIS with the BRDF technique;
+// ProductWarp over a uniform grid of the env technique's unit square (warp composition): env-hier's
+// (product-warp) or env-ot's (product-warp-ot, engine/sampling/product/env_ot_product.h).
 enum class Strategy { SingleEnv, SingleBrdf, Mis, Ris, Product, ProductMis, ProductWarp };
-// The strategies that build a per-pixel product table (shaders/lib/product_sampling.glsl).
-inline bool buildsProductTable(Strategy s) {
-  return s == Strategy::Product || s == Strategy::ProductMis || s == Strategy::ProductWarp;
-}
+
+struct StrategyInfo {
+  Strategy id;
+  std::string name;
+  std::string description;
+  std::string part;  // implements interfaces/strategy.glsl
+  // Which techniques it draws from. An env technique is named by the method (env techniques alone, the
+  // product methods) or, where envTechniqueChosen, by --env-sampler (default env-cdf).
+  bool usesEnvTechnique = false;
+  bool envTechniqueChosen = false;
+  bool usesBrdfTechnique = false;  // --brdf-sampler, default the BRDF's best sampler
+  // Its options: --mis (balance or power weights), --mis-split and --mis-compensation (a one-sample split of
+  // two techniques, and the env technique's compensated pdf), --ris-candidates.
+  bool misWeights = false;
+  bool misSplit = false;
+  bool risCandidates = false;
+  uint32_t drawsPerSample = 1;  // directions drawn per sample (a one-sample split draws one)
+  // Whether it builds per-pixel product tables (shaders/lib/product_sampling.glsl).
+  bool buildsProductTable = false;
+  // A measurement-only strategy is listed apart and offered by converge, bench and study, not by render or
+  // the viewer.
+  bool measurementOnly = false;
+};
 
 struct MethodInfo {
   std::string name;
   std::string description;
-  Strategy strategy;
+  Strategy strategy;  // strategyInfo() has its capabilities
   // Fixed env technique of SingleEnv and the product methods; MIS and RIS take the spec's env technique.
   std::string envTechnique;
   // The env technique's tables with more that the strategy reads, built in place of the technique's own
   // (the product strategies add their node tables to env-hier's); null = the technique's build.
   std::function<TechniqueData(const EnvImage&)> envData;
+  const StrategyInfo& strategyInfo() const;
 };
 
 std::span<const BrdfInfo> brdfRegistry();
 std::span<const EnvTechniqueInfo> envTechniqueRegistry();
 std::span<const BrdfTechniqueInfo> brdfTechniqueRegistry();
 std::span<const SequenceInfo> sequenceRegistry();
+std::span<const StrategyInfo> strategyRegistry();
 std::span<const MethodInfo> methodRegistry();
-std::string strategyPart(Strategy strategy);
+const StrategyInfo& findStrategy(Strategy id);
 
 // Lookups that throw a SettingError (engine/core/setting.h) listing the valid names.
 const BrdfInfo& findBrdf(const std::string& name);

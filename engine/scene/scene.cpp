@@ -10,8 +10,8 @@
 #include "engine/io/brdf_file.h"
 #include "engine/scene/analytic_brdf.h"
 #include "engine/scene/measured_brdfs.h"
-#include "engine/sampling/latlong_texel.h"
-#include "engine/sampling/merl_sampling.h"
+#include "engine/io/latlong_texel.h"
+#include "engine/sampling/brdf/merl_sampling.h"
 #include "engine/scene/brdf_params.h"
 
 #include <algorithm>
@@ -198,23 +198,20 @@ Scene loadScene(const SceneSpec& spec, LoadedBrdf brdf) {
 }
 
 std::string ResolvedMethod::techniqueLabel() const {
-  std::ostringstream s;
-  s << method->name;
-  if (method->strategy == Strategy::Mis) {
-    s << "(" << envTechnique->name << "+" << brdfTechnique->name << ", " << (misPower ? "power" : "balance");
-    if (misOneSample) s << ", one-sample " << misEnvFraction;
-    s << (misCompensation ? ", compensated" : "") << ")";
-  } else if (method->strategy == Strategy::SingleBrdf) {
-    s << "(" << brdfTechnique->name << ")";
-  } else if (method->strategy == Strategy::Ris) {
-    s << "(" << envTechnique->name << ", M=" << risCandidates << ")";
-  } else if (method->strategy == Strategy::Product || method->strategy == Strategy::ProductWarp) {
-    s << "(" << envTechnique->name << ")";
-  } else if (method->strategy == Strategy::ProductMis) {
-    s << "(" << envTechnique->name << "+" << brdfTechnique->name << ", " << (misPower ? "power" : "balance")
-      << ")";
-  }
-  return s.str();
+  // An env technique alone is its own method name; other methods name their techniques and options.
+  const StrategyInfo& s = method->strategyInfo();
+  std::ostringstream out;
+  out << method->name;
+  if (s.id == Strategy::SingleEnv) return out.str();
+  out << "(";
+  if (envTechnique) out << envTechnique->name << (brdfTechnique ? "+" : "");
+  if (brdfTechnique) out << brdfTechnique->name;
+  if (s.misWeights) out << ", " << (misPower ? "power" : "balance");
+  if (misOneSample) out << ", one-sample " << misEnvFraction;
+  if (misCompensation) out << ", compensated";
+  if (s.risCandidates) out << ", M=" << risCandidates;
+  out << ")";
+  return out.str();
 }
 
 std::string ResolvedMethod::label() const {
@@ -222,9 +219,7 @@ std::string ResolvedMethod::label() const {
 }
 
 uint32_t ResolvedMethod::drawsPerSample() const {
-  const bool twoSample =
-      (method->strategy == Strategy::Mis && !misOneSample) || method->strategy == Strategy::ProductMis;
-  return twoSample ? 2 : 1;
+  return misOneSample ? 1 : method->strategyInfo().drawsPerSample;
 }
 
 ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
@@ -240,26 +235,24 @@ ResolvedMethod resolveMethod(const MethodSpec& spec, const BrdfInfo& brdf) {
   if (spec.risCandidates && !(*spec.risCandidates >= 1 && *spec.risCandidates <= kMaxRisCandidates))
     throw SettingError(Setting::RisCandidates, "",
                        " must be in [1, " + std::to_string(kMaxRisCandidates) + "]");
+  const StrategyInfo& s = r.method->strategyInfo();
   r.misPower = spec.misHeuristic == "power";
-  r.misOneSample = spec.misEnvFraction.has_value() && r.method->strategy == Strategy::Mis;
+  r.misOneSample = spec.misEnvFraction.has_value() && s.misSplit;
   r.misEnvFraction = float(spec.misEnvFraction.value_or(0.5));
   r.risCandidates = uint32_t(spec.risCandidates.value_or(8));
-  const bool isMis = r.method->strategy == Strategy::Mis, isRis = r.method->strategy == Strategy::Ris;
-  const bool isProductMis = r.method->strategy == Strategy::ProductMis;
-  const bool needsEnv = r.method->strategy != Strategy::SingleBrdf;
-  const bool needsBrdf = r.method->strategy == Strategy::SingleBrdf || isMis || isProductMis;
   // Settings that the chosen method does not use, for the front end to report (a typo'd command line must
   // not mislead).
   const auto ignored = [&](bool given, Setting setting) {
     if (given) r.ignoredSettings.push_back(setting);
   };
-  ignored(!spec.envSampler.empty() && !isMis && !isRis, Setting::EnvSampler);
-  ignored(spec.risCandidates.has_value() && !isRis, Setting::RisCandidates);
-  ignored(spec.misCompensation && !isMis, Setting::MisCompensation);
-  r.misCompensation = spec.misCompensation && isMis;
-  ignored(!spec.brdfSampler.empty() && !needsBrdf, Setting::BrdfSampler);
-  ignored(spec.misEnvFraction.has_value() && !isMis, Setting::MisSplit);
-  ignored(!spec.misHeuristic.empty() && !isMis && !isProductMis, Setting::MisHeuristic);
+  ignored(!spec.envSampler.empty() && !s.envTechniqueChosen, Setting::EnvSampler);
+  ignored(spec.risCandidates.has_value() && !s.risCandidates, Setting::RisCandidates);
+  ignored(spec.misCompensation && !s.misSplit, Setting::MisCompensation);
+  r.misCompensation = spec.misCompensation && s.misSplit;
+  ignored(!spec.brdfSampler.empty() && !s.usesBrdfTechnique, Setting::BrdfSampler);
+  ignored(spec.misEnvFraction.has_value() && !s.misSplit, Setting::MisSplit);
+  ignored(!spec.misHeuristic.empty() && !s.misWeights, Setting::MisHeuristic);
+  const bool needsEnv = s.usesEnvTechnique, needsBrdf = s.usesBrdfTechnique;
   if (needsEnv)
     r.envTechnique = !r.method->envTechnique.empty()
                          ? &findEnvTechnique(r.method->envTechnique)
@@ -317,7 +310,7 @@ MethodSpec parseMethodVariant(const std::string& text) {
     // `cosine` names an env and a BRDF technique: it is the BRDF technique for a method that uses no env
     // technique (brdf:cosine), or once an env technique has been named (mis:env-cdf:cosine).
     const bool env = isIn(envTechniqueRegistry()), brdf = isIn(brdfTechniqueRegistry());
-    const bool brdfOnly = findMethod(spec.method).strategy == Strategy::SingleBrdf;
+    const bool brdfOnly = !findMethod(spec.method).strategyInfo().usesEnvTechnique;
     if (env && !(brdf && (brdfOnly || !spec.envSampler.empty()))) {
       spec.envSampler = word;
     } else if (brdf) {

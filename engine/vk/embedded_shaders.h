@@ -7,7 +7,7 @@
 namespace iblx {
 
 struct EmbeddedShader {
-  std::string_view path;  // relative to shaders/, e.g. "env/env_cdf.glsl"
+  std::string_view path;  // relative to shaders/, e.g. "env_technique/env_cdf.glsl"
   std::string_view text;
 };
 

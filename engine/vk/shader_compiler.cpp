@@ -25,8 +25,10 @@ namespace iblx {
 namespace {
 
 // How long glslang may take for one kernel: 300 s, or $IBLX_COMPILE_TIMEOUT_S. The .brdf limits keep real
-// compiles far below it (a 256 KiB file of 10 000 constants: 0.6 s).
-double compileTimeoutSeconds() { return environmentNumber("IBLX_COMPILE_TIMEOUT_S", 300.0, 1e7); }
+// compiles far below it, even for a file at the 256 KiB size limit (10 000 constants).
+double compileTimeoutSeconds() {
+  return environmentNumber("IBLX_COMPILE_TIMEOUT_S", 300.0, 1e7);
+}
 
 std::once_flag gGlslangInit;
 
@@ -93,37 +95,41 @@ std::vector<uint32_t> ShaderCompiler::compile(const std::string& prelude, const 
   // glslang recurses per operator and nesting level; on a thread with a 256 MiB stack (reserved, touched only
   // as used) a pathological .brdf that passed the parser's limits still cannot overflow the process's stack.
   const double timeout = compileTimeoutSeconds();
-  runWithStack(std::size_t(256) << 20, [&] {
-    glslang::TShader shader(EShLangCompute);
-    const char* strings[] = {prelude.c_str()};
-    // glslang writes this name into #line directives around includes, where a quote, backslash or control
-    // character (from a file name) would end the string early.
-    std::string preludeName = "<" + debugName + " prelude>";
-    for (char& c : preludeName)
-      if (c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20) c = '?';
-    const char* names[] = {preludeName.c_str()};
-    shader.setStringsWithLengthsAndNames(strings, nullptr, names, 1);
-    shader.setEnvInput(glslang::EShSourceGlsl, EShLangCompute, glslang::EShClientVulkan, 100);
-    shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
-    shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
-    const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
-    EmbeddedIncluder includer(sources_);
-    if (!shader.parse(GetDefaultResources(), 460, false, messages, includer))
-      throw Error(formatGlslLog(shader.getInfoLog(), debugName));
-    glslang::TProgram program;
-    program.addShader(&shader);
-    if (!program.link(messages)) throw Error(formatGlslLog(program.getInfoLog(), debugName + " (link)"));
-    glslang::SpvOptions options;
-    options.disableOptimizer = false;
-    options.optimizeSize = false;
-    glslang::GlslangToSpv(*program.getIntermediate(EShLangCompute), spirv, &options);
-  }, timeout, [&] {
-    std::fprintf(stderr,
-                 "iblx: error: compiling %s took more than %.3g s (IBLX_COMPILE_TIMEOUT_S sets the limit); a .brdf "
-                 "too large for the GLSL compiler?\n",
-                 debugName.c_str(), timeout);
-  });
-
+  runWithStack(
+      std::size_t(256) << 20,
+      [&] {
+        glslang::TShader shader(EShLangCompute);
+        const char* strings[] = {prelude.c_str()};
+        // glslang writes this name into #line directives around includes, where a quote, backslash or control
+        // character (from a file name) would end the string early.
+        std::string preludeName = "<" + debugName + " prelude>";
+        for (char& c : preludeName)
+          if (c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20) c = '?';
+        const char* names[] = {preludeName.c_str()};
+        shader.setStringsWithLengthsAndNames(strings, nullptr, names, 1);
+        shader.setEnvInput(glslang::EShSourceGlsl, EShLangCompute, glslang::EShClientVulkan, 100);
+        shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_2);
+        shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_5);
+        const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
+        EmbeddedIncluder includer(sources_);
+        if (!shader.parse(GetDefaultResources(), 460, false, messages, includer))
+          throw Error(formatGlslLog(shader.getInfoLog(), debugName));
+        glslang::TProgram program;
+        program.addShader(&shader);
+        if (!program.link(messages)) throw Error(formatGlslLog(program.getInfoLog(), debugName + " (link)"));
+        glslang::SpvOptions options;
+        options.disableOptimizer = false;
+        options.optimizeSize = false;
+        glslang::GlslangToSpv(*program.getIntermediate(EShLangCompute), spirv, &options);
+      },
+      timeout,
+      [&] {
+        std::fprintf(stderr,
+                     "iblx: error: compiling %s took more than %.3g s (IBLX_COMPILE_TIMEOUT_S sets the "
+                     "limit); a .brdf "
+                     "too large for the GLSL compiler?\n",
+                     debugName.c_str(), timeout);
+      });
 
   if (!cacheFile.empty()) {
     // Sealed, under a temporary name unique to this process and call, then renamed: concurrent compilers

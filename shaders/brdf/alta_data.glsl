@@ -1,8 +1,8 @@
-// BRDF of an ALTA data file (engine/io/alta_data.h) on its grid (engine/sampling/alta_grid.h): the direction
+// BRDF of an ALTA data file (engine/io/alta_data.h) on its grid (engine/sampling/brdf/alta_grid.h): the direction
 // pair's coordinates in the file's parametrisation (ALTA_PARAM: 0 RUSIN_TH_TD_PD, 1 RUSIN_TH_TD,
 // 2 ISOTROPIC_TV_TL_DPHI, 3 SPHERICAL_TL_PL_TV_PV), azimuths folded into their axes (ALTA_FOLD<d>), then a
 // multilinear lookup over the (possibly uneven) axes; values stored as f cos(theta_L) (ALTA_COSINE) are
-// divided by the cosine. GPU twin of evalAltaGrid (engine/sampling/alta_grid.cpp). Every loop has a
+// divided by the cosine. GPU twin of evalAltaGrid (engine/sampling/brdf/alta_grid.cpp). Every loop has a
 // compile-time trip count and is unrolled: lavapipe caps the loop iterations of an invocation (the reference
 // kernel evaluates the BRDF many times per invocation).
 #extension GL_EXT_control_flow_attributes : require

@@ -2,7 +2,7 @@
 // in the VNDF warp's unit square is found by inverting the warp, the rgb table is read there, and the
 // Jacobian ndf / (4 sigma) is multiplied back (files with jacobian = 1), giving f cos(theta_wi); divided by
 // the cosine for iblx's f. The view is the files' "incident" direction. GPU twin of RglBsdf::eval
-// (engine/sampling/rgl_sampling.cpp).
+// (engine/sampling/brdf/rgl_sampling.cpp).
 #include "lib/rgl_tables.glsl"
 
 vec3 brdfEval(vec3 wi, vec3 wo) {

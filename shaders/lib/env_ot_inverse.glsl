@@ -1,6 +1,6 @@
 // env-ot's inverse (direction -> u), one preimage per branch: the map's rows and the split sun's row
-// (engine/sampling/env_ot_product.h, whose envOtPreimages is the CPU twin). Needs the env technique env-ot
-// (shaders/env/env_ot.glsl, its tables) and envOtProductTechniqueData's tables and ENV_OT_GRID.
+// (engine/sampling/product/env_ot_product.h, whose envOtPreimages is the CPU twin). Needs the env technique env-ot
+// (shaders/env_technique/env_ot.glsl, its tables) and envOtProductTechniqueData's tables and ENV_OT_GRID.
 #ifndef IBLX_LIB_ENV_OT_INVERSE
 #define IBLX_LIB_ENV_OT_INVERSE
 #include "lib/table.glsl"

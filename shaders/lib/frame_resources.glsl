@@ -24,7 +24,7 @@ IBLX_TABLE(envRgb2, 1);
 #if ENV_RADIANCE_CHUNKS > 3
 IBLX_TABLE(envRgb3, 1);
 #endif
-// Per row (engine/sampling/latlong_texel.h envRowTable, computed in double): x = exact texel solid angle,
+// Per row (engine/io/latlong_texel.h envRowTable, computed in double): x = exact texel solid angle,
 // y, z = the squared half-angle terms at the row's edges, w = 1 for rows in the lower half.
 IBLX_TABLE(envRows, 4);
 layout(std430, set = 0, binding = 4) buffer KernelStatsData { KernelStats stats; };

@@ -1,4 +1,4 @@
-// The half-vector parameterisation shared by the MERL BRDF techniques (engine/sampling/merl_sampling.h):
+// The half-vector parameterisation shared by the MERL BRDF techniques (engine/sampling/brdf/merl_sampling.h):
 // u_theta = sqrt(theta_h / (pi/2)) (MERL's theta_h warp), phi_h = 2 pi u_phi; wi = reflect(wo about h).
 #ifndef IBLX_LIB_MERL_HALF_VECTOR
 #define IBLX_LIB_MERL_HALF_VECTOR

@@ -1,4 +1,4 @@
-// GPU twin of OtSunSplit (engine/sampling/ot_sun.h): the OT techniques sample the mixture
+// GPU twin of OtSunSplit (engine/sampling/env/env_ot_sun.h): the OT techniques sample the mixture
 // p(w) = share * pSun(w) + (1 - share) * pOt(w), the sun part (the capped texels' excess weight) by a CDF over
 // its texels and uniformly in solid angle inside the texel chosen. Bindings 4-6 of set 2 follow the quad map's
 // 0-3 (lib/quad_grid_map.glsl); OT_SUN_SHARE_BITS is the float share's bit pattern, so it is exact.

@@ -1,9 +1,9 @@
 // Product sampling of environment x BRDF over env-hier's unit square, for the `product` strategies
-// (engine/sampling/env_product.h documents the method and holds the CPU twin, EnvProductSampler). Needs the
+// (engine/sampling/product/env_hier_product.h documents the method and holds the CPU twin, EnvProductSampler). Needs the
 // env technique env-hier, whose builder also provides the nodes' tables and PRODUCT_* defines. The nodes are a
 // pyramid level (default) or, with PRODUCT_UNIFORM_GRID defined by the strategy part before including this
 // file, a uniform grid over u (warp composition, `product-warp`). With PRODUCT_TAIL_ENV_OT (defined by
-// envOtProductTechniqueData, engine/sampling/env_ot_product.h) the grid is over env-ot's unit square instead
+// envOtProductTechniqueData, engine/sampling/product/env_ot_product.h) the grid is over env-ot's unit square instead
 // (`product-warp-ot`), whose warp reaches a split sun's texels twice: the pdf sums over both preimages.
 //
 // productPrepare(s), once per shading point: weights w_j = (1 - d) E_j F_j / sum_k E_k F_k + d E_j over the
@@ -229,7 +229,7 @@ vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
 }
 
 #ifdef PRODUCT_TAIL_ENV_OT
-// h(u_map) q_map + h(u_sun) q_sun (engine/sampling/env_ot_product.h).
+// h(u_map) q_map + h(u_sun) q_sun (engine/sampling/product/env_ot_product.h).
 float productPdf(vec3 wi, Shading s) {
   ivec2 texel = directionToTexel(wi);
   vec2 q = envOtBranchPdfs(texel);

@@ -1,7 +1,7 @@
-// GPU twin of QuadGridMap (engine/sampling/ot_map.h): a map of the unit square given by the images of an
+// GPU twin of QuadGridMap (engine/ot/map.h): a map of the unit square given by the images of an
 // (OT_GRID+1)^2 vertex grid, one piece per cell (bilinear on strictly convex quads, two affine triangles through
 // the reflex corner otherwise), with point location in the image by a quadtree. The env-ot techniques' data
-// (engine/sampling/env_ot.cpp) fills these buffers: vertices, pieces, quadtree nodes, leaf cell lists.
+// (engine/sampling/env/env_ot_maps.cpp) fills these buffers: vertices, pieces, quadtree nodes, leaf cell lists.
 #ifndef IBLX_LIB_QUAD_GRID_MAP
 #define IBLX_LIB_QUAD_GRID_MAP
 #include "lib/table.glsl"

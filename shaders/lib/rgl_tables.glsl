@@ -1,6 +1,6 @@
-// The table of an RGL-EPFL material (engine/sampling/rgl_sampling.h, RglBsdf::techniqueData) and the
+// The table of an RGL-EPFL material (engine/sampling/brdf/rgl_sampling.h, RglBsdf::techniqueData) and the
 // bilinear warps read from it: the GLSL twin of engine/sampling/bilinear_warp.cpp (the continuous inversion
-// of Dupuy & Jakob 2018's reader), shared by shaders/brdf/rgl.glsl and shaders/brdf_sampler/rgl_vndf.glsl.
+// of Dupuy & Jakob 2018's reader), shared by shaders/brdf/rgl.glsl and shaders/brdf_technique/rgl_vndf.glsl.
 // Sizes and offsets into rglData come from the RGL_* defines.
 #ifndef IBLX_LIB_RGL_TABLES
 #define IBLX_LIB_RGL_TABLES

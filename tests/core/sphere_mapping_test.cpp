@@ -1,6 +1,6 @@
 // Tests of the docs/DESIGN.md §3 conventions in engine/core/sphere_mapping.h and the texel warp in
 // latlong_texel.h.
-#include "engine/sampling/latlong_texel.h"
+#include "engine/io/latlong_texel.h"
 #include "engine/core/sphere_mapping.h"
 #include "tests/support/chi2.h"
 

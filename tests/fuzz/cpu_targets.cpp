@@ -7,6 +7,8 @@
 #include "engine/core/error.h"
 #include "engine/geometry/obj_file.h"
 #include "engine/io/alta_func.h"
+#include "engine/io/alta_func_eval.h"
+
 #include "engine/io/brdf_file.h"
 #include "engine/io/env_image.h"
 #include "engine/io/image_write.h"
@@ -14,11 +16,11 @@
 #include "engine/io/alta_data.h"
 #include "engine/io/mit_brdf.h"
 #include "engine/io/rgl_bsdf.h"
-#include "engine/sampling/alta_grid.h"
-#include "engine/sampling/rgl_sampling.h"
+#include "engine/sampling/brdf/alta_grid.h"
+#include "engine/sampling/brdf/rgl_sampling.h"
 #include "engine/io/utia.h"
 #include "engine/io/reference_cache.h"
-#include "engine/sampling/ot_cache.h"
+#include "engine/ot/cache.h"
 #include "tests/io/exr_encoder.h"
 
 #include <algorithm>

@@ -5,7 +5,7 @@
 #include "engine/core/assets.h"
 #include "engine/io/alta_data.h"
 #include "engine/render/brdf_tabulation.h"
-#include "engine/sampling/alta_grid.h"
+#include "engine/sampling/brdf/alta_grid.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/gpu/render_checks.h"
 #include "tests/io/scratch_files.h"

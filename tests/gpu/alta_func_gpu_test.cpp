@@ -4,7 +4,9 @@
 // the reference, and a rational fit of GGX written by measured-synth's writer rendering like GGX.
 #include "engine/core/file_io.h"
 #include "engine/io/alta_func.h"
-#include "engine/render/alta_func_fit.h"
+#include "engine/io/alta_func_eval.h"
+
+#include "engine/render/alta_func_synth.h"
 #include "engine/render/brdf_tabulation.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/gpu/render_checks.h"

@@ -1,7 +1,7 @@
-// The OT samplers' CPU pdf twins of engine/sampling/env_ot_diagnostics.h against the GPU techniques: at the
-// directions env-ot-inv and env-ot-fwd sample, and at directions spread over the sphere, the CPU pdf in
+// The OT samplers' CPU pdf twins of engine/sampling/env/env_ot_diagnostics.h against the GPU techniques: at
+// the directions env-ot-inv and env-ot-fwd sample, and at directions spread over the sphere, the CPU pdf in
 // double equals the GPU's in float, so the chi^2 that `iblx otmap --diagnose` reports is the samplers' own.
-#include "engine/sampling/env_ot_diagnostics.h"
+#include "engine/sampling/env/env_ot_diagnostics.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/support/chi2.h"
 #include "tests/support/hard_envs.h"

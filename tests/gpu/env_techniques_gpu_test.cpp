@@ -2,10 +2,10 @@
 // against the pdf on smooth and hard maps, sample()'s pdf agrees with pdf(), and the table-based techniques
 // agree with their CPU twins on the same u.
 #include "engine/scene/methods.h"
-#include "engine/sampling/env_cdf.h"
-#include "engine/sampling/env_hier.h"
-#include "engine/sampling/env_ot_mesh.h"
-#include "engine/sampling/env_ot_product.h"
+#include "engine/sampling/env/env_cdf.h"
+#include "engine/sampling/env/env_hier.h"
+#include "engine/sampling/env/env_ot.h"
+#include "engine/sampling/product/env_ot_product.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/support/chi2.h"
 #include "tests/support/hard_envs.h"

@@ -3,7 +3,7 @@
 
 #include "engine/render/brdf_tabulation.h"
 #include "engine/render/kernel_assembly.h"
-#include "engine/sampling/latlong_texel.h"
+#include "engine/io/latlong_texel.h"
 #include "engine/scene/brdf_params.h"
 #include "engine/vk/compute_kernel.h"
 
@@ -136,8 +136,8 @@ const VulkanContext& gpuContext() {
 ShaderCompiler& gpuCompiler() {
   static ShaderCompiler compiler = [] {
     ShaderCompiler c;
-    for (const char* probe : {"env_sampler_probe.comp", "brdf_sampler_probe.comp", "analytic_brdf_probe.comp",
-                              "env_ot_inverse_probe.comp"})
+    for (const char* probe : {"env_technique_probe.comp", "brdf_technique_probe.comp",
+                              "analytic_brdf_probe.comp", "env_ot_inverse_probe.comp"})
       c.addSource(std::string("probe/") + probe,
                   readFile(std::string(IBLX_TEST_SOURCE_DIR) + "/gpu/probe/" + probe));
     return c;
@@ -158,7 +158,7 @@ struct EnvTechniqueProbe::Impl : ProbeRunner {
 EnvTechniqueProbe::EnvTechniqueProbe(const std::string& technique, const EnvImage& env, glm::dvec3 normal) {
   const auto& info = findEnvTechnique(technique);
   impl_ =
-      std::make_unique<Impl>(probeScene(env, "lambert", {}), "probe/env_sampler_probe.comp",
+      std::make_unique<Impl>(probeScene(env, "lambert", {}), "probe/env_technique_probe.comp",
                              std::vector<std::string>{info.part}, info.build(env), TechniqueData{}, normal);
 }
 EnvTechniqueProbe::~EnvTechniqueProbe() = default;
@@ -199,7 +199,7 @@ BrdfTechniqueProbe::BrdfTechniqueProbe(const std::string& technique, const std::
   const std::string evalPart = scene.brdf->evalPart;
   const TechniqueData data =
       info.build ? info.build(scene, VulkanServices(gpuContext(), gpuCompiler())) : TechniqueData{};
-  impl_ = std::make_unique<Impl>(std::move(scene), "probe/brdf_sampler_probe.comp",
+  impl_ = std::make_unique<Impl>(std::move(scene), "probe/brdf_technique_probe.comp",
                                  std::vector<std::string>{evalPart, info.part}, TechniqueData{}, data, wo);
 }
 BrdfTechniqueProbe::~BrdfTechniqueProbe() = default;

@@ -6,7 +6,7 @@
 #include "engine/io/merl.h"
 #include "engine/render/brdf_tabulation.h"
 #include "engine/render/reference.h"
-#include "engine/sampling/merl_sampling.h"
+#include "engine/sampling/brdf/merl_sampling.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/gpu/render_checks.h"
 #include "tests/io/scratch_files.h"

@@ -17,18 +17,17 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
     MethodSpec spec;
     spec.method = m.name;
     spec.sequence = sequence;
-    if (m.strategy == Strategy::SingleEnv) {
+    // By the strategy's capabilities: each technique the method lets the user choose is covered.
+    const StrategyInfo& s = m.strategyInfo();
+    if (!s.envTechniqueChosen && !(s.usesBrdfTechnique && !s.usesEnvTechnique)) {
+      // The env technique is the method's own; product-mis takes the BRDF's best sampler, as MIS below
+      // already pairs every BRDF technique with the env techniques.
       specs.push_back(spec);
-    } else if (m.strategy == Strategy::SingleBrdf) {
+    } else if (!s.usesEnvTechnique) {
       for (const auto& t : brdfTechniqueRegistry())
         if (t.appliesTo(brdf)) specs.push_back((spec.brdfSampler = t.name, spec));
-    } else if (m.strategy == Strategy::Ris) {
+    } else if (!s.usesBrdfTechnique) {
       for (const auto& e : envTechniqueRegistry()) specs.push_back((spec.envSampler = e.name, spec));
-    } else if (m.strategy == Strategy::Product || m.strategy == Strategy::ProductWarp) {
-      specs.push_back(spec);
-    } else if (m.strategy == Strategy::ProductMis) {
-      // With the BRDF's best sampler: MIS above already pairs every BRDF technique with the env techniques.
-      specs.push_back(spec);
     } else {
       // Every env technique with every BRDF technique that applies (balance), and with the BRDF's best
       // sampler also under the power heuristic.
@@ -44,14 +43,15 @@ std::vector<MethodSpec> allMethodSpecs(const BrdfInfo& brdf, const std::string& 
           spec.misHeuristic = "balance";
           specs.push_back(spec);
           if (t.name == brdf.bestSampler) {
-            specs.push_back((spec.misHeuristic = "power", spec));
-            if (e.name == "env-cdf" || e.name == "env-hier") {  // the table-based ones, compensated
+            if (s.misWeights) specs.push_back((spec.misHeuristic = "power", spec));
+            if (s.misSplit &&
+                (e.name == "env-cdf" || e.name == "env-hier")) {  // the table-based ones, compensated
               MethodSpec compensated = spec;
               compensated.misHeuristic = "balance";
               compensated.misCompensation = true;
               specs.push_back(compensated);
             }
-            if (e.name == "env-cdf") {  // one-sample MIS with an uneven split
+            if (s.misSplit && e.name == "env-cdf") {  // one-sample MIS with an uneven split
               MethodSpec oneSample = spec;
               oneSample.misHeuristic = "balance";
               oneSample.misEnvFraction = 0.3;

@@ -6,7 +6,7 @@
 #include "engine/core/error.h"
 #include "engine/render/kernel_assembly.h"
 #include "engine/render/renderer.h"
-#include "engine/sampling/env_cdf.h"
+#include "engine/sampling/env/env_cdf.h"
 #include "engine/scene/brdf_params.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/gpu/render_checks.h"
@@ -14,12 +14,34 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <set>
 #include <filesystem>
 #include <unistd.h>
 
 using namespace iblx;
 using namespace iblx::test;
+
+TEST_CASE("the GPU suite reaches every registry method and technique (allMethodSpecs)") {
+  // Every method, every env technique and every BRDF technique that applies to a built-in BRDF is rendered
+  // by the tests that iterate allMethodSpecs; a registry entry they do not reach is untested on the GPU.
+  std::set<std::string> methods, envTechniques, brdfTechniques;
+  for (const BrdfInfo& brdf : brdfRegistry())
+    for (const MethodSpec& spec : allMethodSpecs(brdf, "random")) {
+      const ResolvedMethod r = resolveMethod(spec, brdf);
+      methods.insert(r.method->name);
+      if (r.envTechnique) envTechniques.insert(r.envTechnique->name);
+      if (r.brdfTechnique) brdfTechniques.insert(r.brdfTechnique->name);
+    }
+  for (const MethodInfo& m : methodRegistry()) CHECK_MESSAGE(methods.count(m.name), m.name);
+  for (const EnvTechniqueInfo& t : envTechniqueRegistry()) CHECK_MESSAGE(envTechniques.count(t.name), t.name);
+  for (const BrdfTechniqueInfo& t : brdfTechniqueRegistry()) {
+    const bool appliesToBuiltIn = std::any_of(brdfRegistry().begin(), brdfRegistry().end(),
+                                              [&](const BrdfInfo& b) { return t.appliesTo(b); });
+    if (appliesToBuiltIn) CHECK_MESSAGE(brdfTechniques.count(t.name), t.name);
+  }
+}
 
 TEST_CASE("white furnace: constant environment 1 and Lambert albedo give the albedo, for every method") {
   // 5 sigma per pixel (about 3e-7 false alarms each).
@@ -210,7 +232,7 @@ TEST_CASE("shader compiler: errors name the part file and line; the SPIR-V cache
     CHECK(message.find("test/broken_part.glsl:3") != std::string::npos);
     CHECK(message.find("undeclaredThing") != std::string::npos);
   }
-  parts.parts[1] = "env/uniform.glsl";
+  parts.parts[1] = "env_technique/uniform.glsl";
   const auto first = compiler.compile(assemblePrelude(parts), "ok");
   CHECK(compiler.compilations() == 2);
   ShaderCompiler again(dir);  // same sources: every source is part of the key
@@ -226,12 +248,13 @@ TEST_CASE("shader compiler: errors name the part file and line; the SPIR-V cache
 TEST_CASE("a part that reads a table its builder did not provide, or at another width, fails naming it") {
   KernelParts parts{
       "integrate.comp",
-      {"sequence/random.glsl", "env/env_cdf.glsl", "brdf/lambert.glsl", "strategy/single_env.glsl"},
+      {"sequence/random.glsl", "env_technique/env_cdf.glsl", "brdf/lambert.glsl", "strategy/single_env.glsl"},
       paramBlockGlsl(findBrdf("lambert")),
       {}};
   CHECK_THROWS_WITH_AS(
       compileKernel(gpuCompiler(), parts, "no tables"),
-      doctest::Contains("env/env_cdf.glsl:10: the part reads table 'envCdf', which no builder"), Error);
+      doctest::Contains("env_technique/env_cdf.glsl:10: the part reads table 'envCdf', which no builder"),
+      Error);
   // env-cdf's tables with the CDF at 4 words per element.
   TechniqueData wrongWidth = envCdfTechniqueData(constantEnv(8, 4, 1.0f));
   wrongWidth.tables[0].words = 4;

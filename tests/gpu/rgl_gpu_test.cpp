@@ -1,12 +1,12 @@
 // RGL-EPFL .bsdf materials on the GPU, with files written by the project's own tabulation (tabulateRgl):
-// evaluation and the rgl-vndf technique against their CPU twins (engine/sampling/rgl_sampling.h), chi-square
-// of rgl-vndf against its pdf, the white furnace of a tabulated Lambert, tabulated against
+// evaluation and the rgl-vndf technique against their CPU twins (engine/sampling/brdf/rgl_sampling.h),
+// chi-square of rgl-vndf against its pdf, the white furnace of a tabulated Lambert, tabulated against
 // analytic GGX, the tangent frame of an anisotropic material, and every method against the reference under a
 // 1e6 sun.
 #include "engine/core/assets.h"
 #include "engine/io/rgl_bsdf.h"
 #include "engine/render/brdf_tabulation.h"
-#include "engine/sampling/rgl_sampling.h"
+#include "engine/sampling/brdf/rgl_sampling.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/gpu/render_checks.h"
 #include "tests/io/scratch_files.h"

@@ -4,8 +4,8 @@
 // and MIS records carry both techniques in their split.
 #include "engine/core/error.h"
 #include "engine/render/sample_recorder.h"
-#include "engine/sampling/env_product.h"
-#include "engine/sampling/mis_compensation.h"
+#include "engine/sampling/product/env_hier_product.h"
+#include "engine/sampling/env/mis_compensation.h"
 #include "engine/core/sphere_mapping.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/gpu/render_checks.h"
@@ -263,7 +263,7 @@ TEST_CASE(
           CHECK(c.mapUv->w ==
                 doctest::Approx(std::min(1.0, double((c.row() + 1) * texels) / scene.env.height)));
         }
-        // pdf = P(node) / E_node * p_env-hier(wi) (engine/sampling/env_product.h).
+        // pdf = P(node) / E_node * p_env-hier(wi) (engine/sampling/product/env_hier_product.h).
         const glm::vec4& r = level.rects[c.node];
         const double area = double(r.z - r.x) * double(r.w - r.y);
         const double implied = s.pdf * area / hier.pdf(s.envDirection);

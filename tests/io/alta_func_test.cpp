@@ -2,6 +2,8 @@
 // rational functions in the three bases against hand-computed values, the parametrisations' coordinates, the
 // lobes at directions with closed-form values, the writer's round trip and the least-squares fit.
 #include "engine/io/alta_func.h"
+#include "engine/io/alta_func_eval.h"
+#include "engine/io/alta_func_fit.h"
 
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"

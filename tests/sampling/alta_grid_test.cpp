@@ -1,7 +1,7 @@
-// Tests of ALTA data on a grid (engine/sampling/alta_grid.h): regular grids found as they are (uneven axes
-// included) and reproduced at their nodes, scattered samples resampled with a warning, the coordinates of
-// each parametrisation, and the symmetry folds of azimuths.
-#include "engine/sampling/alta_grid.h"
+// Tests of ALTA data on a grid (engine/sampling/brdf/alta_grid.h): regular grids found as they are (uneven
+// axes included) and reproduced at their nodes, scattered samples resampled with a warning, the coordinates
+// of each parametrisation, and the symmetry folds of azimuths.
+#include "engine/sampling/brdf/alta_grid.h"
 
 #include "tests/io/scratch_files.h"
 #include "tests/support/chi2.h"

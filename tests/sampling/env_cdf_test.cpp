@@ -1,9 +1,9 @@
-// Tests of env-cdf (engine/sampling/env_cdf.h): hand-worked table, table invariants, round trips, pdf
+// Tests of env-cdf (engine/sampling/env/env_cdf.h): hand-worked table, table invariants, round trips, pdf
 // consistency, chi-square on the shared hard environments, zero regions, black maps and a 1e6 sun.
-#include "engine/sampling/env_cdf.h"
+#include "engine/sampling/env/env_cdf.h"
 
 #include "engine/core/error.h"
-#include "tests/sampling/env_sampler_checks.h"
+#include "tests/sampling/env_technique_checks.h"
 #include "tests/support/hard_envs.h"
 
 #include <doctest/doctest.h>

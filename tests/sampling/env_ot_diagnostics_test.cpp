@@ -1,16 +1,16 @@
-// Tests of the samplers' offline diagnostics (engine/sampling/env_ot_diagnostics.h): chi^2 against
+// Tests of the samplers' offline diagnostics (engine/sampling/env/env_ot_diagnostics.h): chi^2 against
 // hand-worked and analytic values, the texel samplers' own pdfs (chi^2 0 up to float rounding), the OT pdf
 // twins on an identity map (texel probabilities known in closed form, with and without a sun split off), the
 // non-convex share of a grid with one reflex corner, and a solved map's pdfs integrating to 1 with a round
 // trip within a cell.
-#include "engine/sampling/env_ot_diagnostics.h"
+#include "engine/sampling/env/env_ot_diagnostics.h"
 
 #include "engine/core/error.h"
 #include "engine/io/synthetic_envs.h"
-#include "engine/sampling/env_cdf.h"
-#include "engine/sampling/env_hier.h"
-#include "engine/sampling/latlong_texel.h"
-#include "engine/sampling/ot_solver.h"
+#include "engine/sampling/env/env_cdf.h"
+#include "engine/sampling/env/env_hier.h"
+#include "engine/io/latlong_texel.h"
+#include "engine/ot/solver.h"
 #include "tests/support/hard_envs.h"
 
 #include <doctest/doctest.h>

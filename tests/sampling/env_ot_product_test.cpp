@@ -1,11 +1,11 @@
-// Tests of warp composition over env-ot's unit square (engine/sampling/env_ot_product.h): env-ot's inverse
-// per branch, chi-square of the composed sampler against its own pdf on the hard maps under GGX and Lambert
-// lobes, and the split sun's two preimages.
-#include "engine/sampling/env_ot_product.h"
+// Tests of warp composition over env-ot's unit square (engine/sampling/product/env_ot_product.h): env-ot's
+// inverse per branch, chi-square of the composed sampler against its own pdf on the hard maps under GGX and
+// Lambert lobes, and the split sun's two preimages.
+#include "engine/sampling/product/env_ot_product.h"
 
 #include "engine/core/error.h"
 #include "engine/core/sphere_mapping.h"
-#include "tests/sampling/env_sampler_checks.h"
+#include "tests/sampling/env_technique_checks.h"
 #include "tests/support/hard_envs.h"
 
 #include <doctest/doctest.h>

@@ -1,11 +1,11 @@
-// Tests of merl-thetah and merl-table (engine/sampling/merl_sampling.h) on materials tabulated at the MERL
-// bin centres from analytic functions: table invariants, weights against the header's recipe, sample/pdf
+// Tests of merl-thetah and merl-table (engine/sampling/brdf/merl_sampling.h) on materials tabulated at the
+// MERL bin centres from analytic functions: table invariants, weights against the header's recipe, sample/pdf
 // agreement, sample -> invert round trips, chi-square against the twins' own densities, normalisation (pdf
 // integral = kept fraction), the horizon, and the variance gain of merl-table over merl-thetah.
-#include "engine/sampling/merl_sampling.h"
+#include "engine/sampling/brdf/merl_sampling.h"
 
 #include "engine/core/error.h"
-#include "engine/sampling/latlong_texel.h"
+#include "engine/io/latlong_texel.h"
 #include "engine/core/sphere_mapping.h"
 #include "tests/support/chi2.h"
 
@@ -203,7 +203,7 @@ void checkPdfAgreesWithSample(const Technique& technique, const Material& m) {
       const double p = technique.pdf(m, s.wi, wo);
       edge += !(std::abs(p - s.pdf) <= 1e-4 * s.pdf);
     }
-    // Every sample keeps its density, below the horizon too (shaders/interfaces/brdf_sampler.glsl).
+    // Every sample keeps its density, below the horizon too (shaders/interfaces/brdf_technique.glsl).
     CHECK(kept > 19900);
     CHECK(notUnitAbove == 0);
     CHECK(edge <= 1);

@@ -1,9 +1,9 @@
-// Tests of MIS compensation (engine/sampling/mis_compensation.h): the compensated weights, the constant-map
-// fallback, and an env sampler built on it never sampling where the map is at or below its mean.
-#include "engine/sampling/mis_compensation.h"
+// Tests of MIS compensation (engine/sampling/env/mis_compensation.h): the compensated weights, the
+// constant-map fallback, and an env sampler built on it never sampling where the map is at or below its mean.
+#include "engine/sampling/env/mis_compensation.h"
 
-#include "engine/sampling/env_cdf.h"
-#include "engine/sampling/latlong_texel.h"
+#include "engine/sampling/env/env_cdf.h"
+#include "engine/io/latlong_texel.h"
 #include "tests/support/chi2.h"
 #include "tests/support/hard_envs.h"
 

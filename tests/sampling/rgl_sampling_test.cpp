@@ -1,8 +1,8 @@
 // Tests of the bilinear warp (engine/sampling/bilinear_warp.h) and of RGL-EPFL materials as warps
-// (engine/sampling/rgl_sampling.h): sample/invert round trips and densities against finite differences,
+// (engine/sampling/brdf/rgl_sampling.h): sample/invert round trips and densities against finite differences,
 // parameter blending, chi-square of rgl-vndf against its own pdf, and materials tabulated by planRglSynth
 // from closed forms (Lambert, GGX) evaluated against those closed forms.
-#include "engine/sampling/rgl_sampling.h"
+#include "engine/sampling/brdf/rgl_sampling.h"
 
 #include "engine/core/error.h"
 #include "tests/support/chi2.h"

@@ -3,12 +3,16 @@
 // viewer's words. Runs on the Vulkan device present (lavapipe without a GPU), no display needed.
 #include "tools/viewer/viewer_model.h"
 
+#include "tools/viewer/background_job.h"
+
+#include "engine/core/error.h"
 #include "engine/core/setting.h"
 #include "engine/io/alta_data.h"
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <thread>
 
@@ -27,6 +31,48 @@ ViewerOptions smallScene() {
 }
 
 }  // namespace
+
+TEST_CASE("viewer jobs: one poll takes a result, reports a failure and drops a cancelled job silently") {
+  auto succeeded = std::make_unique<BackgroundJob<int>>("ok", [](const auto&) { return 7; });
+  auto failed =
+      std::make_unique<BackgroundJob<int>>("bad", [](const auto&) -> int { throw Error("broken"); });
+  std::atomic<bool> started{false};
+  auto cancelled = std::make_unique<BackgroundJob<int>>("slow", [&](const auto& progress) {
+    started = true;
+    for (;;) {
+      progress(0.5);  // throws JobCancelled once cancel() was called
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return 0;
+  });
+  CHECK(cancelled->status() == JobStatus::Running);
+  while (!started) std::this_thread::yield();
+  cancelled->cancel();
+  succeeded->wait(), failed->wait(), cancelled->wait();
+  CHECK(succeeded->status() == JobStatus::Succeeded);
+  CHECK(failed->status() == JobStatus::Failed);
+  CHECK(cancelled->status() == JobStatus::Cancelled);
+  std::string error;
+  int taken = 0, calls = 0;
+  finishJob(succeeded, error, "A: ", [&](int v) { taken = v, ++calls; });
+  CHECK(taken == 7);
+  CHECK(error.empty());
+  finishJob(cancelled, error, "C: ", [&](int) { ++calls; });
+  CHECK(error.empty());
+  finishJob(failed, error, "B: ", [&](int) { ++calls; });
+  CHECK(error == "B: broken");
+  CHECK(calls == 1);
+  CHECK((!succeeded && !failed && !cancelled));
+}
+
+TEST_CASE("viewer: the method list offers every registry method that is not measurement-only") {
+  const std::vector<MethodInfo> offered = viewerMethods();
+  for (const MethodInfo& m : methodRegistry()) {
+    const bool listed =
+        std::any_of(offered.begin(), offered.end(), [&](const MethodInfo& o) { return o.name == m.name; });
+    CHECK_MESSAGE(listed == !m.strategyInfo().measurementOnly, m.name);
+  }
+}
 
 TEST_CASE("viewer model: passes accumulate; new parameters start a new generation without a rebuild") {
   VulkanContext context;

@@ -1,13 +1,13 @@
-// Benchmark of the OT map solver (engine/sampling/ot_solver.h): iterations, time, L2 / L1 / Linf mass errors
+// Benchmark of the OT map solver (engine/ot/solver.h): iterations, time, L2 / L1 / Linf mass errors
 // and folded quads for n = 128, 256, 512, 1024 on synthetic densities and on any .exr/.hdr given; with --lu,
-// the grid LU alone (engine/sampling/grid_lu.h): symbolic phase, factorisation and solve times.
+// the grid LU alone (engine/ot/grid_lu.h): symbolic phase, factorisation and solve times.
 //   build/iblx_ot_bench [--sizes 128,256] [--cases smooth,sun1e5] [--threads T] [--no-coarse] [--no-curved]
 //                       [--coarse-target L2] [--levels] [--max-iter N] [FILE.exr ...]
 //   build/iblx_ot_bench --lu [--sizes 256,512,1024] [--threads T]
 #include "engine/core/error.h"
 #include "engine/io/env_image.h"
-#include "engine/sampling/grid_lu.h"
-#include "engine/sampling/ot_solver.h"
+#include "engine/ot/grid_lu.h"
+#include "engine/ot/solver.h"
 
 #include <algorithm>
 #include <chrono>

@@ -15,10 +15,43 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
 
 namespace iblx::cli {
 
 namespace {
+
+// The flags of `iblx converge`: those it shares with `iblx study` (the scene, the measurement and the ground
+// truth; --json and the device flags land in their RenderSpec) and the outputs'.
+struct ConvergeOptions {
+  ConvergeSceneFlags sceneFlags;
+  std::filesystem::path outDir = "converge";
+  double targetRelMse = 1e-3;
+  bool plots = true;
+};
+
+// Declares the flags and parses `args`; none when --help was answered.
+std::optional<ConvergeOptions> parseConvergeOptions(const Args& args) {
+  ConvergeOptions options;
+  RenderSpec& render = options.sceneFlags.render;
+  ArgParser parser("converge");
+  addConvergeSceneFlags(parser, options.sceneFlags);
+  addDeviceFlags(parser, render);
+  parser.value(
+      "--target-relmse", "X", "the error whose time to reach is reported (default 1e-3)",
+      [&](const std::string& v) { options.targetRelMse = parseDouble("--target-relmse", v, 1e-12, 1e6); });
+  parser.value("--out-dir", "DIR", "where the CSV, summary and figures go (default ./converge; created)",
+               [&](const std::string& v) { options.outDir = v; });
+  parser.toggle("--no-plots", "write no PNG figures", [&] { options.plots = false; });
+  parser.toggle("--json", "print the summary as one JSON object per method instead of the table",
+                [&] { render.json = true; });
+  if (parser.parseOrShowHelp(args)) return std::nullopt;
+  finishConvergeSceneFlags(options.sceneFlags);
+  return options;
+}
 
 std::string budgetText(const ConvergenceBudget& budget) {
   char text[64];
@@ -29,53 +62,24 @@ std::string budgetText(const ConvergenceBudget& budget) {
   return text;
 }
 
-}  // namespace
-
-int cmdConverge(const Args& args) {
-  ConvergeSceneFlags flags;
-  RenderSpec& render = flags.render;
-  const MeasurementSpec& spec = flags.spec;
-  std::filesystem::path outDir = "converge";
-  double targetRelMse = 1e-3;
-  bool plots = true;
-  ArgParser parser("converge");
-  addConvergeSceneFlags(parser, flags);
-  addDeviceFlags(parser, render);
-  parser.value("--target-relmse", "X", "the error whose time to reach is reported (default 1e-3)",
-               [&](const std::string& v) { targetRelMse = parseDouble("--target-relmse", v, 1e-12, 1e6); });
-  parser.value("--out-dir", "DIR", "where the CSV, summary and figures go (default ./converge; created)",
-               [&](const std::string& v) { outDir = v; });
-  parser.toggle("--no-plots", "write no PNG figures", [&] { plots = false; });
-  parser.toggle("--json", "print the summary as one JSON object per method instead of the table",
-                [&] { render.json = true; });
-  if (parser.parseOrShowHelp(args)) return 0;
-  finishConvergeSceneFlags(flags);
-
-  // Everything a user can get wrong is checked before anything heavy.
-  const HardCase* hardCase = flags.hardCase();
-  const ConvergenceBudget budget = spec.finalBudget();
-  LoadedBrdf brdf = checkConvergeScene(flags);
-
-  VulkanContext context({render.device, render.validation ? Validation::On : Validation::Auto});
-  Scene scene = loadConvergeScene(context, flags, std::move(brdf));
-  const std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene.brdf);
-  const std::vector<std::uint32_t> seeds = seedList(spec);
-  ShaderCompiler compiler;
-  const ObtainedReference obtained = obtainReference(context, compiler, scene, hardCase, spec);
-  const std::vector<float>& reference = obtained.rgb;
-  // Created once the inputs have been checked (nothing is written for bad input), before the long part.
+void createOutDir(const std::filesystem::path& outDir) {
   std::error_code ec;
   std::filesystem::create_directories(outDir, ec);
   if (!std::filesystem::is_directory(outDir))
     throw Error("--out-dir " + outDir.string() + ": cannot create it");
+}
 
-  const std::string sceneTitle = convergeSceneTitle(flags, scene);
-  std::fprintf(stderr, "converge: %zu methods x %zu seeds on %s (%s)\n", methods.size(), seeds.size(),
-               context.deviceName().c_str(), sceneTitle.c_str());
+// Every method with every seed, until the budget or Ctrl-C (which keeps the runs measured so far); warns of
+// what was skipped and throws when nothing was measured.
+ConvergenceResult measureConvergence(const VulkanContext& context, ShaderCompiler& compiler,
+                                     const Scene& scene, const ObtainedReference& obtained,
+                                     const std::vector<ResolvedMethod>& methods,
+                                     const std::vector<std::uint32_t>& seeds,
+                                     const ConvergenceBudget& budget) {
   ConvergenceResult result;
   {
     InterruptGuard interrupt;
-    result = runConvergence(context, compiler, scene, reference, methods, seeds, budget, showProgress,
+    result = runConvergence(context, compiler, scene, obtained.rgb, methods, seeds, budget, showProgress,
                             &interrupt.flag(), obtained.noise);
   }
   endProgressLine();
@@ -86,27 +90,20 @@ int cmdConverge(const Args& args) {
   if (result.runs.empty())
     throw Error(result.interrupted ? "interrupted before any measurement"
                                    : "no method could run on this device");
+  return result;
+}
 
-  writeConvergenceCsv(outDir / "converge.csv", result.runs);
-  writeExr(outDir / "reference.exr", scene.gbuffer.width, scene.gbuffer.height, reference);
-  ConvergenceSummary summary = summarize(result.runs, targetRelMse);
-  summary.referenceNoiseMse = obtained.noise.mse;
-  summary.referenceNoiseRelMse = obtained.noise.relMse;
+// The PNG figures written into --out-dir (none with --no-plots): file names.
+struct ConvergeFigures {
   std::vector<std::string> plotFiles, heatMaps, finalImages;
-  if (plots) {
-    plotFiles = writeConvergencePlots(outDir, sceneTitle, result.runs, obtained.noise);
-    heatMaps = writeErrorHeatMaps(outDir, scene.gbuffer, result.images, reference);
-    finalImages = writeFinalImages(outDir, scene.gbuffer, result.images, reference);
-  }
-  const std::size_t figureCount = plotFiles.size() + heatMaps.size() + finalImages.size();
-  const std::string table = formatSummaryTable(summary);
-  const std::string setting = "Device: " + context.deviceName() + ". Seeds: " + std::to_string(seeds.size()) +
-                              ". Budget per run: " + budgetText(budget) +
-                              (result.interrupted ? " (interrupted)" : "") +
-                              ". Reference: " + obtained.description + ".";
-  writeFileAtomically(outDir / "summary.md",
-                      "# iblx converge: " + sceneTitle + "\n\n" + setting + "\n\n" + table);
+};
 
+// report.html: the setting, the summary table and the figures.
+void writeConvergeHtml(const ConvergeOptions& options, const std::string& sceneTitle,
+                       const std::string& setting, const ConvergenceSummary& summary,
+                       const ConvergeFigures& figures, const ConvergenceResult& result, const Scene& scene,
+                       const ConvergenceBudget& budget) {
+  const std::filesystem::path& outDir = options.outDir;
   HtmlReport report("iblx converge: " + sceneTitle);
   report.paragraph(setting);
   report.heading("Summary");
@@ -114,13 +111,13 @@ int cmdConverge(const Args& args) {
       "Equal time: the end of the shortest run. × best: MSE at equal time over the best method's. "
       "Click a column's header to sort by it.");
   report.table(summaryTable(summary));
-  if (plots) {
+  if (options.plots) {
     std::vector<HtmlReport::Figure> plotFigures, finalFigures, heatFigures;
-    for (const auto& f : plotFiles) plotFigures.push_back({f, outDir / f});
-    finalFigures.push_back({"reference (ground truth)", outDir / finalImages.front()});
+    for (const auto& f : figures.plotFiles) plotFigures.push_back({f, outDir / f});
+    finalFigures.push_back({"reference (ground truth)", outDir / figures.finalImages.front()});
     for (std::size_t i = 0; i < result.images.size(); ++i) {
-      finalFigures.push_back({imageCaption(result.images[i]), outDir / finalImages[i + 1]});
-      heatFigures.push_back({imageCaption(result.images[i]), outDir / heatMaps[i]});
+      finalFigures.push_back({imageCaption(result.images[i]), outDir / figures.finalImages[i + 1]});
+      heatFigures.push_back({imageCaption(result.images[i]), outDir / figures.heatMaps[i]});
     }
     const int imageWidth = std::max(scene.gbuffer.width, 192);
     report.heading("Error against samples and time");
@@ -135,6 +132,38 @@ int cmdConverge(const Args& args) {
     report.figures(heatFigures, 0);
   }
   report.write(outDir / "report.html");
+}
+
+// The CSV, reference.exr, the figures, summary.md and report.html, then the summary on stdout (a table, or
+// JSON with --json) and a warning per method with non-finite estimates.
+void writeConvergeOutputs(const ConvergeOptions& options, const std::string& deviceName, const Scene& scene,
+                          const std::string& sceneTitle, const ObtainedReference& obtained,
+                          const ConvergenceResult& result, const ConvergenceBudget& budget,
+                          std::size_t seedCount) {
+  const std::filesystem::path& outDir = options.outDir;
+  const std::vector<float>& reference = obtained.rgb;
+  writeConvergenceCsv(outDir / "converge.csv", result.runs);
+  writeExr(outDir / "reference.exr", scene.gbuffer.width, scene.gbuffer.height, reference);
+  ConvergenceSummary summary = summarize(result.runs, options.targetRelMse);
+  summary.referenceNoiseMse = obtained.noise.mse;
+  summary.referenceNoiseRelMse = obtained.noise.relMse;
+  ConvergeFigures figures;
+  if (options.plots) {
+    figures.plotFiles = writeConvergencePlots(outDir, sceneTitle, result.runs, obtained.noise);
+    figures.heatMaps = writeErrorHeatMaps(outDir, scene.gbuffer, result.images, reference);
+    figures.finalImages = writeFinalImages(outDir, scene.gbuffer, result.images, reference);
+  }
+  const std::size_t figureCount =
+      figures.plotFiles.size() + figures.heatMaps.size() + figures.finalImages.size();
+  const std::string table = formatSummaryTable(summary);
+  const std::string setting = "Device: " + deviceName + ". Seeds: " + std::to_string(seedCount) +
+                              ". Budget per run: " + budgetText(budget) +
+                              (result.interrupted ? " (interrupted)" : "") +
+                              ". Reference: " + obtained.description + ".";
+  writeFileAtomically(outDir / "summary.md",
+                      "# iblx converge: " + sceneTitle + "\n\n" + setting + "\n\n" + table);
+  writeConvergeHtml(options, sceneTitle, setting, summary, figures, result, scene, budget);
+  const RenderSpec& render = options.sceneFlags.render;
   if (render.json) {
     std::size_t nulls = 0;
     std::fputs(formatSummaryJson(summary, &nulls).c_str(), stdout);
@@ -149,7 +178,42 @@ int cmdConverge(const Args& args) {
     if (row.nonFiniteSamples || !row.finite)
       warn(row.method + "/" + row.sequence + ": " +
            nonFiniteEstimatesMessage(row.nonFiniteSamples, render.scene.brdf));
+}
+
+int runConverge(const ConvergeOptions& options) {
+  const ConvergeSceneFlags& flags = options.sceneFlags;
+  const RenderSpec& render = flags.render;
+  const MeasurementSpec& spec = flags.spec;
+
+  // Everything a user can get wrong is checked before anything heavy.
+  const HardCase* hardCase = flags.hardCase();
+  const ConvergenceBudget budget = spec.finalBudget();
+  LoadedBrdf brdf = checkConvergeScene(flags);
+
+  VulkanContext context({render.device, render.validation ? Validation::On : Validation::Auto});
+  Scene scene = loadConvergeScene(context, flags, std::move(brdf));
+  const std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene.brdf);
+  const std::vector<std::uint32_t> seeds = seedList(spec);
+  ShaderCompiler compiler;
+  const ObtainedReference obtained = obtainReference(context, compiler, scene, hardCase, spec);
+  // Created once the inputs have been checked (nothing is written for bad input), before the long part.
+  createOutDir(options.outDir);
+
+  const std::string sceneTitle = convergeSceneTitle(flags, scene);
+  std::fprintf(stderr, "converge: %zu methods x %zu seeds on %s (%s)\n", methods.size(), seeds.size(),
+               context.deviceName().c_str(), sceneTitle.c_str());
+  const ConvergenceResult result =
+      measureConvergence(context, compiler, scene, obtained, methods, seeds, budget);
+  writeConvergeOutputs(options, context.deviceName(), scene, sceneTitle, obtained, result, budget,
+                       seeds.size());
   return result.interrupted ? 130 : 0;
+}
+
+}  // namespace
+
+int cmdConverge(const Args& args) {
+  if (const std::optional<ConvergeOptions> options = parseConvergeOptions(args)) return runConverge(*options);
+  return 0;
 }
 
 }  // namespace iblx::cli

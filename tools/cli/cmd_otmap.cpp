@@ -1,9 +1,9 @@
 // `iblx otmap`: solves (or reads from the cache) the optimal-transport map of an environment
-// (engine/sampling/ot_solver.h, ot_cache.h), prints how well it converged and draws it: the environment's
+// (engine/ot/solver.h, engine/ot/cache.h), prints how well it converged and draws it: the environment's
 // lat-long map as grey log sampling weight, with the pre-images of a uniform grid over the unit square drawn
 // on top. A sampler maps uniform points through the inverse map, so where those lines crowd, samples crowd.
 // With --diagnose it draws nothing and reports, per env sampler, how far its pdf is from the texel pdf
-// (engine/sampling/env_ot_diagnostics.h): the offline part of the OT decomposition (docs/BENCHMARKS.md).
+// (engine/sampling/env/env_ot_diagnostics.h): the offline part of the OT decomposition (docs/BENCHMARKS.md).
 #include "engine/core/cache_dir.h"
 #include "engine/core/error.h"
 #include "engine/core/file_names.h"
@@ -12,16 +12,16 @@
 #include "engine/io/env_image.h"
 #include "engine/io/image_write.h"
 #include "engine/scene/scene.h"
-#include "engine/sampling/env_cdf.h"
-#include "engine/sampling/env_hier.h"
-#include "engine/sampling/env_ot.h"
-#include "engine/sampling/env_ot_diagnostics.h"
-#include "engine/sampling/env_ot_mesh.h"
-#include "engine/sampling/latlong_texel.h"
-#include "engine/sampling/ot_cache.h"
-#include "engine/sampling/ot_map.h"
-#include "engine/sampling/ot_solver.h"
-#include "engine/sampling/ot_sun.h"
+#include "engine/sampling/env/env_cdf.h"
+#include "engine/sampling/env/env_hier.h"
+#include "engine/sampling/env/env_ot_maps.h"
+#include "engine/sampling/env/env_ot_diagnostics.h"
+#include "engine/sampling/env/env_ot.h"
+#include "engine/io/latlong_texel.h"
+#include "engine/ot/cache.h"
+#include "engine/ot/map.h"
+#include "engine/ot/solver.h"
+#include "engine/sampling/env/env_ot_sun.h"
 #include "tools/cli/cli_options.h"
 #include "tools/cli/commands.h"
 
@@ -150,7 +150,7 @@ constexpr int kRoundTripPoints = 512;
 // `iblx otmap --diagnose`: per env sampler, chi^2 of the texel pdf against the sampler's texel probabilities
 // (its pdf integrated over each texel on a subgrid x subgrid grid), and for the OT samplers the share of
 // non-convex quads of the map they evaluate and its round trip. The OT samplers use their own map (grid,
-// floor, sun split: env_ot.h), read from the cache or solved.
+// floor, sun split: engine/sampling/env/env_ot_maps.h), read from the cache or solved.
 int diagnoseSamplers(const EnvImage& env, const std::filesystem::path& envPath, int subgrid, bool json) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<double> texelPdf = texelProbabilities(env);
@@ -239,33 +239,37 @@ int diagnoseSamplers(const EnvImage& env, const std::filesystem::path& envPath, 
   return 0;
 }
 
-}  // namespace
-
-int cmdOtMap(const Args& args) {
-  std::filesystem::path envPath;
+// The flags of `iblx otmap`.
+struct OtMapOptions {
+  std::filesystem::path envPath;  // empty: the default map
   int n = 256;
-  OtSolverOptions options;
+  OtSolverOptions solver;
   bool json = false, noCache = false;
   double sunClip = 0.0;
   std::string out = "otmap.png";
   bool diagnose = false;
-  int subgrid = 0;                    // 0: not given
+  int subgrid = 0;  // 0: not given
+};
+
+// Declares the flags and parses `args`; none when --help was answered.
+std::optional<OtMapOptions> parseOtMapOptions(const Args& args) {
+  OtMapOptions options;
   std::vector<std::string> mapFlags;  // given flags that --diagnose does not take (it uses the samplers' map)
   ArgParser parser("otmap");
   parser.value("--env", "FILE", ".exr or .hdr lat-long map (default: assets/default_sky.exr)",
-               [&](const std::string& v) { envPath = v; });
+               [&](const std::string& v) { options.envPath = v; });
   parser.value("--size", "N", "grid size n of the map, 64-1024 (default 256)", [&](const std::string& v) {
-    n = int(parseUint("--size", v, 64, 1024));
+    options.n = int(parseUint("--size", v, 64, 1024));
     mapFlags.push_back("--size");
   });
   parser.value("--floor", "EPS", "density floor as a fraction of the mean, in [1e-12, 1] (default 1e-2)",
                [&](const std::string& v) {
-                 options.floorFraction = parseDouble("--floor", v, 1e-12, 1.0);
+                 options.solver.floorFraction = parseDouble("--floor", v, 1e-12, 1.0);
                  mapFlags.push_back("--floor");
                });
   parser.value("--max-iter", "N", "iteration cap at each grid level (default 2000)",
                [&](const std::string& v) {
-                 options.maxIterations = int(parseUint("--max-iter", v, 1, 1000000));
+                 options.solver.maxIterations = int(parseUint("--max-iter", v, 1, 1000000));
                  mapFlags.push_back("--max-iter");
                });
   parser.value("--sun-clip", "F",
@@ -273,16 +277,16 @@ int cmdOtMap(const Args& args) {
                "do (they use " +
                    std::to_string(int(kOtSunClip)) + "); 0 = the whole map (default)",
                [&](const std::string& v) {
-                 sunClip = v == "0" ? 0.0 : parseDouble("--sun-clip", v, 1.0, 1e12);
+                 options.sunClip = v == "0" ? 0.0 : parseDouble("--sun-clip", v, 1.0, 1e12);
                  mapFlags.push_back("--sun-clip");
                });
-  parser.toggle("--json", "print one JSON object instead of text", [&] { json = true; });
+  parser.toggle("--json", "print one JSON object instead of text", [&] { options.json = true; });
   parser.value("--out", "FILE", "the figure, a .png (default otmap.png)", [&](const std::string& v) {
-    out = v;
+    options.out = v;
     mapFlags.push_back("--out");
   });
   parser.toggle("--no-cache", "solve even when the cache holds the map, and do not store it", [&] {
-    noCache = true;
+    options.noCache = true;
     mapFlags.push_back("--no-cache");
   });
   parser.toggle(
@@ -290,31 +294,26 @@ int cmdOtMap(const Args& args) {
       "draw nothing; report per env sampler (env-cdf, env-hier, env-ot, env-ot-inv, env-ot-fwd) chi^2 of "
       "the texel pdf against its pdf, and for the OT samplers the share of non-convex quads and the "
       "map's round trip (the samplers' own map; docs/BENCHMARKS.md)",
-      [&] { diagnose = true; });
+      [&] { options.diagnose = true; });
   parser.value("--subgrid", "K",
                "with --diagnose: integrate each sampler's pdf over a texel on K x K points, 1-16 (default 4)",
-               [&](const std::string& v) { subgrid = int(parseUint("--subgrid", v, 1, 16)); });
-  if (parser.parseOrShowHelp(args)) return 0;
-  if (subgrid != 0 && !diagnose) throw Error("--subgrid: only with --diagnose");
-  if (diagnose && !mapFlags.empty())
+               [&](const std::string& v) { options.subgrid = int(parseUint("--subgrid", v, 1, 16)); });
+  if (parser.parseOrShowHelp(args)) return std::nullopt;
+  if (options.subgrid != 0 && !options.diagnose) throw Error("--subgrid: only with --diagnose");
+  if (options.diagnose && !mapFlags.empty())
     throw Error("--diagnose uses the samplers' own map and draws nothing; " + mapFlags.front() +
                 " does not apply to it");
-  if (diagnose) {
-    if (envPath.empty()) envPath = defaultEnvPath();
-    return diagnoseSamplers(loadEnvImage(envPath), envPath, subgrid == 0 ? 4 : subgrid, json);
-  }
-  if (lowerExtension(out) != ".png")
-    throw Error("--out " + out + ": the figure is a PNG; use a .png file name");
-  checkImagePath("--out", out);
+  return options;
+}
 
-  const auto start = std::chrono::steady_clock::now();
-  if (envPath.empty()) envPath = defaultEnvPath();
-  const EnvImage env = loadEnvImage(envPath);
-  const OtSunSplit sun = splitOtSun(texelSamplingWeights(env, "OT density"), env.width, env.height, sunClip);
-  const std::vector<double> density = otDensityFromWeights(sun.smoothWeights, env.width, env.height, n);
-
+// Solves the map of `density` on the n x n grid (or reads it from the cache, unless --no-cache), with a
+// progress line.
+OtMap solveMap(const OtMapOptions& options, const std::vector<double>& density,
+               std::chrono::steady_clock::time_point start, bool& fromCache) {
+  const int n = options.n;
+  OtSolverOptions solverOptions = options.solver;
   auto lastReport = start;
-  options.progress = [&](int iteration, double l2) {
+  solverOptions.progress = [&](int iteration, double l2) {
     const auto now = std::chrono::steady_clock::now();
     if (now - lastReport < std::chrono::milliseconds(500)) return;
     lastReport = now;
@@ -324,108 +323,185 @@ int cmdOtMap(const Args& args) {
   };
   // The solver reports the finest level only; until then the line says that the coarse levels run.
   progressLine("otmap " + std::to_string(n) + "x" + std::to_string(n) + ": solving (coarse levels first)");
-  bool fromCache = false;
-  const std::filesystem::path cacheDir = noCache ? std::filesystem::path() : defaultCacheDir();
-  const OtMap map = solveOtMapCached(density, n, options, cacheDir, &fromCache);
+  const std::filesystem::path cacheDir = options.noCache ? std::filesystem::path() : defaultCacheDir();
+  OtMap map = solveOtMapCached(density, n, solverOptions, cacheDir, &fromCache);
   endProgressLine();
-  if (!map.converged)
-    warn("the OT map of " + envPath.string() + " did not converge (L2 " + std::to_string(map.l2) + ", L1 " +
-         std::to_string(map.l1) + "); the figure shows the best map reached");
+  return map;
+}
 
-  // The figure: at least 512 wide so the grid stays legible, at most 1024, else the map's own width.
+// The figure: the environment's log sampling weight under the pre-images of a kGridLines x kGridLines uniform
+// grid.
+Figure drawMapFigure(const EnvImage& env, const QuadGridMap& forward, int n) {
+  // At least 512 wide so the grid stays legible, at most 1024, else the map's own width.
   const int width = std::min(1024, std::max({512, 2 * n, env.width})) & ~1;
   Figure figure = logWeightBackground(env, width, width / 2);
-  const QuadGridMap forward = forwardMap(map);
   const std::array<std::uint8_t, 3> uColour{255, 140, 0}, vColour{0, 200, 255};
   for (int k = 0; k <= kGridLines; ++k) {
     drawPreimage(figure, forward, 0, double(k) / kGridLines, uColour);
     drawPreimage(figure, forward, 1, double(k) / kGridLines, vColour);
   }
-  writePngRgb8(out, figure.width, figure.height, figure.rgb);
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return figure;
+}
 
-  // What the samplers evaluate: the untangled map's own mass error, and the bound on env-ot-fwd's search.
+// The untangled map's own mass error: L1 of its quads' areas against the density.
+double samplerMassError(const QuadGridMap& forward, const OtMap& map, int n) {
   double samplerL1 = 0.0;
   const std::vector<double> samplerAreas = otQuadAreas(forward.image(), n);
   for (std::size_t c = 0; c < samplerAreas.size(); ++c)
     samplerL1 += std::abs(samplerAreas[c] - map.density[c] / (double(n) * n));
-  if (json) {
-    // One object per coarse-to-fine level, coarsest first (none when the map came from the cache); their keys
-    // differ from the top-level ones so that a flat reader of the top level is not misled.
-    JsonObject levels = JsonObject::array();
-    for (const OtLevelStats& l : map.levels)
-      levels.push_back({{"grid", l.n},
-                        {"newton_iterations", l.iterations},
-                        {"stages", l.stages},
-                        {"undone_stages", l.undoneStages},
-                        {"lu_factorisations", l.factorisations},
-                        {"krylov_steps", l.krylovSteps},
-                        {"curved_steps", l.curvedSteps},
-                        {"level_seconds", l.seconds},
-                        {"level_l2", l.l2},
-                        {"folded_start", l.foldedStart()},
-                        {"start_folded_quads", l.startFoldedQuads},
-                        {"smoothing_passes", l.smoothingPasses},
-                        {"restart_scale", l.restartScale}});
-    printJsonLine({{"env", envPath.string()},
-                   {"env_width", env.width},
-                   {"env_height", env.height},
-                   {"n", n},
-                   {"floor", options.floorFraction},
-                   {"iterations", map.iterations},
-                   {"coarse_iterations", map.coarseIterations},
-                   {"seconds", map.seconds},
-                   {"wall_s", wall},
-                   {"l2", map.l2},
-                   {"l1", map.l1},
-                   {"linf", map.linf},
-                   {"folded", map.negativeAreaQuads},
-                   {"non_convex", map.foldedQuads},
-                   {"invalid_pieces", forward.invalidPieces()},
-                   {"sampler_l1", samplerL1},
-                   {"tree_depth", forward.treeDepth()},
-                   {"largest_leaf", forward.largestLeaf()},
-                   {"sun_clip", sunClip},
-                   {"sun_share", double(sun.sunShare)},
-                   {"sun_texels", sun.sunShare > 0.0f ? sun.texels.size() : std::size_t(0)},
-                   {"converged", map.converged},
-                   {"from_cache", fromCache},
-                   {"out", out},
-                   {"out_width", figure.width},
-                   {"out_height", figure.height},
-                   {"levels", levels}});
-  } else {
-    std::printf("otmap of %s (%dx%d) on a %dx%d grid, floor %g x mean\n", envPath.string().c_str(), env.width,
-                env.height, n, n, options.floorFraction);
-    if (sunClip > 0.0 && sun.sunShare > 0.0f)
-      std::printf("suns: %zu texels above %g x the median radiance, %.1f %% of the weight, sampled apart\n",
-                  sun.texels.size(), sunClip, 100.0 * sun.sunShare);
-    else if (sunClip > 0.0)
-      std::printf(
-          "suns: none split off (the texels above %g x the median radiance hold less than %g %% of the "
-          "weight)\n",
-          sunClip, 100.0 * kOtSunMinShare);
-    std::printf("iterations: %d (+%d on coarser grids), solved in %.3f s%s\n", map.iterations,
-                map.coarseIterations, map.seconds, fromCache ? " (when it was stored in the cache)" : "");
-    for (const OtLevelStats& l : map.levels) {
-      const std::string startNote = otLevelStartNote(l);
-      std::printf(
-          "  level %4d: %3d Newton iterations (%d curved), %2d stages (%d undone), %2d LU "
-          "factorisations, %4d Krylov steps, %.3f s, L2 %.3g%s\n",
-          l.n, l.iterations, l.curvedSteps, l.stages, l.undoneStages, l.factorisations, l.krylovSteps,
-          l.seconds, l.l2, startNote.empty() ? "" : (", " + startNote).c_str());
-    }
-    std::printf("mass error: L2 %.3g, L1 %.3g, Linf %.3g\n", map.l2, map.l1, map.linf);
-    std::printf("quads: %d folded (area <= 0), %d not strictly convex, %d without a valid piece\n",
-                map.negativeAreaQuads, map.foldedQuads, forward.invalidPieces());
+  return samplerL1;
+}
+
+// What the report of a drawn map prints besides the flags, the sun split and the map.
+struct DrawnMapReport {
+  std::filesystem::path envPath;
+  int envWidth = 0, envHeight = 0;
+  bool fromCache = false;
+  double samplerL1 = 0.0;  // samplerMassError
+  int figureWidth = 0, figureHeight = 0;
+  double wall = 0.0;  // loading, solving and drawing
+};
+
+void printOtMapJson(const OtMapOptions& options, const DrawnMapReport& report, const OtSunSplit& sun,
+                    const OtMap& map, const QuadGridMap& forward) {
+  // One object per coarse-to-fine level, coarsest first (none when the map came from the cache); their keys
+  // differ from the top-level ones so that a flat reader of the top level is not misled.
+  JsonObject levels = JsonObject::array();
+  for (const OtLevelStats& l : map.levels)
+    levels.push_back({{"grid", l.n},
+                      {"newton_iterations", l.iterations},
+                      {"stages", l.stages},
+                      {"undone_stages", l.undoneStages},
+                      {"lu_factorisations", l.factorisations},
+                      {"krylov_steps", l.krylovSteps},
+                      {"curved_steps", l.curvedSteps},
+                      {"level_seconds", l.seconds},
+                      {"level_l2", l.l2},
+                      {"folded_start", l.foldedStart()},
+                      {"start_folded_quads", l.startFoldedQuads},
+                      {"smoothing_passes", l.smoothingPasses},
+                      {"restart_scale", l.restartScale}});
+  printJsonLine({{"env", report.envPath.string()},
+                 {"env_width", report.envWidth},
+                 {"env_height", report.envHeight},
+                 {"n", options.n},
+                 {"floor", options.solver.floorFraction},
+                 {"iterations", map.iterations},
+                 {"coarse_iterations", map.coarseIterations},
+                 {"seconds", map.seconds},
+                 {"wall_s", report.wall},
+                 {"l2", map.l2},
+                 {"l1", map.l1},
+                 {"linf", map.linf},
+                 {"folded", map.negativeAreaQuads},
+                 {"non_convex", map.foldedQuads},
+                 {"invalid_pieces", forward.invalidPieces()},
+                 {"sampler_l1", report.samplerL1},
+                 {"tree_depth", forward.treeDepth()},
+                 {"largest_leaf", forward.largestLeaf()},
+                 {"sun_clip", options.sunClip},
+                 {"sun_share", double(sun.sunShare)},
+                 {"sun_texels", sun.sunShare > 0.0f ? sun.texels.size() : std::size_t(0)},
+                 {"converged", map.converged},
+                 {"from_cache", report.fromCache},
+                 {"out", options.out},
+                 {"out_width", report.figureWidth},
+                 {"out_height", report.figureHeight},
+                 {"levels", levels}});
+}
+
+void printOtMapText(const OtMapOptions& options, const DrawnMapReport& report, const OtSunSplit& sun,
+                    const OtMap& map, const QuadGridMap& forward) {
+  const int n = options.n;
+  const double sunClip = options.sunClip;
+  std::printf("otmap of %s (%dx%d) on a %dx%d grid, floor %g x mean\n", report.envPath.string().c_str(),
+              report.envWidth, report.envHeight, n, n, options.solver.floorFraction);
+  if (sunClip > 0.0 && sun.sunShare > 0.0f)
+    std::printf("suns: %zu texels above %g x the median radiance, %.1f %% of the weight, sampled apart\n",
+                sun.texels.size(), sunClip, 100.0 * sun.sunShare);
+  else if (sunClip > 0.0)
     std::printf(
-        "sampler map (untangled): L1 %.3g; env-ot-fwd's quadtree: depth %d, at most %u quads per leaf\n",
-        samplerL1, forward.treeDepth(), forward.largestLeaf());
-    std::printf("converged: %s (L2 <= %g and L1 <= %g); from the cache: %s\n", yesNo(map.converged).c_str(),
-                options.targetL2, options.targetL1, yesNo(fromCache).c_str());
-    std::printf("wrote %s (%dx%d: log sampling weight, pre-images of a %dx%d uniform grid; total %.2f s)\n",
-                out.c_str(), figure.width, figure.height, kGridLines, kGridLines, wall);
+        "suns: none split off (the texels above %g x the median radiance hold less than %g %% of the "
+        "weight)\n",
+        sunClip, 100.0 * kOtSunMinShare);
+  std::printf("iterations: %d (+%d on coarser grids), solved in %.3f s%s\n", map.iterations,
+              map.coarseIterations, map.seconds,
+              report.fromCache ? " (when it was stored in the cache)" : "");
+  for (const OtLevelStats& l : map.levels) {
+    const std::string startNote = otLevelStartNote(l);
+    std::printf(
+        "  level %4d: %3d Newton iterations (%d curved), %2d stages (%d undone), %2d LU "
+        "factorisations, %4d Krylov steps, %.3f s, L2 %.3g%s\n",
+        l.n, l.iterations, l.curvedSteps, l.stages, l.undoneStages, l.factorisations, l.krylovSteps,
+        l.seconds, l.l2, startNote.empty() ? "" : (", " + startNote).c_str());
   }
+  std::printf("mass error: L2 %.3g, L1 %.3g, Linf %.3g\n", map.l2, map.l1, map.linf);
+  std::printf("quads: %d folded (area <= 0), %d not strictly convex, %d without a valid piece\n",
+              map.negativeAreaQuads, map.foldedQuads, forward.invalidPieces());
+  std::printf(
+      "sampler map (untangled): L1 %.3g; env-ot-fwd's quadtree: depth %d, at most %u quads per leaf\n",
+      report.samplerL1, forward.treeDepth(), forward.largestLeaf());
+  std::printf("converged: %s (L2 <= %g and L1 <= %g); from the cache: %s\n", yesNo(map.converged).c_str(),
+              options.solver.targetL2, options.solver.targetL1, yesNo(report.fromCache).c_str());
+  std::printf("wrote %s (%dx%d: log sampling weight, pre-images of a %dx%d uniform grid; total %.2f s)\n",
+              options.out.c_str(), report.figureWidth, report.figureHeight, kGridLines, kGridLines,
+              report.wall);
+}
+
+// Solves (or reads) the map, draws it into --out and reports it.
+int drawOtMap(const OtMapOptions& options) {
+  if (lowerExtension(options.out) != ".png")
+    throw Error("--out " + options.out + ": the figure is a PNG; use a .png file name");
+  checkImagePath("--out", options.out);
+
+  const auto start = std::chrono::steady_clock::now();
+  const std::filesystem::path envPath = options.envPath.empty() ? defaultEnvPath() : options.envPath;
+  const EnvImage env = loadEnvImage(envPath);
+  const OtSunSplit sun =
+      splitOtSun(texelSamplingWeights(env, "OT density"), env.width, env.height, options.sunClip);
+  const std::vector<double> density =
+      otDensityFromWeights(sun.smoothWeights, env.width, env.height, options.n);
+
+  bool fromCache = false;
+  const OtMap map = solveMap(options, density, start, fromCache);
+  if (!map.converged)
+    warn("the OT map of " + envPath.string() + " did not converge (L2 " + std::to_string(map.l2) + ", L1 " +
+         std::to_string(map.l1) + "); the figure shows the best map reached");
+
+  const QuadGridMap forward = forwardMap(map);
+  const Figure figure = drawMapFigure(env, forward, options.n);
+  writePngRgb8(options.out, figure.width, figure.height, figure.rgb);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  // What the samplers evaluate: the untangled map's own mass error, and the bound on env-ot-fwd's search.
+  const DrawnMapReport report{.envPath = envPath,
+                              .envWidth = env.width,
+                              .envHeight = env.height,
+                              .fromCache = fromCache,
+                              .samplerL1 = samplerMassError(forward, map, options.n),
+                              .figureWidth = figure.width,
+                              .figureHeight = figure.height,
+                              .wall = wall};
+  if (options.json)
+    printOtMapJson(options, report, sun, map, forward);
+  else
+    printOtMapText(options, report, sun, map, forward);
+  return 0;
+}
+
+int runOtMap(const OtMapOptions& options) {
+  if (options.diagnose) {
+    const std::filesystem::path envPath = options.envPath.empty() ? defaultEnvPath() : options.envPath;
+    return diagnoseSamplers(loadEnvImage(envPath), envPath, options.subgrid == 0 ? 4 : options.subgrid,
+                            options.json);
+  }
+  return drawOtMap(options);
+}
+
+}  // namespace
+
+int cmdOtMap(const Args& args) {
+  if (const std::optional<OtMapOptions> options = parseOtMapOptions(args)) return runOtMap(*options);
   return 0;
 }
 

@@ -71,60 +71,52 @@ class CsvRow {
   char* end_ = line_;
 };
 
-}  // namespace
-
-int cmdSamples(const Args& args) {
-  RenderSpec spec;
-  spec.out = "samples.csv";
-  std::string pixelText;
+// The flags of `iblx samples`.
+struct SamplesOptions {
+  RenderSpec render;      // the scene, the method, --spp, --seed, --out and the device flags
+  std::string pixelText;  // --pixel as given: checked before anything runs
   uint32_t count = 1024;
+};
+
+// Declares the flags and parses `args`; none when --help or --list-methods was answered.
+std::optional<SamplesOptions> parseSamplesOptions(const Args& args) {
+  SamplesOptions options;
+  RenderSpec& spec = options.render;
+  spec.out = "samples.csv";
   ArgParser parser("samples");
   addSceneFlags(parser, spec);
   addMethodFlags(parser, spec);
   addSampleFlags(parser, spec);
   parser.value("--pixel", "X,Y", "the pixel, in pixels of --size from the top-left corner (required)",
-               [&](const std::string& v) { pixelText = v; });
+               [&](const std::string& v) { options.pixelText = v; });
   parser.value("--count", "N",
                "samples to write, up to 10^7 (default 1024), drawn in passes of --spp from sample 0",
-               [&](const std::string& v) { count = parseUint("--count", v, 1, kMaxCount); });
+               [&](const std::string& v) { options.count = parseUint("--count", v, 1, kMaxCount); });
   parser.value("--out", "FILE", "the CSV file, or - for standard output (default samples.csv)",
                [&](const std::string& v) { spec.out = v; });
   addDeviceFlags(parser, spec);
-  if (parser.parseOrShowHelp(args)) return 0;
+  if (parser.parseOrShowHelp(args)) return std::nullopt;
   if (spec.listMethods) {
     printRegistry(spec);
-    return 0;
+    return std::nullopt;
   }
+  return options;
+}
 
-  // Everything a user can get wrong is checked before anything is compiled, run or written.
-  if (pixelText.empty())
-    throw Error("--pixel X,Y is required: the pixel whose samples are written, e.g. --pixel " +
-                std::to_string(spec.scene.width / 2) + "," + std::to_string(spec.scene.height / 2));
-  const auto [pixelX, pixelY] = parsePixel("--pixel", pixelText);
-  const bool toStdout = spec.out == "-";
-  if (!toStdout) {
-    const std::filesystem::path out(spec.out);
-    if (out.extension() != ".csv")
-      throw Error("--out " + spec.out +
-                  ": the samples are CSV; use a .csv file name, or - for standard output");
-    if (!out.parent_path().empty() && !std::filesystem::is_directory(out.parent_path()))
-      throw Error("--out " + spec.out + ": directory '" + out.parent_path().string() + "' does not exist");
-  }
-  LoadedBrdf brdf = loadBrdfArgument(spec.scene.brdf);
-  resolveParams(*brdf.info, spec.scene.params);
-  const ResolvedMethod method = resolveMethodAndWarn(spec.method, *brdf.info);
-  VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
-  const Scene scene = loadSceneFor(context, spec.scene, std::move(brdf));
-  // Coordinates beyond int are outside any image; unrecordablePixel words the message.
-  const int x = pixelX < 0 || pixelX >= scene.gbuffer.width ? -1 : int(pixelX);
-  const int y = pixelY < 0 || pixelY >= scene.gbuffer.height ? -1 : int(pixelY);
-  if (const auto problem = unrecordablePixel(scene.gbuffer, x, y))
-    throw Error("--pixel " + pixelText + ": " + *problem);
+// --out: a .csv file in a directory that exists (standard output is "-", not checked).
+void checkCsvOutput(const std::string& path) {
+  const std::filesystem::path out(path);
+  if (out.extension() != ".csv")
+    throw Error("--out " + path + ": the samples are CSV; use a .csv file name, or - for standard output");
+  if (!out.parent_path().empty() && !std::filesystem::is_directory(out.parent_path()))
+    throw Error("--out " + path + ": directory '" + out.parent_path().string() + "' does not exist");
+}
 
-  ShaderCompiler compiler;
-  SampleRecorder recorder(context, compiler, scene, method, spec.seed);
-  recorder.start(x, y);
-
+// Writes --count samples of the recorder's pixel as CSV, in passes of --spp, to --out (atomically) or
+// standard output; returns the sum of their estimates.
+glm::dvec3 writeSamplesCsv(SampleRecorder& recorder, const SamplesOptions& options, bool toStdout) {
+  const RenderSpec& spec = options.render;
+  const uint32_t count = options.count;
   std::optional<AtomicOutput> file;
   if (!toStdout) file.emplace(spec.out);
   std::ostream& csv = toStdout ? std::cout : file->stream();
@@ -147,6 +139,36 @@ int cmdSamples(const Args& args) {
     csv.flush();
     if (!csv) throw Error("standard output: write failed");
   }
+  return estimateSum;
+}
+
+int runSamples(const SamplesOptions& options) {
+  const RenderSpec& spec = options.render;
+  const std::string& pixelText = options.pixelText;
+  const uint32_t count = options.count;
+
+  // Everything a user can get wrong is checked before anything is compiled, run or written.
+  if (pixelText.empty())
+    throw Error("--pixel X,Y is required: the pixel whose samples are written, e.g. --pixel " +
+                std::to_string(spec.scene.width / 2) + "," + std::to_string(spec.scene.height / 2));
+  const auto [pixelX, pixelY] = parsePixel("--pixel", pixelText);
+  const bool toStdout = spec.out == "-";
+  if (!toStdout) checkCsvOutput(spec.out);
+  LoadedBrdf brdf = loadBrdfArgument(spec.scene.brdf);
+  resolveParams(*brdf.info, spec.scene.params);
+  const ResolvedMethod method = resolveMethodAndWarn(spec.method, *brdf.info);
+  VulkanContext context({spec.device, spec.validation ? Validation::On : Validation::Auto});
+  const Scene scene = loadSceneFor(context, spec.scene, std::move(brdf));
+  // Coordinates beyond int are outside any image; unrecordablePixel words the message.
+  const int x = pixelX < 0 || pixelX >= scene.gbuffer.width ? -1 : int(pixelX);
+  const int y = pixelY < 0 || pixelY >= scene.gbuffer.height ? -1 : int(pixelY);
+  if (const auto problem = unrecordablePixel(scene.gbuffer, x, y))
+    throw Error("--pixel " + pixelText + ": " + *problem);
+
+  ShaderCompiler compiler;
+  SampleRecorder recorder(context, compiler, scene, method, spec.seed);
+  recorder.start(x, y);
+  const glm::dvec3 estimateSum = writeSamplesCsv(recorder, options, toStdout);
   if (const uint32_t bad = recorder.nonFiniteSamples()) warn(nonFiniteEstimatesMessage(bad, spec.scene.brdf));
 
   // The records' mean and the integrator's own running mean of the pixel agree to float rounding: a check
@@ -161,6 +183,13 @@ int cmdSamples(const Args& args) {
                passes == 1 ? "" : "es", spec.samplesPerPass, recordMean.x, recordMean.y, recordMean.z,
                pixelMean.x, pixelMean.y, pixelMean.z);
   if (!toStdout) std::fprintf(report, "wrote %s\n", spec.out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int cmdSamples(const Args& args) {
+  if (const std::optional<SamplesOptions> options = parseSamplesOptions(args)) return runSamples(*options);
   return 0;
 }
 

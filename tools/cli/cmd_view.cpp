@@ -8,10 +8,16 @@
 #include "tools/viewer/viewer.h"
 
 #include <cstdio>
+#include <optional>
+#include <string>
 
 namespace iblx::cli {
 
-int cmdView(const Args& args) {
+namespace {
+
+// Declares the flags and parses `args` into the viewer's options; none when --help or --list-methods was
+// answered.
+std::optional<viewer::ViewerOptions> parseViewOptions(const Args& args) {
   RenderSpec spec;
   spec.samplesPerPass = 4;
   viewer::ViewerOptions options;
@@ -72,22 +78,14 @@ int cmdView(const Args& args) {
                  throw Error("--compare-view " + v + ": expected split, side or flip");
                });
   addDeviceFlags(parser, spec);
-  if (parser.parseOrShowHelp(args)) return 0;
+  if (parser.parseOrShowHelp(args)) return std::nullopt;
   if (!compareSequence.empty() && !options.compare)
     throw Error("--compare-seq " + compareSequence + ": needs --compare METHOD");
   if (options.compare)
     options.compare->sequence = compareSequence.empty() ? spec.method.sequence : compareSequence;
   if (spec.listMethods) {
     printRegistry(spec);
-    return 0;
-  }
-  if (!options.screenshot.empty() && options.screenshot.extension() != ".png")
-    throw Error("--screenshot " + options.screenshot.string() + ": the file name must end in .png");
-  if (options.overlayPixel) {
-    const auto [x, y] = *options.overlayPixel;
-    if (x >= spec.scene.width || y >= spec.scene.height)
-      throw Error("--overlay " + std::to_string(x) + "," + std::to_string(y) + ": outside the " +
-                  std::to_string(spec.scene.width) + "x" + std::to_string(spec.scene.height) + " image");
+    return std::nullopt;
   }
   options.scene = spec.scene;
   options.method = spec.method;
@@ -95,7 +93,27 @@ int cmdView(const Args& args) {
   options.seed = spec.seed;
   options.device = spec.device;
   options.validation = spec.validation;
+  return options;
+}
+
+int runView(const viewer::ViewerOptions& options) {
+  if (!options.screenshot.empty() && options.screenshot.extension() != ".png")
+    throw Error("--screenshot " + options.screenshot.string() + ": the file name must end in .png");
+  if (options.overlayPixel) {
+    const auto [x, y] = *options.overlayPixel;
+    if (x >= options.scene.width || y >= options.scene.height)
+      throw Error("--overlay " + std::to_string(x) + "," + std::to_string(y) + ": outside the " +
+                  std::to_string(options.scene.width) + "x" + std::to_string(options.scene.height) +
+                  " image");
+  }
   return viewer::runViewer(options);
+}
+
+}  // namespace
+
+int cmdView(const Args& args) {
+  if (const std::optional<viewer::ViewerOptions> options = parseViewOptions(args)) return runView(*options);
+  return 0;
 }
 
 }  // namespace iblx::cli

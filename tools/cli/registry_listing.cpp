@@ -2,6 +2,7 @@
 #include "tools/cli/registry_listing.h"
 
 #include "engine/scene/brdf_params.h"
+#include "engine/scene/measured_brdfs.h"
 
 #include <algorithm>
 #include <sstream>
@@ -21,20 +22,26 @@ std::string describeRegistry() {
   std::ostringstream s;
   s << "methods (--method):\n";
   for (const auto& m : methodRegistry()) s << "  " << column(m.name) << m.description << "\n";
-  s << "env techniques (--env-sampler, used by mis; each is also a method):\n";
+  // Which methods take a technique of the user's choice, read from their strategies' capabilities.
+  const auto methodsWhere = [](bool (*takes)(const StrategyInfo&)) {
+    std::string names;
+    for (const auto& m : methodRegistry())
+      if (takes(m.strategyInfo())) names += (names.empty() ? "" : ", ") + m.name;
+    return names;
+  };
+  s << "env techniques (--env-sampler, used by "
+    << methodsWhere([](const StrategyInfo& st) { return st.envTechniqueChosen; })
+    << "; each is also a method):\n";
   for (const auto& t : envTechniqueRegistry()) s << "  " << column(t.name) << t.description << "; any BRDF\n";
-  s << "BRDF techniques (--brdf-sampler, used by brdf and mis):\n";
+  s << "BRDF techniques (--brdf-sampler, used by "
+    << methodsWhere([](const StrategyInfo& st) { return st.usesBrdfTechnique; }) << "):\n";
   for (const auto& t : brdfTechniqueRegistry()) {
     s << "  " << column(t.name) << t.description << "; " << (t.applies ? "BRDFs: " : "") << t.appliesText
       << "\n";
   }
   s << "sequences (--seq):\n";
   for (const auto& q : sequenceRegistry()) s << "  " << column(q.name) << q.description << "\n";
-  s << "BRDFs (--brdf NAME, a .brdf / .bparam file, a MERL .binary, UTIA .bin, MIT .dat, RGL .bsdf, ALTA "
-       "data or "
-       "ALTA function file) and parameters "
-       "(--param "
-       "NAME=VALUE):\n";
+  s << "BRDFs (--brdf NAME, or " << materialFileKindsText() << ") and parameters (--param NAME=VALUE):\n";
   for (const auto& b : brdfRegistry()) s << describeBrdf(b);
   return s.str();
 }

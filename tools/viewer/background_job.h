@@ -20,6 +20,9 @@ struct JobCancelled : std::runtime_error {
   JobCancelled() : std::runtime_error("cancelled") {}
 };
 
+// How a job ended (status() after done()), or that it still runs.
+enum class JobStatus { Running, Succeeded, Failed, Cancelled };
+
 // What the viewer needs of any job it no longer wants: cancel it and drop it once it has stopped, without
 // joining its thread on the UI thread.
 class JobBase {
@@ -40,12 +43,15 @@ class BackgroundJob final : public JobBase {
               progress_.store(fraction);
               if (cancelled_.load()) throw JobCancelled();
             });
+            ended_ = JobStatus::Succeeded;
           } catch (const JobCancelled&) {
-            error_ = "cancelled";
+            ended_ = JobStatus::Cancelled;
           } catch (const std::exception& e) {
             error_ = e.what();
+            ended_ = JobStatus::Failed;
           } catch (...) {
             error_ = "unknown error";
+            ended_ = JobStatus::Failed;
           }
           done_.store(true, std::memory_order_release);
         }) {}
@@ -61,7 +67,8 @@ class BackgroundJob final : public JobBase {
   double progress() const { return progress_.load(); }
   void cancel() override { cancelled_.store(true); }
   void wait() { thread_.join(); }
-  // After done(): the result, or nullopt with error() saying why.
+  JobStatus status() const { return done() ? ended_ : JobStatus::Running; }
+  // After done(): the result when it succeeded; error() says why it failed.
   std::optional<T>& result() { return result_; }
   const std::string& error() const { return error_; }
 
@@ -72,7 +79,8 @@ class BackgroundJob final : public JobBase {
   std::atomic<bool> cancelled_{false}, done_{false};
   std::optional<T> result_;
   std::string error_;
-  std::jthread thread_;  // last: starts once everything above exists, joins before it goes
+  JobStatus ended_ = JobStatus::Running;  // written before done_ is released
+  std::jthread thread_;                   // last: starts once everything above exists, joins before it goes
 };
 
 }  // namespace iblx::viewer
@@ -80,6 +88,20 @@ class BackgroundJob final : public JobBase {
 namespace iblx::viewer {
 
 // Cancelled jobs wait here until their threads have stopped, so that dropping one never blocks the caller.
+// The one poll of a job: when it has ended, hands its result to onResult if it succeeded, or sets `error` to
+// `errorPrefix` and its error if it failed (a cancelled job ends silently), then drops it. onResult runs
+// while the job still exists, so code it calls sees the work as not yet finished.
+template <typename T, typename OnResult>
+void finishJob(std::unique_ptr<BackgroundJob<T>>& job, std::string& error, const std::string& errorPrefix,
+               OnResult&& onResult) {
+  if (!job || !job->done()) return;
+  if (job->status() == JobStatus::Succeeded)
+    onResult(std::move(*job->result()));
+  else if (job->status() == JobStatus::Failed)
+    error = errorPrefix + job->error();
+  job.reset();
+}
+
 class RetiredJobs {
  public:
   template <typename T>

@@ -49,6 +49,13 @@ std::string_view settingControl(Setting setting) {
 
 }  // namespace
 
+std::vector<MethodInfo> viewerMethods() {
+  std::vector<MethodInfo> offered;
+  for (const MethodInfo& m : methodRegistry())
+    if (!m.strategyInfo().measurementOnly) offered.push_back(m);
+  return offered;
+}
+
 std::string errorText(const std::exception& e) {
   if (const auto* setting = dynamic_cast<const SettingError*>(&e))
     return setting->named(settingControl(setting->setting()));
@@ -371,78 +378,53 @@ std::unique_ptr<BackgroundJob<ActiveRenderer>> ViewerModel::makeBuildJob(
 }
 
 void ViewerModel::pollJobs() {
-  if (buildJob_ && buildJob_->done()) {
-    if (auto& result = buildJob_->result()) {
-      // Taken even if the scene changed meanwhile (rebuild_: a newer build follows), so the image keeps
-      // moving; only a renderer of the current scene counts for the convergence plot (its generation).
-      try {
-        result->renderer->setParams(params_);  // sliders moved while it was being built
-        if (!rebuild_) result->generation = generation_;
-        active_ = std::move(*result);
-        error_.clear();
-      } catch (const std::exception& e) {
-        if (!rebuild_) error_ = errorText(e);  // else: a build for the previous BRDF, dropped
-      }
-      // Compare mode: B's accumulation restarts too, or it would keep the head start it took while A built.
-      if (comparing())
-        restart();
-      else
-        startCurve();
-      // The overlay follows the method: its pixel is recorded again with the new one.
-      if (pendingPixel_)
-        startRecording(pendingPixel_->first, pendingPixel_->second, overlayCount_), pendingPixel_.reset();
-      else
-        rerecordOverlay();
-    } else {
-      error_ = buildJob_->error();
+  finishJob(buildJob_, error_, "", [&](ActiveRenderer result) {
+    // Taken even if the scene changed meanwhile (rebuild_: a newer build follows), so the image keeps
+    // moving; only a renderer of the current scene counts for the convergence plot (its generation).
+    try {
+      result.renderer->setParams(params_);  // sliders moved while it was being built
+      if (!rebuild_) result.generation = generation_;
+      active_ = std::move(result);
+      error_.clear();
+    } catch (const std::exception& e) {
+      if (!rebuild_) error_ = errorText(e);  // else: a build for the previous BRDF, dropped
     }
-    buildJob_.reset();
-  }
-  if (compareBuildJob_ && compareBuildJob_->done()) {
-    if (auto& result = compareBuildJob_->result()) {
-      try {
-        result->renderer->setParams(params_);
-        if (!rebuild_) result->generation = generation_;
-        compare_ = std::move(*result);
-      } catch (const std::exception& e) {
-        if (!rebuild_) error_ = errorText(e);
-      }
-      restart();  // A's accumulation too: equal time from here on, for both
-    } else if (compareBuildJob_->error() != "cancelled") {
-      error_ = "compare: " + compareBuildJob_->error();
+    // Compare mode: B's accumulation restarts too, or it would keep the head start it took while A built.
+    if (comparing())
+      restart();
+    else
+      startCurve();
+    // The overlay follows the method: its pixel is recorded again with the new one.
+    if (pendingPixel_)
+      startRecording(pendingPixel_->first, pendingPixel_->second, overlayCount_), pendingPixel_.reset();
+    else
+      rerecordOverlay();
+  });
+  finishJob(compareBuildJob_, error_, "compare: ", [&](ActiveRenderer result) {
+    try {
+      result.renderer->setParams(params_);
+      if (!rebuild_) result.generation = generation_;
+      compare_ = std::move(result);
+    } catch (const std::exception& e) {
+      if (!rebuild_) error_ = errorText(e);
     }
-    compareBuildJob_.reset();
-  }
-  if (loadJob_ && loadJob_->done()) {
-    if (auto& result = loadJob_->result()) {
-      options_.scene = result->spec;
-      applyScene(std::move(result->scene));
-    } else {
-      error_ = loadJob_->error();
+    restart();  // A's accumulation too: equal time from here on, for both
+  });
+  finishJob(loadJob_, error_, "", [&](LoadedScene result) {
+    options_.scene = result.spec;
+    applyScene(std::move(result.scene));
+  });
+  finishJob(recordJob_, error_, "overlay: ", [&](Recording result) {
+    if (result.generation == generation_) {  // else a newer recording was or will be started
+      recording_ = std::move(result);
+      ++recordingVersion_;
     }
-    loadJob_.reset();
-  }
-  if (recordJob_ && recordJob_->done()) {
-    if (auto& result = recordJob_->result()) {
-      if (result->generation == generation_) {  // else a newer recording was or will be started
-        recording_ = std::move(*result);
-        ++recordingVersion_;
-      }
-    } else if (recordJob_->error() != "cancelled") {
-      error_ = "overlay: " + recordJob_->error();
-    }
-    recordJob_.reset();
-  }
+  });
   retired_.collect();
-  if (referenceJob_ && referenceJob_->done()) {
-    if (auto& result = referenceJob_->result()) {
-      reference_ = std::move(*result);
-      restart();  // the curve starts at the first pass
-    } else if (referenceJob_->error() != "cancelled") {
-      error_ = "ground truth: " + referenceJob_->error();
-    }
-    referenceJob_.reset();
-  }
+  finishJob(referenceJob_, error_, "ground truth: ", [&](std::vector<float> result) {
+    reference_ = std::move(result);
+    restart();  // the curve starts at the first pass
+  });
 }
 
 void ViewerModel::startCurve() {

@@ -58,6 +58,9 @@ struct LoadedScene {
   std::shared_ptr<Scene> scene;
 };
 
+// The methods the viewer offers: every registry method but the measurement-only ones.
+std::vector<MethodInfo> viewerMethods();
+
 // The viewer's words for an engine error: a setting is named by the control that sets it.
 std::string errorText(const std::exception& e);
 

@@ -172,15 +172,14 @@ void ViewerPanels::drawSidePanel(ViewerModel& model, const PanelLayout& layout, 
 void ViewerPanels::drawMethodSection(ViewerModel& model) {
   if (!ImGui::CollapsingHeader("method", ImGuiTreeNodeFlags_DefaultOpen)) return;
   MethodSpec& m = model.options().method;
-  bool rebuild = combo("method", m.method, methodRegistry());
-  const MethodInfo& info = findMethod(m.method);
-  if (info.strategy == Strategy::Mis || info.strategy == Strategy::Ris)
+  bool rebuild = combo<MethodInfo>("method", m.method, viewerMethods());
+  const StrategyInfo& strategy = findMethod(m.method).strategyInfo();
+  if (strategy.envTechniqueChosen)
     rebuild |= combo("env technique", m.envSampler, envTechniqueRegistry(), "(default)");
-  if (info.strategy == Strategy::SingleBrdf || info.strategy == Strategy::Mis ||
-      info.strategy == Strategy::Ris || info.strategy == Strategy::ProductMis)
+  if (strategy.usesBrdfTechnique)
     rebuild |= combo("BRDF technique", m.brdfSampler, brdfTechniqueRegistry(), "(default)");
   rebuild |= combo("sequence", m.sequence, sequenceRegistry());
-  if (info.strategy == Strategy::Mis) {
+  if (strategy.misSplit) {
     bool oneSample = m.misEnvFraction.has_value();
     if (ImGui::Checkbox("one-sample MIS", &oneSample)) {
       m.misEnvFraction = oneSample ? std::optional<double>(0.5) : std::nullopt;
@@ -191,11 +190,10 @@ void ViewerPanels::drawMethodSection(ViewerModel& model) {
       if (ImGui::SliderFloat("env fraction", &fraction, 0.0f, 1.0f))
         m.misEnvFraction = fraction, rebuild = true;
     }
-    rebuild |= powerHeuristicCheckbox(m);
-    if (ImGui::Checkbox("compensated env technique", &m.misCompensation)) rebuild = true;
   }
-  if (info.strategy == Strategy::ProductMis) rebuild |= powerHeuristicCheckbox(m);
-  if (info.strategy == Strategy::Ris) {
+  if (strategy.misWeights) rebuild |= powerHeuristicCheckbox(m);
+  if (strategy.misSplit && ImGui::Checkbox("compensated env technique", &m.misCompensation)) rebuild = true;
+  if (strategy.risCandidates) {
     int candidates = m.risCandidates.value_or(8);
     if (ImGui::SliderInt("candidates M", &candidates, 1, kMaxRisCandidates))
       m.risCandidates = candidates, rebuild = true;

@@ -1,0 +1,117 @@
+// env-hier product level: the data and CPU twin of the `product` strategies
+// (shaders/lib/product_sampling.glsl), which sample the environment times the BRDF per shading point over
+// env-hier's pyramid.
+//
+// Per shading point, every node j of one coarse pyramid level gets the weight
+//   w_j = E_j ((1 - d) F_j / sum_k E_k F_k + d),
+// E_j the node's env-hier probability (the area of its rectangle in u), F_j = mean_rgb(f) cos at the node's
+// direction closest to the mirror direction of wo (the mirror direction itself when the node holds it), so a
+// glossy lobe that touches a node is seen near its peak there, d = kEnvProductDefensive. A node is chosen by
+// a marginal (rows) / conditional (columns) table over w, and the direction is finished inside the node by
+// env-hier's own descent: the chosen node's rectangle R_j in u is filled by the remaining uniform, and
+// env-hier's exact texel tables pick the texel. So
+//   pdf(wi) = P(j) / E_j * p_env-hier(wi),   P(j) = w_j / sum_k w_k,
+// exact and evaluable at any direction (hierarchical product sampling, Clarberg, Jarosz, Akenine-Möller &
+// Jensen 2005, "Wavelet Importance Sampling", with one product level; the conditional finish is the
+// environment's exact warp, as in Clarberg & Akenine-Möller 2008 §4). The defensive share d keeps every node
+// of positive env mass reachable (F_j is 0 for a node whose chosen direction is below the horizon, and a
+// lobe not centred on the mirror direction can fall between the directions evaluated), so the estimator is
+// unbiased whatever F does elsewhere in a node.
+#pragma once
+
+#include "engine/sampling/env/env_hier.h"
+#include "engine/sampling/piecewise_constant.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+namespace iblx {
+
+inline constexpr uint32_t kEnvProductMaxNodes = 512;  // per-pixel tables: 512 floats per pixel
+inline constexpr double kEnvProductDefensive = 0.1;   // d: the env-hier share of every node's probability
+
+// The nodes a product strategy chooses among, a partition of env-hier's unit square u into rectangles, in one
+// of two layouts:
+// - a pyramid level (`product`, `product-mis`): the finest level whose nodes that hold texels (width x rows)
+//   number at most maxNodes; node (x, y) covers finest-level cells [x s, (x + 1) s) x [y s, (y + 1) s),
+//   s = texelsPerNode, of which those inside the W x H map are texels. Its rectangle in u is where env-hier's
+//   splits put it, so the nodes are regular in directions and their areas E_j follow the map.
+// - a uniform grid over u (`product-warp`, warp composition: Hart, Pharr, Müller, Lopes, McGuire & Shirley
+//   2020, "Practical Product Sampling by Fitting and Composing Warps"): node (x, y) is [x/width, (x+1)/width)
+//   x [y/rows, (y+1)/rows), a piecewise-constant head warp over env-hier's square (the tail warp), so every
+//   node carries the same env mass 1/(width rows) and the nodes are fine where the map is bright.
+struct EnvProductLevel {
+  uint32_t width = 0, rows = 0;
+  uint32_t texelsPerNode = 0;  // pyramid level only
+  bool uniformGrid = false;    // the layout: a uniform grid over u, else a pyramid level
+  // Per node, row-major (rows x width): its rectangle in u (minX, minY, maxX, maxY), exactly the float set of
+  // u whose env-hier descent ends in one of its texels (empty for padding).
+  std::vector<glm::vec4> rects;
+  // Per node: a unit direction (environment frame) at its centre, and in w the cosine of its angular radius
+  // (the largest angle from the centre to a direction of the node, widened by a margin; -1 when the node's
+  // directions spread over the sphere). A grid cell's cap is estimated from a 17 x 17 grid of u and can miss
+  // a dim block thinner in u than its step. Only the weights read it, so a loose or short cap costs
+  // efficiency, never bias.
+  std::vector<glm::vec4> centers;
+  std::size_t nodes() const { return rects.size(); }
+};
+
+// Throws iblx::Error when maxNodes is 0 or the pyramid is invalid.
+EnvProductLevel buildEnvProductLevel(const EnvHierSampler& env, uint32_t maxNodes = kEnvProductMaxNodes);
+// The uniform grid over u; throws iblx::Error for an empty grid.
+inline constexpr uint32_t kEnvProductGridWidth = 32, kEnvProductGridRows = 16;
+EnvProductLevel buildEnvProductGrid(const EnvHierSampler& env, uint32_t width = kEnvProductGridWidth,
+                                    uint32_t rows = kEnvProductGridRows);
+// The uniform grid over the unit square of any tail warp (u -> direction); texelAngle, a texel's angular
+// size, widens every cap (a cell's image holds whole texels' pieces). Throws iblx::Error for an empty grid.
+EnvProductLevel buildEnvProductGrid(const std::function<glm::dvec3(glm::dvec2)>& tail, double texelAngle,
+                                    uint32_t width, uint32_t rows);
+
+// The node weights w_j = E_j ((1 - d) F_j / sum_k E_k F_k + d) (E_j alone when no node has a lobe value),
+// E_j the area of node j's rectangle, F_j = fCos[j] clamped at 0. Throws iblx::Error when fCos has not one
+// value per node.
+std::vector<double> envProductWeights(const EnvProductLevel& level, std::span<const double> fCos);
+// The point of node j's rectangle in u where the head table's choice `chosen` (a sample of the level's
+// width x rows table) puts u: its place in the table's cell, mapped into the rectangle (a float set: one
+// float step below its upper edges at most), as the GPU computes it.
+glm::dvec2 pointInProductNode(const PiecewiseConstant2D::Sample& chosen, const EnvProductLevel& level,
+                              std::size_t j);
+
+// The direction of the cap (centre, cosRadius) closest to `towards` (unit vectors): `towards` itself inside
+// the cap, else the centre turned towards it by the radius. The GLSL twin is productNodeDirection.
+glm::dvec3 closestDirectionInCap(glm::dvec3 centre, double cosRadius, glm::dvec3 towards);
+
+// CPU twin of the GLSL sampler for one shading point, in double: fCos[j] = F_j (>= 0) of node j.
+class EnvProductSampler {
+ public:
+  EnvProductSampler(const EnvHierSampler& env, const EnvProductLevel& level, std::span<const double> fCos);
+
+  // Chooses a node by u.y (row) and u.x (column), rescales u inside the choice, fills the node's rectangle
+  // with it and lets env-hier's descent finish.
+  EnvSample sample(glm::dvec2 u) const;
+  double pdf(glm::dvec3 wi) const;
+  double nodeProbability(std::size_t node) const { return probability_[node]; }
+  // The node holding direction wi: by its texel (pyramid level) or by env-hier's inverse (uniform grid).
+  std::size_t nodeOf(glm::dvec3 wi) const;
+
+ private:
+  struct FromWeights {};
+  EnvProductSampler(FromWeights, const EnvHierSampler& env, const EnvProductLevel& level,
+                    std::vector<double> weights);
+
+  const EnvHierSampler& env_;
+  const EnvProductLevel& level_;
+  std::vector<double> probability_;  // P(j)
+  PiecewiseConstant2D nodes_;        // the row/column choice over the weights
+};
+
+// The product strategies' tables (shaders/lib/product_sampling.glsl) after env-hier's, from the same pyramid:
+// productNodeRects and productNodeCenters of the level `product` and `product-mis` choose nodes on, and
+// productGridCenters, the caps of `product-warp`'s uniform grid over u (its rectangles are arithmetic).
+TechniqueData envHierProductTechniqueData(const EnvImage& image);
+
+}  // namespace iblx

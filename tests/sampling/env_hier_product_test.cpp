@@ -1,0 +1,206 @@
+// Tests of the env-hier product level and the product sampler's CPU twin
+// (engine/sampling/product/env_hier_product.h): the level's node rectangles, the node probabilities,
+// chi-square of the samples against the pdf on hard maps.
+#include "engine/sampling/product/env_hier_product.h"
+
+#include "engine/core/error.h"
+#include "engine/core/sphere_mapping.h"
+#include "tests/sampling/env_technique_checks.h"
+#include "tests/support/hard_envs.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace iblx {
+namespace {
+
+// A lobe around `axis` with exponent k, and exactly zero on the half-space below `horizon`: F_j at the nodes'
+// centres, as a shading point's f cos would be.
+std::vector<double> lobeAtCentres(const EnvProductLevel& level, glm::dvec3 axis, double k,
+                                  glm::dvec3 horizon) {
+  std::vector<double> f;
+  for (const glm::vec4& c : level.centers) {
+    const glm::dvec3 d(c.x, c.y, c.z);
+    f.push_back(glm::dot(d, horizon) > 0.0 ? std::pow(std::max(glm::dot(d, axis), 0.0), k) + 1e-3 : 0.0);
+  }
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("env product level: the finest level within the node budget, rectangles tiling u") {
+  for (const auto& env : test::samplerTestEnvs()) {
+    CAPTURE(env.name);
+    const EnvHierSampler hier(buildEnvHier(env.image));
+    const EnvProductLevel level = buildEnvProductLevel(hier, 512);
+    // 64x32 and 50x25 pad to 64^2: 32 nodes across (2 texels each) fit 512 with 16 and 13 rows; 64 do not.
+    CHECK(level.width == 32);
+    CHECK(level.texelsPerNode == 2);
+    CHECK(level.rows == uint32_t((env.image.height + 1) / 2));
+    REQUIRE(level.nodes() == level.width * level.rows);
+    double total = 0.0;
+    for (uint32_t y = 0; y < level.rows; ++y)
+      for (uint32_t x = 0; x < level.width; ++x) {
+        const glm::vec4& r = level.rects[y * level.width + x];
+        const double area = double(r.z - r.x) * double(r.w - r.y);
+        total += area;
+        // A node's env-hier probability is the sum of its texels' (their rectangles partition it).
+        double texels = 0.0;
+        for (int ty = int(2 * y); ty < std::min(int(2 * y + 2), env.image.height); ++ty)
+          for (int tx = int(2 * x); tx < std::min(int(2 * x + 2), env.image.width); ++tx)
+            texels += double(hier.texelProbability(tx, ty));
+        CHECK(area == doctest::Approx(texels).epsilon(1e-5).scale(1e-7));
+      }
+    CHECK(total == doctest::Approx(1.0).epsilon(1e-5));
+    // u inside a node's rectangle descends to one of its texels.
+    for (const glm::dvec2 u : test::uniformPoints(2000, 3)) {
+      const glm::vec4& r =
+          level.rects[std::size_t(u.y * level.rows) * level.width + std::size_t(u.x * level.width)];
+      if (!(r.z > r.x && r.w > r.y)) continue;
+      const glm::dvec2 inside(r.x + 0.5 * (r.z - r.x), r.y + 0.5 * (r.w - r.y));
+      const EnvSample s = hier.sample(inside);
+      CHECK(uint32_t(s.texel.x) / level.texelsPerNode == std::size_t(u.x * level.width));
+      CHECK(uint32_t(s.texel.y) / level.texelsPerNode == std::size_t(u.y * level.rows));
+    }
+  }
+  const EnvHierSampler hier(buildEnvHier(smoothSky(64, 32)));
+  CHECK(buildEnvProductLevel(hier, 4).nodes() <= 4);
+  CHECK(buildEnvProductLevel(hier, 1).nodes() == 1);  // the root
+  CHECK_THROWS_AS(buildEnvProductLevel(hier, 0), Error);
+}
+
+TEST_CASE("env product sampler: node probabilities mix the product with env-hier's, defensively") {
+  const EnvHierSampler hier(buildEnvHier(sunAndZeroHalf(64, 32)));
+  const EnvProductLevel level = buildEnvProductLevel(hier);
+  const std::vector<double> f = lobeAtCentres(level, glm::normalize(glm::dvec3(1, 1, 0)), 8.0, {0, 1, 0});
+  const EnvProductSampler sampler(hier, level, f);
+  double sumEF = 0.0, sumE = 0.0, total = 0.0;
+  for (std::size_t j = 0; j < level.nodes(); ++j) {
+    const glm::vec4& r = level.rects[j];
+    sumEF += double((r.z - r.x) * (r.w - r.y)) * f[j];
+    sumE += double((r.z - r.x) * (r.w - r.y));  // 1 to float rounding
+    total += sampler.nodeProbability(j);
+  }
+  CHECK(total == doctest::Approx(1.0).epsilon(1e-9));
+  for (std::size_t j = 0; j < level.nodes(); ++j) {
+    const glm::vec4& r = level.rects[j];
+    const double e = double((r.z - r.x) * (r.w - r.y));
+    const double expected = ((1.0 - kEnvProductDefensive) * e * f[j] / sumEF + kEnvProductDefensive * e) /
+                            (1.0 - kEnvProductDefensive + kEnvProductDefensive * sumE);
+    CHECK(sampler.nodeProbability(j) == doctest::Approx(expected).epsilon(1e-9).scale(1e-12));
+    if (e > 0.0)
+      CHECK(sampler.nodeProbability(j) >= kEnvProductDefensive * e * (1.0 - 1e-12));  // reachable
+    else
+      CHECK(sampler.nodeProbability(j) == 0.0);  // a black node is never chosen
+  }
+  // With no lobe anywhere (a shading point facing away from every centre), the sampler is env-hier itself.
+  const EnvProductSampler flat(hier, level, std::vector<double>(level.nodes(), 0.0));
+  for (const glm::dvec2 u : test::uniformPoints(500, 4)) {
+    const glm::dvec3 w = latLongToDirection(u);
+    CHECK(flat.pdf(w) == doctest::Approx(hier.pdf(w)).epsilon(1e-5));
+  }
+  CHECK_THROWS_AS(EnvProductSampler(hier, level, std::vector<double>(3, 1.0)), Error);
+}
+
+TEST_CASE("env product sampler: chi2 against its own pdf on hard maps, the pdf integrating to 1") {
+  const auto envs = test::samplerTestEnvs();
+  uint64_t seed = 300;
+  for (const auto& env : envs)
+    for (const bool grid : {false, true}) {
+      CAPTURE(env.name);
+      CAPTURE(grid);
+      const EnvHierSampler hier(buildEnvHier(env.image));
+      const EnvProductLevel level = grid ? buildEnvProductGrid(hier) : buildEnvProductLevel(hier);
+      // A glossy lobe towards the horizon with a shading hemisphere (a view that leaves many nodes at 0).
+      const std::vector<double> f = lobeAtCentres(level, glm::normalize(glm::dvec3(0.3, 0.2, 1.0)), 30.0,
+                                                  glm::normalize(glm::dvec3(0, 0.3, 1)));
+      const EnvProductSampler sampler(hier, level, f);
+      const test::Chi2Result r =
+          test::runChi2(sampler, std::string(grid ? "env-product-grid-" : "env-product-") + env.name,
+                        int(2 * envs.size()), seed++);
+      INFO(r.message);
+      CHECK(r.passed);
+      CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(1e-3));
+      // Each sample's pdf (from the node chosen) is pdf() of its direction (from the node located), and a
+      // sample never lands on a black texel. A direction on a texel or cell border may be located in the
+      // neighbour.
+      int boundary = 0;
+      for (const glm::dvec2 u : test::uniformPoints(5000, seed)) {
+        const EnvSample s = sampler.sample(u);
+        REQUIRE(s.pdfSolidAngle > 0.0);
+        CHECK(env.image.weight(s.texel.x, s.texel.y) > 0.0);
+        if (directionToTexel(s.direction, env.image.width, env.image.height) != s.texel ||
+            !(std::abs(s.pdfSolidAngle - sampler.pdf(s.direction)) <= 1e-9 * s.pdfSolidAngle)) {
+          ++boundary;
+          continue;
+        }
+      }
+      CHECK(boundary < 50);
+    }
+}
+
+TEST_CASE("env product grid: uniform cells over u, each holding the directions its u maps to") {
+  const EnvHierSampler hier(buildEnvHier(sunAndZeroHalf(64, 32)));
+  const EnvProductLevel grid = buildEnvProductGrid(hier, 8, 4);
+  REQUIRE(grid.nodes() == 32);
+  CHECK(grid.uniformGrid);
+  const std::vector<double> flat(grid.nodes(), 1.0);
+  const EnvProductSampler sampler(hier, grid, flat);
+  for (std::size_t j = 0; j < grid.nodes(); ++j) {
+    const glm::vec4& r = grid.rects[j];
+    CHECK(double((r.z - r.x) * (r.w - r.y)) == doctest::Approx(1.0 / 32.0));
+    CHECK(sampler.nodeProbability(j) == doctest::Approx(1.0 / 32.0));  // equal F: env-hier itself
+  }
+  int tested = 0, outsideCap = 0;
+  for (const glm::dvec2 u : test::uniformPoints(2000, 11)) {
+    const std::size_t cell = std::size_t(u.y * 4) * 8 + std::size_t(u.x * 8);
+    const EnvSample s = hier.sample(u);
+    // Away from cell edges, env-hier's inverse puts the direction back in the cell of u.
+    const glm::dvec2 inCell(u.x * 8 - std::floor(u.x * 8), u.y * 4 - std::floor(u.y * 4));
+    if (glm::min(inCell, 1.0 - inCell).x < 1e-3 || glm::min(inCell, 1.0 - inCell).y < 1e-3) continue;
+    CHECK(sampler.nodeOf(s.direction) == cell);
+    const glm::vec4& c = grid.centers[cell];
+    ++tested;
+    outsideCap += glm::dot(glm::dvec3(c.x, c.y, c.z), s.direction) < double(c.w) - 1e-6;
+  }
+  // The caps are estimated from a grid of u per cell: a dim block thinner in u than the grid's step can fall
+  // outside (it only lowers that block's weight; the pdf stays exact).
+  CHECK(tested > 1500);
+  CHECK(outsideCap * 100 <= tested);
+  CHECK_THROWS_AS(buildEnvProductGrid(hier, 0, 4), Error);
+}
+
+}  // namespace iblx
+
+namespace iblx {
+
+TEST_CASE("env product level: each node's cap holds its block; the closest direction in a cap") {
+  for (const auto& env : test::samplerTestEnvs()) {
+    CAPTURE(env.name);
+    const EnvHierSampler hier(buildEnvHier(env.image));
+    const EnvProductLevel level = buildEnvProductLevel(hier);
+    // Random directions of each node's texels lie within its angular radius of its centre.
+    for (const glm::dvec2 u : test::uniformPoints(20000, 7)) {
+      const glm::dvec3 w = latLongToDirection(u);
+      const glm::ivec2 t = directionToTexel(w, env.image.width, env.image.height);
+      const glm::vec4& c = level.centers[std::size_t(uint32_t(t.y) / level.texelsPerNode) * level.width +
+                                         uint32_t(t.x) / level.texelsPerNode];
+      CHECK(glm::dot(glm::dvec3(c.x, c.y, c.z), w) >= double(c.w) - 1e-6);
+    }
+  }
+  const glm::dvec3 centre(0, 0, 1);
+  const double cosRadius = std::cos(0.3);
+  const glm::dvec3 inside = glm::normalize(glm::dvec3(0.1, 0.1, 1.0));
+  CHECK(glm::length(closestDirectionInCap(centre, cosRadius, inside) - inside) < 1e-12);
+  const glm::dvec3 outside = glm::normalize(glm::dvec3(1.0, 0.5, 0.2));
+  const glm::dvec3 d = closestDirectionInCap(centre, cosRadius, outside);
+  CHECK(glm::length(d) == doctest::Approx(1.0));
+  CHECK(glm::dot(d, centre) == doctest::Approx(cosRadius));                 // on the cap's edge
+  CHECK(glm::dot(glm::cross(centre, outside), d) == doctest::Approx(0.0));  // towards `outside`
+  CHECK(glm::dot(d, outside) > glm::dot(centre, outside));
+}
+
+}  // namespace iblx
