@@ -7,6 +7,7 @@
 #include "engine/sampling/env/env_hier.h"
 #include "engine/sampling/env/env_ot_maps.h"
 #include "engine/sampling/env/env_ot.h"
+#include "engine/sampling/env/env_ot_diagnostics.h"
 #include "engine/sampling/product/env_ot_product.h"
 #include "engine/sampling/product/env_hier_product.h"
 #include "engine/sampling/brdf/merl_sampling.h"
@@ -15,6 +16,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <memory>
 
 namespace iblx {
 namespace {
@@ -68,19 +70,37 @@ const BrdfInfo kBrdfs[] = {
      makeMerlData},
 };
 
+// A CPU twin's pdf, the twin kept alive by the function.
+template <typename Sampler>
+std::function<double(glm::dvec3)> pdfOf(Sampler sampler) {
+  auto shared = std::make_shared<const Sampler>(std::move(sampler));
+  return [shared](glm::dvec3 w) { return shared->pdf(w); };
+}
+
+std::function<double(glm::dvec3)> envOtMapsPdf(const EnvImage& image,
+                                               double (*pdf)(const EnvOtSamplerMaps&, glm::dvec3)) {
+  auto maps = std::make_shared<const EnvOtSamplerMaps>(envOtSamplerMaps(image));
+  return [maps, pdf](glm::dvec3 w) { return pdf(*maps, w); };
+}
+
 const EnvTechniqueInfo kEnvTechniques[] = {
     {"uniform", "uniform directions on the sphere (baseline)", "env_technique/uniform.glsl", noData},
     {"cosine", "cosine-weighted hemisphere around the normal (baseline)", "env_technique/cosine.glsl",
      noData},
-    {"env-cdf", "marginal/conditional CDF over texels", "env_technique/env_cdf.glsl", envCdfTechniqueData},
+    {"env-cdf", "marginal/conditional CDF over texels", "env_technique/env_cdf.glsl", envCdfTechniqueData,
+     [](const EnvImage& image) { return pdfOf(EnvCdfSampler(buildEnvCdf(image))); }},
     {"env-hier", "hierarchical 2x2 mip-pyramid warp", "env_technique/env_hier.glsl",
-     [](const EnvImage& image) { return envHierTechniqueData(image); }},
+     [](const EnvImage& image) { return envHierTechniqueData(image); },
+     [](const EnvImage& image) { return pdfOf(EnvHierSampler(buildEnvHier(image))); }},
     {"env-ot", "optimal-transport grid made texel-exact: rows, cells, then texel pieces by CDF",
-     "env_technique/env_ot.glsl", [](const EnvImage& image) { return envOtTechniqueData(image); }},
+     "env_technique/env_ot.glsl", [](const EnvImage& image) { return envOtTechniqueData(image); },
+     [](const EnvImage& image) { return pdfOf(EnvOtSampler(buildEnvOt(image))); }},
     {"env-ot-inv", "optimal-transport map, tabulated inverse: one bilinear lookup per sample",
-     "env_technique/env_ot_inv.glsl", envOtInvTechniqueData},
+     "env_technique/env_ot_inv.glsl", envOtInvTechniqueData,
+     [](const EnvImage& image) { return envOtMapsPdf(image, envOtInvPdf); }},
     {"env-ot-fwd", "optimal-transport forward quad mesh inverted per sample (quadtree point location)",
-     "env_technique/env_ot_fwd.glsl", envOtFwdTechniqueData},
+     "env_technique/env_ot_fwd.glsl", envOtFwdTechniqueData,
+     [](const EnvImage& image) { return envOtMapsPdf(image, envOtFwdPdf); }},
 };
 
 bool isBrdf(const BrdfInfo& brdf, const char* name) {

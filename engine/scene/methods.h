@@ -8,6 +8,8 @@
 #include "engine/io/env_image.h"
 #include "engine/sampling/technique_data.h"
 
+#include <glm/glm.hpp>
+
 #include <array>
 #include <cstdint>
 #include <cstddef>
@@ -64,6 +66,9 @@ struct EnvTechniqueInfo {
   std::string description;
   std::string part;  // implements interfaces/env_technique.glsl
   std::function<TechniqueData(const EnvImage&)> build;
+  // The solid-angle pdf of its CPU twin built for a map, for diagnostics that integrate it (`otmap
+  // --diagnose`); null for the baselines, whose pdf depends on no table.
+  std::function<std::function<double(glm::dvec3)>(const EnvImage&)> cpuPdf;
 };
 
 struct BrdfTechniqueInfo {

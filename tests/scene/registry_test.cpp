@@ -2,6 +2,7 @@
 #include "engine/scene/methods.h"
 
 #include "engine/core/error.h"
+#include "engine/core/sphere_mapping.h"
 #include "engine/scene/measured_brdfs.h"
 #include "engine/scene/scene.h"
 
@@ -127,6 +128,28 @@ TEST_CASE("an unknown --brdf lists every material file format of the registry") 
       CHECK(message.find(format.name) != std::string::npos);
     }
     CHECK(message.find(".bparam") != std::string::npos);
+  }
+}
+
+TEST_CASE("every env technique with tables has a CPU twin whose pdf integrates to 1 over the sphere") {
+  // A small map with a bright spot: the twins' pdfs follow it, and each must still hold unit mass
+  // (midpoint rule on a fine lat-long grid; the pdfs are piecewise smooth at the map's texel scale).
+  EnvImage env{32, 16, std::vector<float>(32 * 16 * 3, 0.2f)};
+  for (int c = 0; c < 3; ++c) env.rgb[std::size_t((5 * 32 + 9) * 3 + c)] = 400.0f;
+  for (const EnvTechniqueInfo& t : envTechniqueRegistry()) {
+    CAPTURE(t.name);
+    const bool baseline = t.name == "uniform" || t.name == "cosine";
+    CHECK(bool(t.cpuPdf) == !baseline);
+    if (!t.cpuPdf) continue;
+    const auto pdf = t.cpuPdf(env);
+    constexpr int kW = 512, kH = 256;
+    double mass = 0.0;
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) {
+        const glm::dvec3 w = latLongToDirection({(x + 0.5) / kW, (y + 0.5) / kH});
+        mass += pdf(w) * latLongTexelSolidAngle(y, kW, kH);
+      }
+    CHECK(mass == doctest::Approx(1.0).epsilon(2e-3));
   }
 }
 

@@ -84,23 +84,3 @@ std::pair<long long, long long> parsePixel(const std::string& flag, const std::s
 void parseSize(const std::string& flag, const std::string& text, int& width, int& height);
 
 }  // namespace iblx::cli
-
-namespace iblx::cli {
-// Fails early (before any rendering) when an output path cannot be written as an image.
-void checkImagePath(const std::string& flag, const std::string& path, bool exrOnly = false);
-// --out of a tabulation command: ends in `extension` (a `kind` file must...) in a directory that exists.
-void checkTableOutput(const std::string& out, const std::string& extension, const std::string& kind);
-// The scene a tabulation command evaluates `brdf` in: one pixel, no light (only the BRDF's part runs).
-Scene tabulationScene(SceneSpec spec, LoadedBrdf brdf);
-// The ground truth of --reference-file (an EXR of `iblx reference`): W x H RGB, every value finite. Errors
-// name the flag and file; a size mismatch says "does not match <sizeName> WxH".
-std::vector<float> readReferenceFile(const std::filesystem::path& path, int width, int height,
-                                     const std::string& sizeName);
-// The warning for estimates the GPU replaced by 0 because they were NaN or Inf: with finite inputs below
-// iblx's limits that is a sampler bug, but a BRDF file can return values whose products overflow float.
-std::string nonFiniteEstimatesMessage(std::uint64_t count, const std::string& brdfArgument);
-
-// Progress line on stderr, only when stderr is a terminal.
-void progressLine(const std::string& text);
-void endProgressLine();
-}  // namespace iblx::cli

@@ -3,6 +3,7 @@
 #include "engine/core/json_output.h"
 #include "engine/render/renderer.h"
 #include "tools/cli/cli_options.h"
+#include "tools/cli/command_support.h"
 #include "tools/cli/commands.h"
 
 #include <algorithm>

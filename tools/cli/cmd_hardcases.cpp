@@ -7,6 +7,7 @@
 #include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "tools/cli/cli_options.h"
+#include "tools/cli/command_support.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/converge_figures.h"
 #include "tools/cli/measurement.h"

@@ -2,6 +2,7 @@
 #include "engine/io/image_write.h"
 #include "engine/io/procedural_sky.h"
 #include "tools/cli/cli_options.h"
+#include "tools/cli/command_support.h"
 #include "tools/cli/commands.h"
 
 #include <algorithm>

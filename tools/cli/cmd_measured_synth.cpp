@@ -11,6 +11,7 @@
 #include "engine/render/alta_func_synth.h"
 #include "engine/render/brdf_tabulation.h"
 #include "tools/cli/cli_options.h"
+#include "tools/cli/command_support.h"
 #include "tools/cli/commands.h"
 
 #include <chrono>

@@ -6,6 +6,7 @@
 #include "engine/io/merl.h"
 #include "engine/render/brdf_tabulation.h"
 #include "tools/cli/cli_options.h"
+#include "tools/cli/command_support.h"
 #include "tools/cli/commands.h"
 
 #include <chrono>

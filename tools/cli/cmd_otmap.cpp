@@ -23,6 +23,7 @@
 #include "engine/ot/solver.h"
 #include "engine/sampling/env/env_ot_sun.h"
 #include "tools/cli/cli_options.h"
+#include "tools/cli/command_support.h"
 #include "tools/cli/commands.h"
 
 #include <algorithm>
@@ -154,26 +155,25 @@ constexpr int kRoundTripPoints = 512;
 int diagnoseSamplers(const EnvImage& env, const std::filesystem::path& envPath, int subgrid, bool json) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<double> texelPdf = texelProbabilities(env);
-  const EnvCdfSampler cdf(buildEnvCdf(env));
-  const EnvHierSampler hier(buildEnvHier(env));
   progressLine("otmap --diagnose: the OT samplers' map (" + std::to_string(otGridSize(env)) + "^2)");
   const EnvOtSamplerMaps ot = envOtSamplerMaps(env);
-  const EnvOtSampler exact(buildEnvOt(env));
   endProgressLine();
 
+  // Every env technique of the registry with a CPU twin; the two that evaluate the OT map per sample also
+  // report the map's quality (env-ot only takes its cells).
   struct Sampler {
     std::string name;
     std::function<double(glm::dvec3)> pdf;
-    const QuadGridMap* map;  // the map whose cells it samples; none for the texel samplers
-    bool mapRoundTrip;       // whether it evaluates that map per sample (env-ot only takes its cells)
+    const QuadGridMap* map;  // the map it evaluates per sample; none for the others
   };
-  const std::vector<Sampler> samplers{
-      {"env-cdf", [&](glm::dvec3 w) { return cdf.pdf(w); }, nullptr, false},
-      {"env-hier", [&](glm::dvec3 w) { return hier.pdf(w); }, nullptr, false},
-      {"env-ot", [&](glm::dvec3 w) { return exact.pdf(w); }, nullptr, false},
-      {"env-ot-inv", [&](glm::dvec3 w) { return envOtInvPdf(ot, w); }, &ot.inverse, true},
-      {"env-ot-fwd", [&](glm::dvec3 w) { return envOtFwdPdf(ot, w); }, &ot.forward, true},
-  };
+  std::vector<Sampler> samplers;
+  for (const EnvTechniqueInfo& technique : envTechniqueRegistry()) {
+    if (!technique.cpuPdf) continue;
+    const QuadGridMap* map = technique.name == "env-ot-inv"   ? &ot.inverse
+                             : technique.name == "env-ot-fwd" ? &ot.forward
+                                                              : nullptr;
+    samplers.push_back({technique.name, technique.cpuPdf(env), map});
+  }
   if (!json) {
     std::printf(
         "sampler diagnostics of %s (%dx%d): OT grid %d, sun share %.3g, texel pdf integrated on "
@@ -189,10 +189,8 @@ int diagnoseSamplers(const EnvImage& env, const std::filesystem::path& envPath, 
     const std::vector<double> q = integrateTexelProbabilities(sampler.pdf, env.width, env.height, subgrid);
     const TexelChi2 chi2 = texelChi2(texelPdf, q);
     std::optional<MapRoundTrip> roundTrip;
-    if (sampler.mapRoundTrip && sampler.map == &ot.inverse)
-      roundTrip = inverseRoundTrip(ot.forward, ot.inverse, kRoundTripPoints);
-    if (sampler.mapRoundTrip && sampler.map == &ot.forward)
-      roundTrip = forwardRoundTrip(ot.forward, kRoundTripPoints);
+    if (sampler.map == &ot.inverse) roundTrip = inverseRoundTrip(ot.forward, ot.inverse, kRoundTripPoints);
+    if (sampler.map == &ot.forward) roundTrip = forwardRoundTrip(ot.forward, kRoundTripPoints);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
     endProgressLine();
     const double nonConvex = sampler.map ? nonConvexShare(*sampler.map) : 0.0;

@@ -4,6 +4,7 @@
 #include "engine/render/scene_gpu.h"
 #include "engine/scene/brdf_params.h"
 #include "tools/cli/cli_options.h"
+#include "tools/cli/command_support.h"
 #include "tools/cli/commands.h"
 
 #include <cstdio>

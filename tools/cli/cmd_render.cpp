@@ -9,6 +9,7 @@
 #include "engine/render/renderer.h"
 #include "engine/scene/brdf_params.h"
 #include "tools/cli/cli_options.h"
+#include "tools/cli/command_support.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/measurement.h"
 

@@ -9,6 +9,7 @@
 #include "engine/io/image_write.h"
 #include "engine/render/convergence_runner.h"
 #include "tools/cli/cli_options.h"
+#include "tools/cli/command_support.h"
 #include "tools/cli/commands.h"
 #include "tools/cli/converge_scene.h"
 #include "tools/cli/measurement.h"

@@ -4,6 +4,7 @@
 #include "engine/render/convergence_runner.h"
 #include "engine/scene/methods.h"
 #include "tools/cli/cli_options.h"
+#include "tools/cli/command_support.h"
 #include "tools/cli/commands.h"
 #include "tools/viewer/viewer.h"
 

@@ -1,6 +1,8 @@
 // Flags, ground truth, progress and Ctrl-C of the measuring commands (tools/cli/measurement.h).
 #include "tools/cli/measurement.h"
 
+#include "tools/cli/command_support.h"
+
 #include "engine/core/cache_dir.h"
 #include "engine/core/error.h"
 #include "engine/core/log.h"
