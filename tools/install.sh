@@ -12,6 +12,7 @@ packages=(build-essential cmake ninja-build pkg-config
           libglfw3-dev libimgui-dev xvfb xauth  # the viewer, and its test under Xvfb
           nlohmann-json3-dev  # every --json output (engine/core/json_output.h)
           libtomlplusplus-dev  # the plan files of `iblx study`
+          libnanoflann-dev  # the k-d tree that resamples scattered ALTA data
           slurmctld slurmd slurm-client munge  # tests/cli/slurm_study_test.sh: a one-node Slurm cluster
           python3  # the study tests compare merged CSVs
           chromium  # the report.html test: the page loaded in a real browser, headless

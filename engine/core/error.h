@@ -1,8 +1,10 @@
 // Error types and the programmer-error assertion used throughout iblx.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace iblx {
 
@@ -25,6 +27,11 @@ class Interrupted : public Error {
  public:
   using Error::Error;
 };
+
+// Text from a file, as a message may quote it: printable ASCII as is, every other byte (a NUL, a control
+// character, a byte of a binary file) as \xNN, and at most maxLength characters of the original, then "...".
+// A message holding it stays one line that a terminal prints as written.
+std::string printableExcerpt(std::string_view text, std::size_t maxLength = 64);
 
 [[noreturn]] void assertionFailed(const char* expression, const char* file, int line);
 

@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cmath>
@@ -47,17 +48,11 @@ std::uint64_t checkInputFile(const fs::path& path) {
   return std::uint64_t(info.st_size);
 }
 
-std::vector<unsigned char> readInputFile(const fs::path& path, std::uint64_t maxBytes) {
-  const std::uint64_t size = checkInputFile(path);
-  if (size > maxBytes) {
-    // Exact bytes too: just over a limit, both round to the same figure.
-    const std::string sizeText =
-        size < 1024 ? formatBytes(size) : formatBytes(size) + " (" + std::to_string(size) + " bytes)";
-    throw Error(path.string() + ": the file is " + sizeText + ", more than the " + formatBytes(maxBytes) +
-                " this kind of file may have");
-  }
-  // Opened without blocking and checked again on the descriptor: a file swapped for a FIFO after the stat
-  // above is refused here instead of blocking the open.
+namespace {
+
+// The file opened for reading, refused unless it is a regular file when opened (a file swapped for a FIFO
+// after a stat is refused here instead of blocking the open).
+std::unique_ptr<std::FILE, int (*)(std::FILE*)> openRegularFile(const fs::path& path) {
   const int descriptor = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (descriptor < 0) throwCannotOpen(path, std::strerror(errno));
   struct stat opened {};
@@ -70,17 +65,50 @@ std::vector<unsigned char> readInputFile(const fs::path& path, std::uint64_t max
     ::close(descriptor);
     throwCannotOpen(path, std::strerror(errno));
   }
-  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+  return file;
+}
+
+// At most `size` bytes into `bytes` (resized to what was read): a file that shrank since its size was taken
+// is read as it is now; one that grew is read up to that size.
+template <typename Bytes>
+void readInto(const fs::path& path, std::uint64_t size, Bytes& bytes) {
+  const auto file = openRegularFile(path);
+  bytes.resize(static_cast<std::size_t>(size));
   const std::size_t read = std::fread(bytes.data(), 1, bytes.size(), file.get());
   if (std::ferror(file.get())) throwCannotOpen(path, "read error");
-  // A file that shrank since stat is read as it is now; one that grew is read up to the size it had.
   bytes.resize(read);
+}
+
+std::uint64_t checkInputSize(const fs::path& path, std::uint64_t maxBytes) {
+  const std::uint64_t size = checkInputFile(path);
+  if (size > maxBytes) {
+    // Exact bytes too: just over a limit, both round to the same figure.
+    const std::string sizeText =
+        size < 1024 ? formatBytes(size) : formatBytes(size) + " (" + std::to_string(size) + " bytes)";
+    throw Error(path.string() + ": the file is " + sizeText + ", more than the " + formatBytes(maxBytes) +
+                " this kind of file may have");
+  }
+  return size;
+}
+
+}  // namespace
+
+std::vector<unsigned char> readInputFile(const fs::path& path, std::uint64_t maxBytes) {
+  std::vector<unsigned char> bytes;
+  readInto(path, checkInputSize(path, maxBytes), bytes);
   return bytes;
 }
 
 std::string readInputText(const fs::path& path, std::uint64_t maxBytes) {
-  const std::vector<unsigned char> bytes = readInputFile(path, maxBytes);
-  return std::string(bytes.begin(), bytes.end());
+  std::string text;
+  readInto(path, checkInputSize(path, maxBytes), text);
+  return text;
+}
+
+std::string readFileHead(const fs::path& path, std::uint64_t maxBytes) {
+  std::string head;
+  readInto(path, std::min(checkInputFile(path), maxBytes), head);
+  return head;
 }
 
 std::uint64_t memoryBudgetBytes() {

@@ -21,6 +21,9 @@ std::uint64_t checkInputFile(const std::filesystem::path& path);
 // anything is read. The read itself stops at maxBytes, so a file that grows meanwhile cannot flood memory.
 std::vector<unsigned char> readInputFile(const std::filesystem::path& path, std::uint64_t maxBytes);
 std::string readInputText(const std::filesystem::path& path, std::uint64_t maxBytes);
+// The first min(size, maxBytes) bytes of a file, whatever its size: what a format check reads, so that a huge
+// file (or one without a newline) costs no more than maxBytes to recognise.
+std::string readFileHead(const std::filesystem::path& path, std::uint64_t maxBytes);
 
 // The memory iblx lets one input claim (an image, a table, a G-buffer): 4 GiB, or $IBLX_MEMORY_BUDGET_GIB.
 std::uint64_t memoryBudgetBytes();

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 namespace iblx {
@@ -56,6 +57,30 @@ bool isAltaFunctionHeader(const std::string& line) {
   return line.rfind("#ALTA FUNC HEADER", 0) == 0;
 }
 
+bool isSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
+  while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+// A header line "#KEY value" as ALTA writes it: the key runs from after the '#' to the first blank, the value
+// is the rest with the blanks around it dropped (so "#PARAM_IN  COS_TH" and "#DIM\t3 1" read as meant); "#"
+// followed by a blank, or nothing, is a comment.
+struct HeaderLine {
+  std::string key, value;
+};
+std::optional<HeaderLine> splitHeaderLine(std::string_view line) {
+  line = trim(line);
+  if (line.size() < 2 || line[0] != '#' || isSpace(line[1])) return std::nullopt;
+  std::size_t end = 1;
+  while (end < line.size() && !isSpace(line[end])) ++end;
+  return HeaderLine{std::string(line.substr(1, end - 1)), std::string(trim(line.substr(end)))};
+}
+
 // The header's keys and values, and where the body starts.
 struct Header {
   std::map<std::string, std::string> keys;
@@ -70,31 +95,27 @@ Header readHeader(const std::string& text, const std::string& name) {
   int line = 1;
   while (at < text.size()) {
     const std::size_t end = std::min(text.find('\n', at), text.size());
-    std::string s = text.substr(at, end - at);
-    if (!s.empty() && s.back() == '\r') s.pop_back();
+    const std::string_view s = trim(std::string_view(text).substr(at, end - at));
     if (s.empty() || s[0] != '#') break;  // the body
     const std::size_t next = end + 1;
-    if (s.rfind("#BEGIN_STREAM", 0) == 0) {
+    const std::optional<HeaderLine> entry = splitHeaderLine(s);
+    if (entry && entry->key == "BEGIN_STREAM") {
       h.keys["BEGIN_STREAM"] = "";
       h.lines["BEGIN_STREAM"] = line;
       at = next;
       ++line;
       break;
     }
-    if (s == "#ALTA END HEADER" || s == "#ALTA HEADER END") {
+    if (entry && entry->key == "ALTA" && (entry->value == "END HEADER" || entry->value == "HEADER END")) {
       at = next;
       ++line;
       break;
     }
-    if (isAltaFunctionHeader(s))
+    if (isAltaFunctionHeader(std::string(s)))
       throw Error(name + ":" + std::to_string(line) + ": an ALTA function file, not a data file");
-    if (s.size() > 1 && s[1] != ' ' && s.rfind("#ALTA", 0) != 0) {
-      const std::size_t space = s.find_first_of(" \t");
-      const std::string key = s.substr(1, space == std::string::npos ? std::string::npos : space - 1);
-      std::string value = space == std::string::npos ? "" : s.substr(space + 1);
-      while (!value.empty() && (value.back() == ' ' || value.back() == '\t')) value.pop_back();
-      h.keys[key] = value;
-      h.lines[key] = line;
+    if (entry && entry->key != "ALTA") {
+      h.keys[entry->key] = entry->value;
+      h.lines[entry->key] = line;
     }
     at = next;
     ++line;
@@ -110,7 +131,7 @@ double parseNumber(std::string_view token, const std::string& where) {
   if (!token.empty() && token[0] == '+') ++begin;
   const auto [end, ec] = std::from_chars(begin, token.data() + token.size(), v);
   if (ec != std::errc() || end != token.data() + token.size())
-    throw Error(where + ": '" + std::string(token) + "' is not a number");
+    throw Error(where + ": '" + printableExcerpt(token) + "' is not a number");
   return v;
 }
 
@@ -120,8 +141,8 @@ int parseCount(const Header& h, const std::string& key, const std::string& name,
   const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), n);
   const std::string where = name + ":" + std::to_string(h.lines.at(key));
   if (ec != std::errc() || end != v.data() + v.size() || n < min || n > max)
-    throw Error(where + ": #" + key + " '" + v + "' is not a count from " + std::to_string(min) + " to " +
-                std::to_string(max));
+    throw Error(where + ": #" + key + " '" + printableExcerpt(v) + "' is not a count from " +
+                std::to_string(min) + " to " + std::to_string(max));
   return int(n);
 }
 
@@ -151,15 +172,29 @@ std::string altaOutputName(AltaOutput output) {
 bool looksLikeAltaData(const fs::path& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return false;
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
+  // The first 64 header lines within the file's first 64 KiB: a file without a newline, however large, is
+  // recognised (or not) from that much.
+  std::string head;
+  try {
+    head = readFileHead(path, 64 << 10);
+  } catch (const Error&) {
+    return false;
+  }
   bool dim = false, param = false;
-  for (int k = 0; k < 64 && std::getline(in, line); ++k) {
+  std::size_t at = 0;
+  for (int k = 0; k < 64 && at < head.size(); ++k) {
+    const std::size_t end = head.find('\n', at);
+    if (end == std::string::npos && head.size() == (64u << 10)) break;  // a line longer than the head
+    const std::string_view line = trim(std::string_view(head).substr(at, std::min(end, head.size()) - at));
     if (line.empty() || line[0] != '#') break;
-    if (isAltaFunctionHeader(line)) return false;
-    dim = dim || line.rfind("#DIM ", 0) == 0;
-    param = param || line.rfind("#PARAM_IN ", 0) == 0;
-    if (line.rfind("#BEGIN_STREAM", 0) == 0) break;
+    if (isAltaFunctionHeader(std::string(line))) return false;
+    if (const auto entry = splitHeaderLine(line)) {
+      dim = dim || entry->key == "DIM";
+      param = param || entry->key == "PARAM_IN";
+      if (entry->key == "BEGIN_STREAM") break;
+    }
+    if (end == std::string::npos) break;
+    at = end + 1;
   }
   return dim && param;
 }
@@ -177,8 +212,17 @@ AltaData loadAltaData(const fs::path& path) {
     const std::string where = name + ":" + std::to_string(h.lines.at("DIM"));
     std::string a, b, extra;
     if (!(dim >> a >> b) || (dim >> extra))
-      throw Error(where + ": #DIM needs two counts (inputs and outputs), not '" + h.keys.at("DIM") + "'");
-    inputs = int(parseNumber(a, where)), outputs = int(parseNumber(b, where));
+      throw Error(where + ": #DIM needs two counts (inputs and outputs), not '" +
+                  printableExcerpt(h.keys.at("DIM")) + "'");
+    const auto count = [&](const std::string& token, const char* what) {
+      int n = 0;
+      const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), n);
+      if (ec != std::errc() || end != token.data() + token.size() || n < 1 || n > 6)
+        throw Error(where + ": #DIM's " + what + " '" + printableExcerpt(token) +
+                    "' is not a whole count from 1 to 6");
+      return n;
+    };
+    inputs = count(a, "input count"), outputs = count(b, "output count");
   }
   if (!h.keys.count("PARAM_IN"))
     throw Error(name + ":1: no #PARAM_IN line: the file does not say how its inputs are parametrised");
@@ -193,7 +237,8 @@ AltaData loadAltaData(const fs::path& path) {
       if (paramName == other)
         throw Error(paramWhere + ": #PARAM_IN " + paramName +
                     " is an ALTA parametrisation iblx does not read; " + "it reads " + supportedParams());
-    throw Error(paramWhere + ": unknown #PARAM_IN '" + paramName + "'; iblx reads " + supportedParams());
+    throw Error(paramWhere + ": unknown #PARAM_IN '" + printableExcerpt(paramName) + "'; iblx reads " +
+                supportedParams());
   }
   if (inputs != altaParamDimension(data.param))
     throw Error(name + ":" + std::to_string(h.lines.at("DIM")) + ": #DIM gives " + std::to_string(inputs) +
@@ -213,7 +258,7 @@ AltaData loadAltaData(const fs::path& path) {
     throw Error(outputWhere + ": #PARAM_OUT ENERGY has no unit iblx can render; it reads INV_STERADIAN, " +
                 "INV_STERADIAN_COSINE_FACTOR, RGB_COLOR and XYZ_COLOR");
   else
-    throw Error(outputWhere + ": unknown #PARAM_OUT '" + outputName +
+    throw Error(outputWhere + ": unknown #PARAM_OUT '" + printableExcerpt(outputName) +
                 "'; iblx reads INV_STERADIAN, INV_STERADIAN_COSINE_FACTOR, RGB_COLOR and XYZ_COLOR");
   const bool colour = data.output == AltaOutput::RgbColor || data.output == AltaOutput::XyzColor;
   if (colour ? outputs != 3 : (outputs != 1 && outputs != 3))
@@ -226,15 +271,15 @@ AltaData loadAltaData(const fs::path& path) {
   std::vector<double> values;
   const bool binary = h.keys.count("FORMAT") && h.keys.at("FORMAT") == "binary";
   if (h.keys.count("FORMAT") && !binary && h.keys.at("FORMAT") != "text")
-    throw Error(name + ":" + std::to_string(h.lines.at("FORMAT")) + ": #FORMAT '" + h.keys.at("FORMAT") +
-                "' is neither text nor binary");
+    throw Error(name + ":" + std::to_string(h.lines.at("FORMAT")) + ": #FORMAT '" +
+                printableExcerpt(h.keys.at("FORMAT")) + "' is neither text nor binary");
   if (binary) {
     const auto expect = [&](const std::string& key, const std::string& value) {
       if (!h.keys.count(key))
         throw Error(name + ": the binary stream's header has no #" + key + " (expected '" + value + "')");
       if (h.keys.at(key) != value)
-        throw Error(name + ":" + std::to_string(h.lines.at(key)) + ": #" + key + " '" + h.keys.at(key) +
-                    "' is not supported (iblx reads " + value + ")");
+        throw Error(name + ":" + std::to_string(h.lines.at(key)) + ": #" + key + " '" +
+                    printableExcerpt(h.keys.at(key)) + "' is not supported (iblx reads " + value + ")");
     };
     expect("VERSION", "0");
     expect("PRECISION", "ieee754-double");
@@ -261,6 +306,19 @@ AltaData loadAltaData(const fs::path& path) {
       values[k] = std::bit_cast<double>(bits);
     }
   } else {
+    // The samples are counted before any is stored, so that a file whose values would outgrow the memory
+    // budget (short lines hold several doubles' worth of values per byte) is refused before it is parsed.
+    std::uint64_t sampleLines = 0;
+    for (std::size_t at = h.bodyOffset; at < text.size();) {
+      const std::size_t end = std::min(text.find('\n', at), text.size());
+      const std::string_view s = trim(std::string_view(text).substr(at, end - at));
+      if (!s.empty() && s[0] != '#') ++sampleLines;
+      at = end + 1;
+    }
+    checkMemoryBudget(name + ": " + std::to_string(sampleLines) + " samples of " + std::to_string(width) +
+                          " values, with the file's text",
+                      text.size() + sampleLines * (width + std::size_t(inputs) + 3) * sizeof(double));
+    values.reserve(std::size_t(sampleLines) * width);
     std::size_t at = h.bodyOffset;
     int line = h.bodyLine;
     while (at < text.size()) {

@@ -107,6 +107,7 @@ std::shared_ptr<const BrdfInfo> makeAltaDataBrdf(const AltaData& data, const std
                             altaParamName(data.param) + " samples of " + altaOutputName(data.output) + "; ";
   description.append(grid.resampledFrom > 0 ? "resampled onto a " : "a ").append(shape).append(" ");
   description.append(altaParamName(grid.param)).append(" grid, multilinear lookup)");
+  description.append(leaveOneOutText(grid));
   info->description = description;
   info->evalPart = "brdf/alta_data.glsl";
   info->bestSampler = "brdf-tab";

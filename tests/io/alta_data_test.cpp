@@ -4,10 +4,12 @@
 #include "engine/io/alta_data.h"
 
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "tests/io/scratch_files.h"
 
 #include <doctest/doctest.h>
 
+#include <cstdlib>
 #include <fstream>
 
 using namespace iblx;
@@ -136,4 +138,63 @@ TEST_CASE("alta data: malformed files are refused with the file, the line and th
   CHECK(contains(loadMessage(dir, binary + "#SAMPLE_COUNT -3\n#BEGIN_STREAM\n"),
                  "#SAMPLE_COUNT '-3' is not a count"));
   CHECK(contains(errorMessage([&] { loadAltaData(dir.file("missing.data")); }), "cannot open"));
+}
+
+TEST_CASE("alta data: headers as ALTA's own files write them (blanks, tabs, CRLF, comments) are read") {
+  ScratchDir dir;
+  const auto path = dir.file("felt.alta");
+  writeText(path,
+            "# Measured data, converted for ALTA. Disclaimer: for research use.\r\n"
+            "#\r\n"
+            "#DIM\t3   1\r\n"
+            "#PARAM_IN  RUSIN_TH_TD_PD \r\n"
+            "#PARAM_OUT\tINV_STERADIAN\r\n"
+            "#VS  0\r\n"
+            "0.1\t0.2  0.3 0.5\r\n"
+            "0.2 0.3 0.4\t0.25\r\n");
+  CHECK(looksLikeAltaData(path));
+  const AltaData d = loadAltaData(path);
+  CHECK(d.param == AltaParam::RusinThTdPd);
+  CHECK(d.output == AltaOutput::InvSteradian);
+  REQUIRE(d.samples == 2);
+  CHECK(d.x[5] == doctest::Approx(0.4));
+  CHECK(d.rgb[3] == doctest::Approx(0.25));
+}
+
+TEST_CASE("alta data: counts that are not whole and bytes that are not text are reported as written") {
+  ScratchDir dir;
+  // #DIM 3.5 was read as 3, and #DIM 1e300 reported as -2147483648 inputs.
+  CHECK(contains(loadMessage(dir, "#DIM 3.5 1\n#PARAM_IN RUSIN_TH_TD_PD\n0 0 0 1\n"),
+                 "m.data:1: #DIM's input count '3.5' is not a whole count from 1 to 6"));
+  const std::string huge = loadMessage(dir, "#DIM 1e300 1\n#PARAM_IN RUSIN_TH_TD_PD\n0 0 0 1\n");
+  CHECK(contains(huge, "#DIM's input count '1e300' is not a whole count"));
+  CHECK_FALSE(contains(huge, "-2147483648"));
+  // A NUL byte and binary bytes are escaped: the message is whole, one line, and printable.
+  const std::string binary =
+      loadMessage(dir, std::string("#DIM 3 1\n#PARAM_IN RUSIN\0TH\x01\xfe\n0 0 0 1\n", 39));
+  CHECK(contains(binary, "unknown #PARAM_IN 'RUSIN\\x00TH\\x01\\xfe'; iblx reads"));
+  for (char c : binary) CHECK((c >= 0x20 && c < 0x7f));
+}
+
+TEST_CASE("alta data: a huge file without a newline is recognised from its first 64 KiB") {
+  ScratchDir dir;
+  // Sparse: 3 GiB on disk as a hole. The format check used to read the first line whole (all of it).
+  const auto path = dir.file("no-newline.bin");
+  writeText(path, "#DIM 3 1 ");
+  std::filesystem::resize_file(path, std::uint64_t(3) << 30);
+  CHECK(readFileHead(path, 64 << 10).size() == (64u << 10));
+  CHECK_FALSE(looksLikeAltaData(path));
+}
+
+TEST_CASE("alta data: samples whose values outgrow the memory budget are refused before they are parsed") {
+  ScratchDir dir;
+  // 200 000 short rows: 1.6 MB of text, 200 000 x 8 doubles to store. Under a 4 MiB budget (the text
+  // passes) the values do not fit, and the reader says so instead of running out of memory.
+  std::string text = "#DIM 3 1\n#PARAM_IN RUSIN_TH_TD_PD\n";
+  for (int i = 0; i < 200000; ++i) text += "0 0 0 1\n";
+  setenv("IBLX_MEMORY_BUDGET_GIB", "0.00390625", 1);
+  const std::string message = loadMessage(dir, text);
+  unsetenv("IBLX_MEMORY_BUDGET_GIB");
+  CHECK(contains(message, "m.data: 200000 samples of 4 values, with the file's text needs"));
+  CHECK(contains(message, "memory budget"));
 }

@@ -95,3 +95,36 @@ TEST_CASE("alta grid: scattered and Cartesian samples are resampled, with a warn
     CHECK(mean < 0.05);
   }
 }
+
+TEST_CASE("alta grid: clustered samples resample in time, repeats count once, and the leave-one-out error") {
+  // N - 1 identical rows and one far sample: every node's 8 nearest used to scan the whole cluster
+  // (nodes x samples; 100 000 rows ran for minutes). Repeats are now one sample with their mean value.
+  AltaData clustered;
+  clustered.param = AltaParam::IsotropicTvTlDphi;
+  clustered.output = AltaOutput::RgbColor;
+  clustered.samples = 200001;
+  for (std::size_t i = 0; i + 1 < clustered.samples; ++i) {
+    clustered.x.insert(clustered.x.end(), {0.5, 0.5, 1.0});
+    clustered.rgb.insert(clustered.rgb.end(), {i % 2 ? 1.0 : 3.0, 1.0, 1.0});
+  }
+  clustered.x.insert(clustered.x.end(), {1.2, 1.1, 2.0});
+  clustered.rgb.insert(clustered.rgb.end(), {0.5, 0.5, 0.5});
+  WarningCapture warnings;
+  const AltaGrid grid = makeAltaGrid(clustered, "clustered.data");
+  CHECK(grid.resampledFrom == 200001);
+  CHECK(grid.distinctSamples == 2);
+  CHECK_FALSE(grid.leaveOneOutError.has_value());  // 2 distinct samples: nothing to leave out
+  // The node at the cluster takes the repeats' mean, 2.
+  CHECK(grid.rgb[0] == doctest::Approx(2.0));
+
+  // Smooth data: each sample is predicted from its neighbours to within a few per cent; noise is not.
+  const AltaGrid smoothGrid = makeAltaGrid(synthesize(AltaParam::IsotropicTvTlDphi, 20000), "m.data");
+  REQUIRE(smoothGrid.leaveOneOutError.has_value());
+  CHECK(*smoothGrid.leaveOneOutError < 0.05);
+  CHECK(contains(warnings.messages.back(), "(leave-one-out error "));
+  AltaData noisy = synthesize(AltaParam::IsotropicTvTlDphi, 20000);
+  for (std::size_t i = 0; i < noisy.rgb.size(); ++i) noisy.rgb[i] *= (i * 2654435761u) % 7 == 0 ? 3.0 : 1.0;
+  const AltaGrid noisyGrid = makeAltaGrid(noisy, "noisy.data");
+  REQUIRE(noisyGrid.leaveOneOutError.has_value());
+  CHECK(*noisyGrid.leaveOneOutError > 3.0 * *smoothGrid.leaveOneOutError);
+}

@@ -9,8 +9,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <numbers>
-#include <queue>
+#include <memory>
+#include <optional>
+#include <span>
+
+#include <nanoflann.hpp>
 
 namespace iblx {
 namespace {
@@ -107,82 +112,84 @@ std::vector<double> gridCoordinates(const AltaData& data, AltaParam gridParam) {
   return x;
 }
 
-// The k nearest samples of a point (normalized coordinates in [0, 1]^dims), found through an even grid of
-// buckets, ring by ring.
-class NeighbourSearch {
+// Scattered samples with their coordinates scaled to [0, 1] per axis, exact repeats merged into one point
+// with their mean value (repeated measurements; also what keeps the tree below from visiting every copy of a
+// point at the same distance), indexed by a k-d tree (nanoflann, Debian's libnanoflann-dev) so that a query
+// costs about log(points) + k whatever the samples' clustering.
+class ScatteredSamples {
  public:
-  NeighbourSearch(const std::vector<double>& points, int dims, int cellsPerAxis)
-      : points_(points), dims_(dims), cells_(cellsPerAxis) {
-    std::size_t total = 1;
-    for (int d = 0; d < dims; ++d) total *= std::size_t(cells_);
-    buckets_.assign(total, {});
-    for (std::size_t i = 0; i < points.size() / std::size_t(dims); ++i)
-      buckets_[cellOf(&points[i * std::size_t(dims)])].push_back(std::uint32_t(i));
-  }
-  // (distance^2, index) of the k nearest points to p.
-  std::vector<std::pair<double, std::uint32_t>> nearest(const double* p, int k) const {
-    std::priority_queue<std::pair<double, std::uint32_t>> best;  // the k smallest, largest on top
-    int centre[4] = {0, 0, 0, 0};
-    for (int d = 0; d < dims_; ++d) centre[d] = std::clamp(int(p[d] * cells_), 0, cells_ - 1);
-    for (int r = 0; r <= cells_; ++r) {
-      // Every point within the rings searched so far is at least (r - 1) cells away from p in one axis.
-      if (int(best.size()) == k && best.top().first <= std::pow(double(std::max(r - 1, 0)) / cells_, 2))
-        break;
-      visitRing(centre, r, [&](std::size_t bucket) {
-        for (std::uint32_t i : buckets_[bucket]) {
-          double d2 = 0.0;
-          for (int d = 0; d < dims_; ++d) {
-            const double t = points_[i * std::size_t(dims_) + std::size_t(d)] - p[d];
-            d2 += t * t;
-          }
-          if (int(best.size()) < k)
-            best.emplace(d2, i);
-          else if (d2 < best.top().first) {
-            best.pop();
-            best.emplace(d2, i);
-          }
-        }
-      });
+  ScatteredSamples(const std::vector<double>& unit, const std::vector<double>& rgb, int dims) : dims_(dims) {
+    const std::size_t n = rgb.size() / 3, d = std::size_t(dims);
+    std::vector<std::uint32_t> order(n);
+    for (std::size_t i = 0; i < n; ++i) order[i] = std::uint32_t(i);
+    const auto coordinates = [&](std::uint32_t i) { return std::span(unit).subspan(i * d, d); };
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return std::ranges::lexicographical_compare(coordinates(a), coordinates(b));
+    });
+    for (std::size_t k = 0; k < n;) {
+      std::size_t end = k + 1;
+      while (end < n && std::ranges::equal(coordinates(order[k]), coordinates(order[end]))) ++end;
+      glm::dvec3 sum(0.0);
+      for (std::size_t j = k; j < end; ++j)
+        sum += glm::dvec3(rgb[3 * order[j]], rgb[3 * order[j] + 1], rgb[3 * order[j] + 2]);
+      const auto c = coordinates(order[k]);
+      points_.insert(points_.end(), c.begin(), c.end());
+      values_.push_back(sum / double(end - k));
+      k = end;
     }
-    std::vector<std::pair<double, std::uint32_t>> out;
-    for (; !best.empty(); best.pop()) out.push_back(best.top());
-    return out;
+    tree_ = std::make_unique<Tree>(dims_, *this, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+    tree_->buildIndex();
+  }
+  std::size_t size() const { return values_.size(); }
+  const double* point(std::size_t i) const { return points_.data() + i * std::size_t(dims_); }
+
+  // Shepard's inverse-distance-weighted mean (power 2) of the k nearest points to p (an exact hit takes that
+  // point's value), leaving out point `skip` (leave-one-out), if any.
+  glm::dvec3 interpolate(const double* p, std::size_t k, std::optional<std::size_t> skip = {}) const {
+    const std::size_t wanted = std::min(size(), k + (skip ? 1 : 0));
+    std::vector<std::uint32_t> indices(wanted);
+    std::vector<double> d2(wanted);
+    const std::size_t found = tree_->knnSearch(p, wanted, indices.data(), d2.data());
+    glm::dvec3 sum(0.0);
+    double weights = 0.0;
+    for (std::size_t j = 0; j < found; ++j) {
+      if (skip && indices[j] == *skip) continue;
+      const double w = d2[j] < 1e-24 ? 1e24 : 1.0 / d2[j];
+      sum += w * values_[indices[j]];
+      weights += w;
+    }
+    return weights > 0.0 ? sum / weights : glm::dvec3(0.0);
+  }
+  const glm::dvec3& value(std::size_t i) const { return values_[i]; }
+
+  // nanoflann's dataset interface.
+  std::size_t kdtree_get_point_count() const { return size(); }
+  double kdtree_get_pt(std::size_t i, std::size_t d) const { return points_[i * std::size_t(dims_) + d]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
   }
 
  private:
-  std::size_t cellOf(const double* p) const {
-    std::size_t index = 0;
-    for (int d = 0; d < dims_; ++d)
-      index = index * std::size_t(cells_) + std::size_t(std::clamp(int(p[d] * cells_), 0, cells_ - 1));
-    return index;
-  }
-  // The buckets whose largest offset from the centre is exactly r.
-  template <typename Visit>
-  void visitRing(const int* centre, int r, Visit visit) const {
-    int offset[4] = {-r, -r, -r, -r};
-    while (true) {
-      int largest = 0;
-      bool inside = true;
-      std::size_t index = 0;
-      for (int d = 0; d < dims_; ++d) {
-        largest = std::max(largest, std::abs(offset[d]));
-        const int c = centre[d] + offset[d];
-        inside = inside && c >= 0 && c < cells_;
-        index = index * std::size_t(cells_) + std::size_t(std::clamp(c, 0, cells_ - 1));
-      }
-      if (inside && largest == r) visit(index);
-      int d = 0;
-      while (d < dims_ && ++offset[d] > r) offset[d++] = -r;
-      if (d == dims_) break;
-    }
-  }
-
-  const std::vector<double>& points_;
-  int dims_, cells_;
-  std::vector<std::vector<std::uint32_t>> buckets_;
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, ScatteredSamples>,
+                                                   ScatteredSamples, -1, std::uint32_t>;
+  int dims_;
+  std::vector<double> points_;      // size() x dims, in [0, 1]
+  std::vector<glm::dvec3> values_;  // per point
+  std::unique_ptr<Tree> tree_;
 };
 
 }  // namespace
+
+std::string leaveOneOutText(const AltaGrid& grid) {
+  if (!grid.leaveOneOutError) return {};
+  char text[96];
+  std::snprintf(text, sizeof text, " (leave-one-out error %.3g %% over %zu distinct samples)",
+                100.0 * *grid.leaveOneOutError, grid.distinctSamples);
+  return text;
+}
+
+namespace {}  // namespace
 
 AltaGrid makeAltaGrid(const AltaData& data, const std::string& name) {
   AltaGrid grid;
@@ -244,9 +251,10 @@ AltaGrid makeAltaGrid(const AltaData& data, const std::string& name) {
       const std::size_t d = i % std::size_t(dims);
       unit[i] = hi[d] > lo[d] ? (x[i] - lo[d]) / (hi[d] - lo[d]) : 0.0;
     }
-    // About kNeighbours samples per bucket on average, so that most searches end in the first rings.
-    const int buckets = std::clamp(int(std::pow(double(n) / kNeighbours, 1.0 / dims)), 1, perAxis);
-    const NeighbourSearch search(unit, dims, buckets);
+    // The tree's points and values, the sort order and the scaled coordinates.
+    checkMemoryBudget(name + ": resampling " + std::to_string(n) + " samples",
+                      std::uint64_t(n) * (3 * dimCount * sizeof(double) + sizeof(glm::dvec3) + 16));
+    const ScatteredSamples samples(unit, data.rgb, dims);
     grid.rgb.assign(3 * nodes, 0.0f);
     std::vector<double> p(dimCount);
     for (std::size_t node = 0; node < nodes; ++node) {
@@ -256,16 +264,23 @@ AltaGrid makeAltaGrid(const AltaData& data, const std::string& name) {
         p[std::size_t(d)] = count > 1 ? double(rest % count) / double(count - 1) : 0.0;
         rest /= count;
       }
-      glm::dvec3 sum(0.0);
-      double weights = 0.0;
-      for (const auto& [d2, i] : search.nearest(p.data(), kNeighbours)) {
-        // An exact hit takes the sample's value; otherwise Shepard's weights 1 / d^2.
-        const double w = d2 < 1e-24 ? 1e24 : 1.0 / d2;
-        sum += w * glm::dvec3(data.rgb[3 * i], data.rgb[3 * i + 1], data.rgb[3 * i + 2]);
-        weights += w;
-      }
-      for (int c = 0; c < 3; ++c) grid.rgb[std::size_t(c) * nodes + node] = float(sum[c] / weights);
+      const glm::dvec3 value = samples.interpolate(p.data(), kNeighbours);
+      for (int c = 0; c < 3; ++c) grid.rgb[std::size_t(c) * nodes + node] = float(value[c]);
     }
+    // How well the resampling predicts the measurements: each distinct sample from its 8 nearest others, as
+    // the relative RMS error of the mean of the three channels.
+    if (samples.size() > std::size_t(kNeighbours)) {
+      double squared = 0.0, reference = 0.0;
+      for (std::size_t i = 0; i < samples.size(); ++i) {
+        const glm::dvec3 predicted = samples.interpolate(samples.point(i), kNeighbours, i);
+        const double y = (samples.value(i).x + samples.value(i).y + samples.value(i).z) / 3.0;
+        const double e = (predicted.x + predicted.y + predicted.z) / 3.0 - y;
+        squared += e * e;
+        reference += y * y;
+      }
+      grid.leaveOneOutError = reference > 0.0 ? std::sqrt(squared / reference) : 0.0;
+    }
+    grid.distinctSamples = samples.size();
     grid.resampledFrom = n;
     std::string shape;
     for (const auto& axis : grid.axes)
@@ -274,7 +289,7 @@ AltaGrid makeAltaGrid(const AltaData& data, const std::string& name) {
          (data.param == AltaParam::Cartesian ? std::string("are CARTESIAN directions")
                                              : std::string("do not lie on a regular grid")) +
          "; resampled onto a " + shape + " " + altaParamName(grid.param) +
-         " grid by inverse-distance weighting of the 8 nearest samples");
+         " grid by inverse-distance weighting of the 8 nearest samples" + leaveOneOutText(grid));
   }
   for (int d = 0; d < dims; ++d)
     grid.folds.push_back(

@@ -4,7 +4,10 @@
 // CARTESIAN file, whose unit vectors cannot form a grid) are resampled onto an even grid of the
 // parametrisation (CARTESIAN: SPHERICAL_TL_PL_TV_PV) spanning the samples: each node takes the
 // inverse-distance-weighted mean (power 2) of its 8 nearest samples, distances measured with every axis
-// scaled to [0, 1] (Shepard 1968), with a warning that says so. The CPU lookup here is the twin of
+// scaled to [0, 1] (Shepard 1968), with a warning that says so and gives the resampling's leave-one-out
+// error (each sample predicted from its 8 nearest others). Samples at the same coordinates are one sample
+// with their mean value; the nearest samples are found in a k-d tree, so clustered samples cost no more than
+// spread ones. The CPU lookup here is the twin of
 // shaders/brdf/alta_data.glsl.
 //
 // Azimuths outside an axis's range are brought into it by the symmetries of the parametrisation: a whole turn
@@ -19,6 +22,7 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,10 +38,16 @@ struct AltaGrid {
   std::vector<AltaFold> folds;               // per dimension
   std::vector<float> rgb;                    // planar: channel * nodes + node, the last axis fastest
   std::size_t resampledFrom = 0;             // > 0: this many scattered samples were resampled
+  std::size_t distinctSamples = 0;           // of them, at distinct coordinates (repeats are averaged)
+  // Resampled: the relative RMS error of predicting each distinct sample from its 8 nearest others (the
+  // resampling's leave-one-out error); nullopt for a regular grid or 8 samples or fewer.
+  std::optional<double> leaveOneOutError;
   std::size_t nodes() const { return rgb.size() / 3; }
 };
 
 // Throws iblx::Error naming `name` when the grid would exceed the memory budget.
+// " (leave-one-out error E % over N distinct samples)" for a resampled grid, else empty.
+std::string leaveOneOutText(const AltaGrid& grid);
 AltaGrid makeAltaGrid(const AltaData& data, const std::string& name);
 
 // f(wi, wo) in 1/sr: 0 when either direction is at or below the horizon.
