@@ -6,6 +6,7 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -157,6 +158,15 @@ AtomicOutput::~AtomicOutput() {
   fs::remove(temporary_, ignored);
 }
 
+namespace {
+
+// The errno values a failed write or close can leave.
+bool isWriteError(int error) {
+  return error == ENOSPC || error == EDQUOT || error == EFBIG || error == EIO || error == EROFS;
+}
+
+}  // namespace
+
 std::ofstream& AtomicOutput::stream() {
   if (!opened_) {
     opened_ = true;
@@ -176,12 +186,22 @@ void AtomicOutput::commit() {
       stream_.flush();
     }
     const bool written = bool(stream_);
-    const int writeError = errno;
+    int writeError = errno;
     errno = 0;
     stream_.close();
-    if (!written || !stream_)
+    if (!written || !stream_) {
+      // A stream keeps no reason for a failed write, and errno may have been set since by anything else
+      // (isatty on a redirected stderr leaves ENOTTY): only a write's own errors are taken from it, and a
+      // full file system is asked for directly.
+      if (!isWriteError(writeError)) writeError = isWriteError(errno) ? errno : 0;
+      struct statvfs space {};
+      if (writeError == 0 &&
+          ::statvfs(temporary_.parent_path().empty() ? "." : temporary_.parent_path().c_str(), &space) == 0 &&
+          space.f_bavail == 0)
+        writeError = ENOSPC;
       throw Error("cannot write " + path_.string() + ": " +
-                  systemReason(writeError != 0 ? writeError : errno, "write failed (is the disk full?)"));
+                  systemReason(writeError, "write failed (is the disk full?)"));
+    }
   }
   if (std::rename(temporary_.c_str(), path_.c_str()) != 0)
     throw Error("cannot write " + path_.string() + ": " + std::strerror(errno));

@@ -12,7 +12,7 @@
 
 namespace iblx {
 
-FileLock::FileLock(const std::filesystem::path& path, const std::string& what) {
+FileLock::FileLock(const std::filesystem::path& path, const std::string& what, LockBusy busy) {
   std::error_code ec;
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), ec);
   fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
@@ -20,6 +20,11 @@ FileLock::FileLock(const std::filesystem::path& path, const std::string& what) {
   // flock() on Linux NFS clients is carried out as a whole-file fcntl() lock, which the NFS lock manager
   // shares between machines.
   if (::flock(fd_, LOCK_EX | LOCK_NB) == 0) return;
+  if (errno == EWOULDBLOCK && busy == LockBusy::Refuse) {
+    ::close(fd_);
+    throw Error(what + " is being written by another iblx (it holds " + path.string() +
+                "); wait for it to finish or write elsewhere");
+  }
   if (errno == EWOULDBLOCK) {
     std::fprintf(stderr, "iblx: waiting for another iblx computing %s (%s)\n", what.c_str(), path.c_str());
     int result;

@@ -8,13 +8,17 @@
 
 namespace iblx {
 
+// What to do when another process holds the lock: wait for it, or refuse at once.
+enum class LockBusy { Wait, Refuse };
+
 class FileLock {
  public:
-  // Blocks until the lock on `path` (created if missing, never removed: removing it would let two processes
-  // hold locks on different files of one name) is held. `what` names the artefact in the message printed
-  // when another process holds it ("waiting for another iblx computing WHAT"). Throws Error naming the path
+  // Holds the lock on `path` (created if missing, never removed: removing it would let two processes hold
+  // locks on different files of one name). `what` names the artefact: while another process holds the lock,
+  // LockBusy::Wait prints "waiting for another iblx computing WHAT" and blocks until it is free;
+  // LockBusy::Refuse throws Error("WHAT is being written by another iblx ..."). Throws Error naming the path
   // when it cannot be created or locked.
-  FileLock(const std::filesystem::path& path, const std::string& what);
+  FileLock(const std::filesystem::path& path, const std::string& what, LockBusy busy = LockBusy::Wait);
   ~FileLock();
   FileLock(const FileLock&) = delete;
   FileLock& operator=(const FileLock&) = delete;

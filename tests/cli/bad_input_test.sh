@@ -357,6 +357,11 @@ expect_error "hardcases unknown case" "unknown hard case" hardcases --case nope
 "$iblx" reference --size 8x8 --out "$tmp/ref8.exr" > /dev/null 2>&1
 expect_error "converge reference size" "does not match the scene's 16x16" converge --size 16x16 --reference-file "$tmp/ref8.exr" --out-dir "$tmp/c1"
 [ ! -e "$tmp/c0" ] && [ ! -e "$tmp/c1" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: converge created its output directory despite bad input"; }
+# An --out-dir that cannot be created is reported before the ground truth is computed.
+: > "$tmp/a-file"
+IBLX_CACHE_DIR="$tmp/cache-od" expect_error "converge out-dir under a file" "--out-dir $tmp/a-file/sub: cannot create it: $tmp/a-file is not a directory" \
+  converge --brdf lambert --size 8x8 --method env-cdf --max-spp 8 --out-dir "$tmp/a-file/sub"
+[ ! -e "$tmp/cache-od/references" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: converge computed the ground truth before finding its --out-dir unusable"; }
 expect_ok "converge small" converge --brdf lambert --size 16x16 --method env-cdf --method mis:power --seq sobol --seeds 2 --spp 4 --max-spp 32 --out-dir "$tmp/conv"
 for f in converge.csv summary.md reference.exr mse_vs_spp.png relmse_vs_time.png heat-01-env-cdf-sobol.png; do
   [ -s "$tmp/conv/$f" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: converge did not write $f"; }
@@ -373,7 +378,11 @@ IBLX_CACHE_DIR="$tmp/cache-int" "$iblx" converge --size 32x32 --method uniform -
   --out-dir "$tmp/int" > /dev/null 2>&1 &
 pid=$!
 for _ in $(seq 300); do compgen -G "$tmp/cache-int/references/*.exr" > /dev/null && break; sleep 0.2; done
-sleep 3
+# A second converge into the same --out-dir meanwhile is refused (both used to exit 0, their files mixed).
+IBLX_CACHE_DIR="$tmp/cache-int" expect_error "converge into a directory another converge writes" \
+  "--out-dir $tmp/int is being written by another iblx" converge --size 32x32 --method uniform --seq random \
+  --seeds 1 --max-spp 8 --out-dir "$tmp/int"
+sleep 2
 kill -TERM $pid
 wait $pid
 status=$?

@@ -7,8 +7,11 @@
 #include "tests/io/scratch_files.h"
 
 #include <doctest/doctest.h>
+
+#include <cstdio>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <cstdlib>
@@ -131,6 +134,25 @@ TEST_CASE("writers on a full device: each throws naming the file, and leaves no 
   CHECK(contains(errorMessage([&] { writeMerl(merl, std::vector<double>(3 * kMerlBins, 0.5)); }),
                  merl.string()));
   CHECK(entriesIn(dir.file("")) == 0);
+}
+
+TEST_CASE("atomic output: a failed write is not reported with an errno left by an unrelated call") {
+  // The writes fail (EFBIG); then isatty on a regular file sets errno to ENOTTY, as progressLine does when
+  // stderr is redirected. The message used to say "Inappropriate ioctl for device".
+  ScratchDir dir;
+  std::string message;
+  {
+    const FileSizeLimit limit(4096);
+    AtomicOutput output(dir.file("big.csv"));
+    output.stream() << std::string(100000, 'x');
+    std::FILE* other = std::tmpfile();
+    REQUIRE(other != nullptr);
+    CHECK(::isatty(::fileno(other)) == 0);
+    std::fclose(other);
+    message = errorMessage([&] { output.commit(); });
+  }
+  CHECK(contains(message, "cannot write " + dir.file("big.csv").string()));
+  CHECK_FALSE(contains(message, "Inappropriate ioctl"));
 }
 
 }  // namespace iblx

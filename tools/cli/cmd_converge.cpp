@@ -3,6 +3,7 @@
 // writes the CSV, the summary table and the PNG figures.
 #include "engine/analysis/convergence.h"
 #include "engine/core/error.h"
+#include "engine/core/file_lock.h"
 #include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "engine/io/image_write.h"
@@ -15,11 +16,15 @@
 #include "tools/cli/report_html.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 namespace iblx::cli {
 
@@ -63,11 +68,30 @@ std::string budgetText(const ConvergenceBudget& budget) {
   return text;
 }
 
-void createOutDir(const std::filesystem::path& outDir) {
+// Whether the output directory can be made and written, without making it: checked before the ground truth
+// and the runs, which can take long, so that an unusable --out-dir is reported first (and bad input leaves no
+// directory behind).
+void checkOutDir(const std::filesystem::path& outDir) {
+  std::error_code ec;
+  std::filesystem::path existing = std::filesystem::absolute(outDir, ec);
+  while (!existing.empty() && !std::filesystem::exists(existing, ec) && existing != existing.parent_path())
+    existing = existing.parent_path();
+  if (!std::filesystem::is_directory(existing, ec))
+    throw Error("--out-dir " + outDir.string() + ": cannot create it: " + existing.string() +
+                " is not a directory");
+  if (::access(existing.c_str(), W_OK) != 0)
+    throw Error("--out-dir " + outDir.string() + ": cannot write in " + existing.string() + ": " +
+                std::strerror(errno));
+}
+
+// Creates the output directory and holds it for this run: a second converge writing the same directory is
+// refused (their CSV, summary and report would mix).
+FileLock claimOutDir(const std::filesystem::path& outDir) {
   std::error_code ec;
   std::filesystem::create_directories(outDir, ec);
   if (!std::filesystem::is_directory(outDir))
-    throw Error("--out-dir " + outDir.string() + ": cannot create it");
+    throw Error("--out-dir " + outDir.string() + ": cannot create it" + (ec ? ": " + ec.message() : ""));
+  return FileLock(outDir / ".iblx-converge.lock", "--out-dir " + outDir.string(), LockBusy::Refuse);
 }
 
 // Every method with every seed, until the budget or Ctrl-C (which keeps the runs measured so far); warns of
@@ -195,10 +219,11 @@ int runConverge(const ConvergeOptions& options) {
   Scene scene = loadConvergeScene(context, flags, std::move(brdf));
   const std::vector<ResolvedMethod> methods = resolveMethods(spec, *scene.brdf);
   const std::vector<std::uint32_t> seeds = seedList(spec);
+  checkOutDir(options.outDir);
   ShaderCompiler compiler;
   const ObtainedReference obtained = obtainReference(context, compiler, scene, hardCase, spec);
   // Created once the inputs have been checked (nothing is written for bad input), before the long part.
-  createOutDir(options.outDir);
+  const FileLock outDirLock = claimOutDir(options.outDir);
 
   const std::string sceneTitle = convergeSceneTitle(flags, scene);
   std::fprintf(stderr, "converge: %zu methods x %zu seeds on %s (%s)\n", methods.size(), seeds.size(),
