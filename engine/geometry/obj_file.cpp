@@ -10,6 +10,7 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -43,10 +44,16 @@ std::string parseError(const std::filesystem::path& path, const std::string& mes
 
 // tinyobjloader parses indices into int with wrap-around (4294967299 becomes 3), so each index of an element
 // line is checked here to fit an int before it parses them.
-void checkIndices(const std::filesystem::path& path, int number, std::istringstream& tokens) {
+// A negative (relative) index counts back from the last element of its kind defined so far (`defined`: 'v',
+// 'vt' and 'vn' lines before this one); one that counts back past the first is refused here, as tinyobjloader
+// turns it into a negative index that reads as "no normal" (f 1//-9 with one normal was accepted).
+void checkIndices(const std::filesystem::path& path, int number, std::istringstream& tokens,
+                  const std::array<long long, 3>& defined) {
+  constexpr const char* kKinds[3] = {"v", "vt", "vn"};
   for (std::string token; tokens >> token;) {
     if (token[0] == '#') return;
-    for (std::size_t begin = 0; begin <= token.size();) {
+    int component = 0;
+    for (std::size_t begin = 0; begin <= token.size(); ++component) {
       const std::size_t end = std::min(token.find('/', begin), token.size());
       const std::string index = token.substr(begin, end - begin);
       if (!index.empty()) {
@@ -57,6 +64,11 @@ void checkIndices(const std::filesystem::path& path, int number, std::istringstr
             (errno == ERANGE || value > std::numeric_limits<int>::max() ||
              value < -std::numeric_limits<int>::max()))
           throw Error(prefix(path, number) + "index " + index + " is out of range");
+        if (stop == index.c_str() + index.size() && value < 0 && component < 3 &&
+            -value > defined[std::size_t(component)])
+          throw Error(prefix(path, number) + "relative index " + index + " counts back past the first '" +
+                      kKinds[component] + "' line (" + std::to_string(defined[std::size_t(component)]) +
+                      " so far)");
       }
       begin = end + 1;
     }
@@ -69,6 +81,7 @@ void checkCoordinateLines(const std::filesystem::path& path, const std::string& 
   // Lines end as tinyobjloader ends them (its safeGetline): at "\n", "\r\n" or a lone "\r", so that a file
   // with old Mac line ends cannot hide a line from these checks.
   std::size_t pos = 0;
+  std::array<long long, 3> defined{0, 0, 0};  // 'v', 'vt' and 'vn' lines so far
   for (int number = 1; pos < text.size(); ++number) {
     const std::size_t lineEnd = std::min(text.find_first_of("\r\n", pos), text.size());
     const std::string line = text.substr(pos, lineEnd - pos);
@@ -77,18 +90,21 @@ void checkCoordinateLines(const std::filesystem::path& path, const std::string& 
     std::string keyword;
     tokens >> keyword;
     if (keyword == "f" || keyword == "l" || keyword == "p") {
-      checkIndices(path, number, tokens);
+      checkIndices(path, number, tokens, defined);
       continue;
     }
+    if (keyword == "vt") ++defined[1];
     if (keyword != "v" && keyword != "vn") continue;
+    ++defined[keyword == "v" ? 0 : 2];
     for (int k = 0; k < 3; ++k) {
       std::string token;
       if (!(tokens >> token))
         throw Error(prefix(path, number) + "'" + keyword + "' needs three numbers (x y z)");
       char* end = nullptr;
       const double value = std::strtod(token.c_str(), &end);
-      if (end != token.c_str() + token.size())
-        throw Error(prefix(path, number) + "'" + token + "' is not a number");
+      // strtod also reads hexadecimal ("0x1p3" is 8), which tinyobjloader reads as 0.
+      if (end != token.c_str() + token.size() || token.find_first_of("xX") != std::string::npos)
+        throw Error(prefix(path, number) + "'" + printableExcerpt(token) + "' is not a decimal number");
       if (!std::isfinite(value))
         throw Error(prefix(path, number) + "coordinate '" + token + "' is not finite");
     }

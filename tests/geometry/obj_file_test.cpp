@@ -135,7 +135,14 @@ TEST_CASE("obj: every kind of bad file gives one line naming the file and the pr
   const Case cases[] = {
       {"bad_face.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "bad_face.obj:4: bad 'f' line"},
       {"letters.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf a b c\n", "letters.obj:4: bad 'f' line"},
-      {"not_number.obj", "v 0 0 0\nv 1 abc 0\n", "not_number.obj:2: 'abc' is not a number"},
+      {"not_number.obj", "v 0 0 0\nv 1 abc 0\n", "not_number.obj:2: 'abc' is not a decimal number"},
+      // strtod reads hexadecimal, tinyobjloader read it as 0.
+      {"hex.obj", "v 0 0 0\nv 0x1p3 0 0\nv 0 1 0\nf 1 2 3\n", "hex.obj:2: '0x1p3' is not a decimal number"},
+      // A relative index before the first normal read as "no normal" and was accepted.
+      {"relative_normal.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//-9 2//-1 3//-1\n",
+       "relative_normal.obj:5: relative index -9 counts back past the first 'vn' line (1 so far)"},
+      {"relative_vertex.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n",
+       "relative_vertex.obj:3: relative index -3 counts back past the first 'v' line (2 so far)"},
       {"short.obj", "v 0 0\n", "short.obj:1: 'v' needs three numbers"},
       {"nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", "nan.obj:2: coordinate 'nan' is not finite"},
       {"huge.obj", "v 0 0 0\nv 1e999 0 0\n", "huge.obj:2: coordinate '1e999' is not finite"},

@@ -55,11 +55,12 @@ std::vector<float> readReferenceFile(const std::filesystem::path& path, int widt
 }
 
 std::string nonFiniteEstimatesMessage(std::uint64_t count, const std::string& brdfArgument) {
-  const std::string ext = lowerExtension(brdfArgument);
-  const bool programmable = ext == ".brdf" || ext == ".bparam";
+  // Any BRDF read from a file (a .brdf program, an RGL-EPFL material, an ALTA function) can hold values whose
+  // products overflow float; only the built-in BRDFs, named without an extension, cannot.
+  const bool fromFile = !lowerExtension(brdfArgument).empty();
   return std::to_string(count) + " NaN/Inf sample estimates were replaced by 0 (" +
-         (programmable ? brdfArgument + " may return values beyond float range; otherwise a sampler bug"
-                       : "a sampler bug: please report it") +
+         (fromFile ? brdfArgument + " may return values beyond float range; otherwise a sampler bug"
+                   : "a sampler bug: please report it") +
          ")";
 }
 

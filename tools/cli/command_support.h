@@ -21,8 +21,8 @@ Scene tabulationScene(SceneSpec spec, LoadedBrdf brdf);
 // name the flag and file; a size mismatch says "does not match <sizeName> WxH".
 std::vector<float> readReferenceFile(const std::filesystem::path& path, int width, int height,
                                      const std::string& sizeName);
-// The warning for estimates the GPU replaced by 0 because they were NaN or Inf: with finite inputs below
-// iblx's limits that is a sampler bug, but a BRDF file can return values whose products overflow float.
+// The warning for estimates the GPU replaced by 0 because they were NaN or Inf: with a built-in BRDF that is
+// a sampler bug, but a BRDF read from any file can hold values whose products overflow float.
 std::string nonFiniteEstimatesMessage(std::uint64_t count, const std::string& brdfArgument);
 
 // Progress line on stderr, only when stderr is a terminal.
