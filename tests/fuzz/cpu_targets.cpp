@@ -267,6 +267,13 @@ void runAltaData(std::span<const std::uint8_t> input) {
     throw Error("an ALTA data grid evaluated to a negative or non-finite value");
 }
 
+// Scattered samples, nearly all at one point and one far away: resampling them cost nodes x samples.
+Bytes clusteredAltaData() {
+  std::string text = "#DIM 3 1\n#PARAM_IN ISOTROPIC_TV_TL_DPHI\n#PARAM_OUT INV_STERADIAN\n";
+  for (int i = 0; i < 200; ++i) text += "0.5 0.5 1 0.25\n";
+  return textBytes(text + "1.2 1.1 2 0.5\n");
+}
+
 std::vector<Bytes> altaDataSeeds() {
   const auto file = [](AltaParam param, std::size_t scattered, bool binary) {
     AltaSynthPlan plan = planAltaSynth(param, AltaOutput::RgbColor, scattered);
@@ -281,7 +288,14 @@ std::vector<Bytes> altaDataSeeds() {
   return {
       file(AltaParam::RusinThTd, 40, false), file(AltaParam::Cartesian, 30, true),
       textBytes("#DIM 2 3\n#PARAM_IN RUSIN_TH_TD\n#PARAM_OUT RGB_COLOR\n#VS 1\n0 0 1 1 1 0.1\n0 1 2 2 2 0.1\n"
-                "1 0 3 3 3 0.1\n1 1 4 4 4 0.1\n")};
+                "1 0 3 3 3 0.1\n1 1 4 4 4 0.1\n"),
+      clusteredAltaData(),
+      // Blanks and tabs as ALTA's own files have them, CRLF line ends and a comment before #DIM.
+      textBytes(
+          "# measured; disclaimer\r\n#DIM\t3  1\r\n#PARAM_IN  ISOTROPIC_TV_TL_DPHI \r\n0.1\t0.2 0.3 1\r\n"
+          "0.4 0.5\t0.6 2\r\n"),
+      // A header line without an end.
+      textBytes("#DIM 3 1\n#PARAM_IN RUSIN_TH_TD_PD\n#PARAM_OUT " + std::string(4096, 'X'))};
 }
 
 // ---- ALTA function files ----------------------------------------------------------------------------------
