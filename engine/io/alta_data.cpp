@@ -28,25 +28,6 @@ constexpr std::uint64_t kMaxAltaFileBytes = std::uint64_t(4) << 30;
 constexpr AltaParam kDataParams[] = {AltaParam::RusinThTdPd, AltaParam::RusinThTd,
                                      AltaParam::IsotropicTvTlDphi, AltaParam::SphericalTlPlTvPv,
                                      AltaParam::Cartesian};
-// ALTA's other parametrisations, named in the message that refuses them.
-constexpr const char* kOtherParams[] = {"COS_TH",
-                                        "COS_TK",
-                                        "COS_TLV",
-                                        "COS_TLR",
-                                        "COS_TH_TD",
-                                        "ISOTROPIC_TV_PROJ_DPHI",
-                                        "STARK_2D",
-                                        "NEUMANN_2D",
-                                        "RUSIN_VH",
-                                        "SCHLICK_VK",
-                                        "ISOTROPIC_TL_TV_PROJ_DPHI",
-                                        "SCHLICK_TL_TK_PROJ_DPHI",
-                                        "RETRO_TL_TVL_PROJ_DPHI",
-                                        "STARK_3D",
-                                        "NEUMANN_3D",
-                                        "RUSIN_TH_PH_TD_PD",
-                                        "STEREOGRAPHIC"};
-
 std::string supportedParams() {
   std::string s;
   for (AltaParam p : kDataParams) s.append(s.empty() ? "" : ", ").append(altaParamName(p));
@@ -233,10 +214,9 @@ AltaData loadAltaData(const fs::path& path) {
   for (AltaParam p : kDataParams)
     if (paramName == altaParamName(p)) data.param = p, known = true;
   if (!known) {
-    for (const char* other : kOtherParams)
-      if (paramName == other)
-        throw Error(paramWhere + ": #PARAM_IN " + paramName +
-                    " is an ALTA parametrisation iblx does not read; " + "it reads " + supportedParams());
+    if (findAltaParam(paramName))
+      throw Error(paramWhere + ": #PARAM_IN " + paramName +
+                  " is an ALTA parametrisation iblx does not read; " + "it reads " + supportedParams());
     throw Error(paramWhere + ": unknown #PARAM_IN '" + printableExcerpt(paramName) + "'; iblx reads " +
                 supportedParams());
   }

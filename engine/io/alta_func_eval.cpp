@@ -75,9 +75,8 @@ std::vector<double> altaCoordinates(AltaParam p, const glm::dvec3& wi, const glm
       return {k[0], k[1], foldAngle(wrap2Pi(k[2]), min[2], max[2], true)};
     case AltaParam::IsotropicTvTlDphi:
       return {k[0], k[1], foldAngle(wrap2Pi(k[2]), min[2], max[2], false)};
-    case AltaParam::SphericalTlPlTvPv:
-    case AltaParam::Cartesian:
-      break;  // data-file parametrisations: the function-file parser refuses them
+    default:
+      break;  // the parametrisations the function-file parser refuses
   }
   return {};
 }

@@ -168,9 +168,8 @@ void emitCoordinates(std::ostringstream& s, const AltaFunc& f, const AltaRationa
         << "  float x2 = iblxAltaFold(dphi, " << glslFloat(r.min[2]) << ", " << glslFloat(r.max[2])
         << ", false);\n";
       break;
-    case AltaParam::SphericalTlPlTvPv:
-    case AltaParam::Cartesian:
-      break;  // data-file parametrisations: the function-file parser refuses them
+    default:
+      break;  // the parametrisations the function-file parser refuses
   }
 }
 
