@@ -24,13 +24,10 @@ constexpr double kMaxAltaValue = 1e15;  // the float headroom of kMaxEnvRadiance
 // Text files beyond this are not a measurement iblx can hold as a table anyway.
 constexpr std::uint64_t kMaxAltaFileBytes = std::uint64_t(4) << 30;
 
-// The parametrisations a data file may use.
-constexpr AltaParam kDataParams[] = {AltaParam::RusinThTdPd, AltaParam::RusinThTd,
-                                     AltaParam::IsotropicTvTlDphi, AltaParam::SphericalTlPlTvPv,
-                                     AltaParam::Cartesian};
 std::string supportedParams() {
   std::string s;
-  for (AltaParam p : kDataParams) s.append(s.empty() ? "" : ", ").append(altaParamName(p));
+  for (AltaParam p : altaParams())
+    if (altaTableParam(p)) s.append(s.empty() ? "" : ", ").append(altaParamName(p));
   return s;
 }
 
@@ -150,6 +147,39 @@ std::string altaOutputName(AltaOutput output) {
   return "?";
 }
 
+std::optional<AltaParam> altaTableParam(AltaParam file) {
+  switch (file) {
+    case AltaParam::RusinThTdPd:
+    case AltaParam::RusinThTd:
+    case AltaParam::IsotropicTvTlDphi:
+    case AltaParam::SphericalTlPlTvPv:
+      return file;
+    case AltaParam::Cartesian:
+    case AltaParam::RusinThPhTdPd:
+    case AltaParam::Stereographic:
+      return AltaParam::SphericalTlPlTvPv;
+    case AltaParam::CosTh:  // theta_d's axis has one node: the values depend on theta_h alone
+    case AltaParam::CosThTd:
+    case AltaParam::Stark2d:  // |B~| = sin theta_d, |H~_p| = cos theta_d sin theta_h
+      return AltaParam::RusinThTd;
+    case AltaParam::IsotropicTvProjDphi:  // theta_L's axis has one node
+    case AltaParam::IsotropicTlTvProjDphi:
+    case AltaParam::SchlickTlTkProjDphi:
+    case AltaParam::RetroTlTvlProjDphi:
+    case AltaParam::Stark3d:
+    case AltaParam::Neumann3d:
+      return AltaParam::IsotropicTvTlDphi;
+    case AltaParam::RusinVh:
+    case AltaParam::SchlickVk:
+    case AltaParam::CosTk:
+    case AltaParam::CosTlv:
+    case AltaParam::CosTlr:
+    case AltaParam::Neumann2d:
+      return std::nullopt;
+  }
+  return std::nullopt;
+}
+
 bool looksLikeAltaData(const fs::path& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return false;
@@ -211,8 +241,7 @@ AltaData loadAltaData(const fs::path& path) {
   const std::string& paramName = h.keys.at("PARAM_IN");
   const std::string paramWhere = name + ":" + std::to_string(h.lines.at("PARAM_IN"));
   bool known = false;
-  for (AltaParam p : kDataParams)
-    if (paramName == altaParamName(p)) data.param = p, known = true;
+  if (const auto p = findAltaParam(paramName); p && altaTableParam(*p)) data.param = *p, known = true;
   if (!known) {
     if (findAltaParam(paramName))
       throw Error(paramWhere + ": #PARAM_IN " + paramName +

@@ -208,10 +208,23 @@ cp "$tmp/lambert.data" "$tmp/lambert-alta.dat"
 expect_ok "alta .dat recognised by its header" render --brdf "$tmp/lambert-alta.dat" --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png"
 expect_ok "measured-synth alta cartesian" measured-synth --format alta --alta-param CARTESIAN --alta-scattered 2000 --brdf lambert --out "$tmp/cart.data"
 warning=$("$iblx" render --brdf "$tmp/cart.data" --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png" 2>&1 >/dev/null)
-printf '%s' "$warning" | grep -q "the 2000 samples are CARTESIAN directions; resampled onto a 16 x 16 x 16 x 16 SPHERICAL_TL_PL_TV_PV grid" &&
+printf '%s' "$warning" | grep -q "the 2000 CARTESIAN samples, read as SPHERICAL_TL_PL_TV_PV coordinates, are directions; resampled onto a 16 x 16 x 16 x 16 SPHERICAL_TL_PL_TV_PV grid" &&
   passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: alta resampling warning: $warning"; }
-printf '#DIM 3 1\n#PARAM_IN STARK_3D\n0 0 0 1\n' > "$tmp/stark.data"
-expect_error "alta data parametrisation" "stark.data:2: #PARAM_IN STARK_3D is an ALTA parametrisation iblx does not read" render --brdf "$tmp/stark.data" --out "$tmp/b.png"
+printf '#DIM 1 1\n#PARAM_IN COS_TLV\n0 1\n' > "$tmp/tlv.data"
+expect_error "alta data parametrisation" "tlv.data:2: #PARAM_IN COS_TLV is an ALTA parametrisation iblx does not read" render --brdf "$tmp/tlv.data" --out "$tmp/b.png"
+# Shaped like ALTA's own example files: a 1D COS_TH slice with a doubled blank after #PARAM_IN, and
+# retro-reflection measurements over ISOTROPIC_TL_TV_PROJ_DPHI without a #PARAM_OUT line.
+{ printf '#DIM 1 3\n#PARAM_IN  COS_TH\n#PARAM_OUT RGB_COLOR\n'
+  for c in 0.2 0.4 0.6 0.8 0.9 0.95 1.0; do printf '%s 0.1 0.2 %s\n' "$c" "$c"; done; } > "$tmp/felt-1d.alta"
+expect_ok "alta COS_TH data" render --brdf "$tmp/felt-1d.alta" --size 8x8 --spp 2 --passes 1 --out "$tmp/felt.png"
+awk 'BEGIN { srand(3); print "#DIM 3 1"; print "#PARAM_IN ISOTROPIC_TL_TV_PROJ_DPHI";
+  for (i = 0; i < 3000; i++) { tl = rand() * 1.4; tv = rand() * 1.4; d = rand() * 6.283;
+    printf "%.6f %.6f %.6f %.6f\n", tl, tv * cos(d), tv * sin(d), 0.1 + exp(-4 * tv * tv) } }' > "$tmp/retro.dat"
+warning=$("$iblx" render --brdf "$tmp/retro.dat" --size 8x8 --spp 2 --passes 1 --out "$tmp/retro.png" 2>&1 >/dev/null)
+printf '%s' "$warning" | grep -q "the 3000 ISOTROPIC_TL_TV_PROJ_DPHI samples, read as ISOTROPIC_TV_TL_DPHI coordinates, do not lie on a regular grid; resampled onto a 32 x 32 x 32 ISOTROPIC_TV_TL_DPHI grid by inverse-distance weighting of the 8 nearest samples (leave-one-out error" &&
+  passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: alta retro resampling warning: $warning"; }
+"$iblx" render --list-methods --brdf "$tmp/retro.dat" 2>/dev/null | grep -q "leave-one-out error" &&
+  passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: --list-methods does not give the resampling's leave-one-out error"; }
 printf '#DIM 3 1\n#PARAM_IN RUSIN_TH_TD_PD\n0 0 0 1\n0 0 zero 1\n' > "$tmp/nan.data"
 expect_error "alta data number" "nan.data:4: 'zero' is not a number" render --brdf "$tmp/nan.data" --out "$tmp/b.png"
 printf '#DIM 3 1\n#PARAM_IN RUSIN_TH_TD_PD\n#FORMAT binary\n#VERSION 0\n#PRECISION ieee754-double\n#ENDIAN little\n#SAMPLE_COUNT 9\n#BEGIN_STREAM\n12345678\n#END_STREAM\n' > "$tmp/short.data"

@@ -95,9 +95,10 @@ TEST_CASE("alta data: malformed files are refused with the file, the line and th
                  "m.data:1: not an ALTA data file: no #DIM"));
   CHECK(contains(loadMessage(dir, "#DIM 3 1\n0 0 0 1\n"), "no #PARAM_IN line"));
   CHECK(contains(loadMessage(dir, "#DIM 3\n#PARAM_IN RUSIN_TH_TD_PD\n"), "m.data:1: #DIM needs two counts"));
-  CHECK(contains(loadMessage(dir, "#DIM 3 1\n#PARAM_IN STARK_3D\n0 0 0 1\n"),
-                 "m.data:2: #PARAM_IN STARK_3D is an ALTA parametrisation iblx does not read; it reads "
-                 "RUSIN_TH_TD_PD, RUSIN_TH_TD, ISOTROPIC_TV_TL_DPHI, SPHERICAL_TL_PL_TV_PV, CARTESIAN"));
+  CHECK(
+      contains(loadMessage(dir, "#DIM 2 1\n#PARAM_IN NEUMANN_2D\n0 0 1\n"),
+               "m.data:2: #PARAM_IN NEUMANN_2D is an ALTA parametrisation iblx does not read; it reads "
+               "RUSIN_TH_PH_TD_PD, RUSIN_TH_TD_PD, RUSIN_TH_TD, COS_TH_TD, COS_TH, SCHLICK_TL_TK_PROJ_DPHI"));
   CHECK(contains(loadMessage(dir, "#DIM 3 1\n#PARAM_IN BOGUS\n"), "unknown #PARAM_IN 'BOGUS'"));
   CHECK(contains(loadMessage(dir, "#DIM 2 1\n#PARAM_IN RUSIN_TH_TD_PD\n"),
                  "#DIM gives 2 inputs, but RUSIN_TH_TD_PD has 3"));

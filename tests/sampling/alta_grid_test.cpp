@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 using namespace iblx;
 using namespace iblx::test;
@@ -80,7 +81,7 @@ TEST_CASE("alta grid: scattered and Cartesian samples are resampled, with a warn
     WarningCapture warnings;
     const AltaGrid grid = makeAltaGrid(synthesize(param, 20000), "m.data");
     REQUIRE(warnings.messages.size() == 1);
-    CHECK(contains(warnings.messages[0], "m.data: the 20000 samples"));
+    CHECK(contains(warnings.messages[0], "m.data: the 20000 " + altaParamName(param) + " samples"));
     CHECK(contains(warnings.messages[0], "inverse-distance weighting of the 8 nearest samples"));
     CHECK(grid.resampledFrom == 20000);
     CHECK(grid.param == (param == AltaParam::Cartesian ? AltaParam::SphericalTlPlTvPv : param));
@@ -127,4 +128,59 @@ TEST_CASE("alta grid: clustered samples resample in time, repeats count once, an
   const AltaGrid noisyGrid = makeAltaGrid(noisy, "noisy.data");
   REQUIRE(noisyGrid.leaveOneOutError.has_value());
   CHECK(*noisyGrid.leaveOneOutError > 3.0 * *smoothGrid.leaveOneOutError);
+}
+
+TEST_CASE("alta grid: data in every parametrisation iblx tabulates reproduce the function they sample") {
+  // Each function depends only on what its parametrisation keeps (a 1D or 2D one drops angles, and data in it
+  // say the BRDF does not depend on them).
+  const auto value = [](AltaParam p, glm::dvec3 wi, glm::dvec3 wo) {
+    const glm::dvec3 h = glm::normalize(wi + wo);
+    switch (p) {
+      case AltaParam::CosTh:
+        return glm::dvec3(0.5 + h.z);
+      case AltaParam::CosThTd:
+      case AltaParam::Stark2d:
+        return glm::dvec3(0.5 + h.z + 0.5 * glm::dot(wi, h));
+      case AltaParam::IsotropicTvProjDphi: {
+        const double dphi = std::atan2(wo.y, wo.x) - std::atan2(wi.y, wi.x);
+        return glm::dvec3(1.0 + wo.z + 0.2 * std::cos(dphi));
+      }
+      default:
+        return smooth(wi, wo);
+    }
+  };
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (AltaParam p : altaParams()) {
+    const auto table = altaTableParam(p);
+    if (!table || *table == p || p == AltaParam::Cartesian) continue;  // the file's own: tested above
+    CAPTURE(altaParamName(p));
+    const int dims = altaParamDimension(p);
+    AltaData data;
+    data.param = p;
+    data.output = AltaOutput::RgbColor;
+    for (int i = 0; i < 20000; ++i) {
+      const glm::dvec3 wi = direction(std::acos(0.05 + 0.95 * u(rng)), 2.0 * kPi * u(rng));
+      const glm::dvec3 wo = direction(std::acos(0.05 + 0.95 * u(rng)), 2.0 * kPi * u(rng));
+      const auto x = altaRawCoordinates(p, wi, wo);
+      data.x.insert(data.x.end(), x.begin(), x.begin() + dims);
+      const glm::dvec3 f = value(p, wi, wo);
+      data.rgb.insert(data.rgb.end(), {f.x, f.y, f.z});
+    }
+    data.samples = 20000;
+    WarningCapture warnings;
+    const AltaGrid grid = makeAltaGrid(data, "m.data");
+    CHECK(grid.param == *table);
+    REQUIRE(warnings.messages.size() == 1);
+    CHECK(contains(warnings.messages[0], "read as " + altaParamName(*table) + " coordinates"));
+    double mean = 0.0;
+    const std::size_t pairs = 400;
+    for (const glm::dvec2 v : uniformPoints(pairs, 9)) {
+      const glm::dvec3 wi = direction(std::acos(0.2 + 0.7 * v.x), 6.0 * v.y);
+      const glm::dvec3 wo = direction(std::acos(0.2 + 0.7 * v.y), 1.0 + 4.0 * v.x);
+      mean += std::abs(evalAltaGrid(grid, wi, wo).x / value(p, wi, wo).x - 1.0) / double(pairs);
+    }
+    INFO("mean relative error " << mean);
+    CHECK(mean < 0.05);
+  }
 }

@@ -97,17 +97,21 @@ std::size_t nearestIndex(const std::vector<double>& axis, double x) {
   return (x - *(it - 1) < *it - x) ? std::size_t(it - axis.begin()) - 1 : std::size_t(it - axis.begin());
 }
 
-// The samples' coordinates in the grid's parametrisation (Cartesian samples become spherical ones).
-std::vector<double> gridCoordinates(const AltaData& data, AltaParam gridParam) {
-  if (data.param != AltaParam::Cartesian) return data.x;
+// The samples' coordinates in the grid's parametrisation: the file's own, or converted through a direction
+// pair with the file's coordinates (altaDirections).
+std::vector<double> gridCoordinates(const AltaData& data, AltaParam gridParam, const std::string& name) {
+  if (data.param == gridParam) return data.x;
+  const auto in = std::size_t(altaParamDimension(data.param)),
+             out = std::size_t(altaParamDimension(gridParam));
   std::vector<double> x;
-  x.reserve(data.samples * 4);
+  x.reserve(data.samples * out);
   for (std::size_t i = 0; i < data.samples; ++i) {
-    const double* c = data.x.data() + 6 * i;
-    const glm::dvec3 v(c[0], c[1], c[2]), l(c[3], c[4], c[5]);
-    const auto k = altaRawCoordinates(gridParam, glm::length(l) > 0 ? glm::normalize(l) : l,
-                                      glm::length(v) > 0 ? glm::normalize(v) : v);
-    x.insert(x.end(), k.begin(), k.begin() + 4);  // SPHERICAL_TL_PL_TV_PV
+    const auto pair = altaDirections(data.param, std::span(data.x).subspan(i * in, in));
+    if (!pair)
+      throw Error(name + ": sample " + std::to_string(i) + " has " + altaParamName(data.param) +
+                  " coordinates that no pair of directions has");
+    const auto k = altaRawCoordinates(gridParam, pair->first, pair->second);
+    x.insert(x.end(), k.begin(), k.begin() + std::ptrdiff_t(out));
   }
   return x;
 }
@@ -193,10 +197,12 @@ namespace {}  // namespace
 
 AltaGrid makeAltaGrid(const AltaData& data, const std::string& name) {
   AltaGrid grid;
-  grid.param = data.param == AltaParam::Cartesian ? AltaParam::SphericalTlPlTvPv : data.param;
+  const std::optional<AltaParam> tableParam = altaTableParam(data.param);
+  if (!tableParam) throw Error(name + ": iblx does not tabulate ALTA data in " + altaParamName(data.param));
+  grid.param = *tableParam;
   grid.cosineFactor = data.output == AltaOutput::InvSteradianCosine;
   const int dims = altaParamDimension(grid.param);
-  const std::vector<double> x = gridCoordinates(data, grid.param);
+  const std::vector<double> x = gridCoordinates(data, grid.param, name);
   const std::size_t n = data.samples;
 
   // A regular grid: as many samples as the product of the distinct values per axis, each node once.
@@ -285,9 +291,11 @@ AltaGrid makeAltaGrid(const AltaData& data, const std::string& name) {
     std::string shape;
     for (const auto& axis : grid.axes)
       shape.append(shape.empty() ? "" : " x ").append(std::to_string(axis.size()));
-    warn(name + ": the " + std::to_string(n) + " samples " +
-         (data.param == AltaParam::Cartesian ? std::string("are CARTESIAN directions")
-                                             : std::string("do not lie on a regular grid")) +
+    const std::string converted =
+        data.param == grid.param ? "" : ", read as " + altaParamName(grid.param) + " coordinates,";
+    warn(name + ": the " + std::to_string(n) + " " + altaParamName(data.param) + " samples" + converted +
+         (data.param == AltaParam::Cartesian ? std::string(" are directions")
+                                             : std::string(" do not lie on a regular grid")) +
          "; resampled onto a " + shape + " " + altaParamName(grid.param) +
          " grid by inverse-distance weighting of the 8 nearest samples" + leaveOneOutText(grid));
   }
