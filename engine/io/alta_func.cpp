@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 namespace iblx {
@@ -19,8 +20,6 @@ constexpr double kPiD = std::numbers::pi;
 constexpr std::uint64_t kMaxAltaFileBytes = 64ull << 20;
 
 // The parametrisations a rational function may be written over.
-constexpr AltaParam kFunctionParams[] = {AltaParam::CosTh, AltaParam::CosThTd, AltaParam::RusinThTd,
-                                         AltaParam::RusinThTdPd, AltaParam::IsotropicTvTlDphi};
 
 // Each nonlinear plugin's parameter names, in ALTA's file order.
 std::vector<std::string> lobeParamNames(AltaLobeKind k) {
@@ -163,15 +162,11 @@ class Parser {
       }
       if (lobe.kind == AltaLobeKind::Rational) {
         if (paramInLine == 0) fail(l.number, "a rational function needs the header line '#PARAM_IN <name>'");
-        bool known = false;
-        for (AltaParam p : kFunctionParams)
-          if (paramInName == altaParamName(p)) {
-            f.paramIn = p;
-            known = true;
-          }
+        const std::optional<AltaParam> known = findAltaParam(paramInName);
+        if (known) f.paramIn = *known;
         if (!known)
-          fail(paramInLine, "#PARAM_IN " + clip(paramInName) + ": iblx evaluates rational functions over " +
-                                altaSupportedParams());
+          fail(paramInLine, "#PARAM_IN " + clip(paramInName) +
+                                ": not one of ALTA's parametrisations: " + altaSupportedParams());
         if (f.dimX != altaParamDimension(f.paramIn))
           fail(dimLine, "#DIM nX = " + std::to_string(f.dimX) + " but " + paramInName + " has " +
                             std::to_string(altaParamDimension(f.paramIn)) + " dimensions");
@@ -348,7 +343,7 @@ std::string altaBasisName(AltaBasis b) {
 }
 std::string altaSupportedParams() {
   std::string s;
-  for (AltaParam p : kFunctionParams) s += (s.empty() ? "" : ", ") + altaParamName(p);
+  for (AltaParam p : altaParams()) s += (s.empty() ? "" : ", ") + altaParamName(p);
   return s;
 }
 std::string altaLobeName(AltaLobeKind k) {

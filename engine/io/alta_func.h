@@ -32,12 +32,11 @@
 
 namespace iblx {
 
-// A rational function may be written over COS_TH, COS_TH_TD, RUSIN_TH_TD, RUSIN_TH_TD_PD and
-// ISOTROPIC_TV_TL_DPHI (all cheap in GLSL).
+// A rational function may be written over any of ALTA's parametrisations (engine/io/alta_params.h).
 enum class AltaBasis { Monomial, Chebyshev, Legendre };
 
 std::string altaBasisName(AltaBasis b);
-// "COS_TH, COS_TH_TD, RUSIN_TH_TD, RUSIN_TH_TD_PD, ISOTROPIC_TV_TL_DPHI"
+// Every parametrisation's name, for messages: "RUSIN_TH_PH_TD_PD, RUSIN_TH_TD_PD, ..."
 std::string altaSupportedParams();
 
 struct AltaTerm {

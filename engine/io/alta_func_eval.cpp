@@ -65,20 +65,21 @@ double evalAltaRational(const AltaRational& r, AltaBasis basis, int channel, std
 std::vector<double> altaCoordinates(AltaParam p, const glm::dvec3& wi, const glm::dvec3& wo,
                                     std::span<const double> min, std::span<const double> max) {
   const std::array<double, 6> k = altaRawCoordinates(p, wi, wo);
-  switch (p) {
-    case AltaParam::CosTh:
-      return {k[0]};
-    case AltaParam::CosThTd:
-    case AltaParam::RusinThTd:
-      return {k[0], k[1]};
-    case AltaParam::RusinThTdPd:
-      return {k[0], k[1], foldAngle(wrap2Pi(k[2]), min[2], max[2], true)};
-    case AltaParam::IsotropicTvTlDphi:
-      return {k[0], k[1], foldAngle(wrap2Pi(k[2]), min[2], max[2], false)};
-    default:
-      break;  // the parametrisations the function-file parser refuses
+  std::vector<double> x(k.begin(), k.begin() + altaParamDimension(p));
+  for (std::size_t d = 0; d < x.size(); ++d) {
+    switch (altaAngleKind(p, int(d))) {
+      case AltaAngle::NotAngle:
+        break;
+      case AltaAngle::Turn:
+        x[d] = clampTo(min[d] + wrap2Pi(x[d] - min[d]), min[d], max[d]);
+        break;
+      case AltaAngle::Reciprocity:
+      case AltaAngle::Mirror:
+        x[d] = foldAngle(wrap2Pi(x[d]), min[d], max[d], altaAngleKind(p, int(d)) == AltaAngle::Reciprocity);
+        break;
+    }
   }
-  return {};
+  return x;
 }
 
 glm::dvec3 evalAltaLobe(const AltaFunc& f, const AltaLobe& lobe, const glm::dvec3& wi, const glm::dvec3& wo) {

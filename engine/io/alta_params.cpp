@@ -112,6 +112,23 @@ std::optional<AltaParam> findAltaParam(const std::string& name) {
   return std::nullopt;
 }
 
+AltaAngle altaAngleKind(AltaParam p, int coordinate) {
+  switch (p) {
+    case AltaParam::RusinThTdPd:
+      return coordinate == 2 ? AltaAngle::Reciprocity : AltaAngle::NotAngle;
+    case AltaParam::IsotropicTvTlDphi:
+      return coordinate == 2 ? AltaAngle::Mirror : AltaAngle::NotAngle;
+    case AltaParam::RusinThPhTdPd:
+    case AltaParam::SphericalTlPlTvPv:
+      return coordinate == 1 || coordinate == 3 ? AltaAngle::Turn : AltaAngle::NotAngle;
+    case AltaParam::Stark3d:
+    case AltaParam::Neumann3d:
+      return coordinate == 2 ? AltaAngle::Turn : AltaAngle::NotAngle;
+    default:
+      return AltaAngle::NotAngle;
+  }
+}
+
 std::array<double, 6> altaRawCoordinates(AltaParam p, const glm::dvec3& wi, const glm::dvec3& wo) {
   const glm::dvec3 h = halfVector(wi, wo);
   const double cosH = std::clamp(h.z, -1.0, 1.0), cosD = std::clamp(glm::dot(wi, h), -1.0, 1.0);

@@ -87,6 +87,13 @@ std::optional<AltaParam> findAltaParam(const std::string& name);
 // The coordinates of (wi = light, wo = view), as the parametrisation lists them (unused entries 0).
 std::array<double, 6> altaRawCoordinates(AltaParam p, const glm::dvec3& wi, const glm::dvec3& wo);
 
+// How a coordinate that is an azimuth (or a difference of two) comes back into a box that holds one turn or
+// less of it: by whole turns; by whole turns and reciprocity (phi_d and phi_d + pi, RUSIN_TH_TD_PD); by whole
+// turns and the mirror symmetry of the plane of incidence (phi_L - phi_V and its negative,
+// ISOTROPIC_TV_TL_DPHI). NotAngle for the other coordinates (clamped to the box only).
+enum class AltaAngle { NotAngle, Turn, Reciprocity, Mirror };
+AltaAngle altaAngleKind(AltaParam p, int coordinate);
+
 // One direction pair (wi = light, wo = view) with coordinates x (altaParamDimension(p) of them): the light at
 // azimuth 0 where the parametrisation drops the pair's azimuth, a dropped angle at ALTA's choice (phi_d = pi
 // / 2 for RUSIN_TH_TD, 0 for COS_TH_TD, the light at the normal for ISOTROPIC_TV_PROJ_DPHI and COS_TLV).

@@ -83,7 +83,7 @@ float iblxAltaFold(float a, float lo, float hi, bool reciprocity) {
     a = a - 2.0 * kAltaPi >= lo ? a - 2.0 * kAltaPi : (reciprocity ? a - kAltaPi : 2.0 * kAltaPi - a);
   return clamp(a, lo, hi);
 }
-float iblxAltaWrap(float a) { return a < 0.0 ? a + 2.0 * kAltaPi : a; }
+float iblxAltaWrap(float a) { return a - 2.0 * kAltaPi * floor(a / (2.0 * kAltaPi)); }
 )";
 
 constexpr const char* kSamplingHelpers =
@@ -137,39 +137,135 @@ vec3 iblxAltaPdfBeckmann(vec3 wi, vec3 wo, vec3 ax, vec3 ay) {
 float iblxAltaWeight(float w) { return w >= 0.0 && w <= 3.0e38 ? w : 0.0; }
 )";
 
-// The coordinates of the file's parametrisation, as x0, x1, x2 (engine/io/alta_func_eval.cpp,
-// altaCoordinates).
+// The coordinates of the file's parametrisation, as x0, x1, ... (engine/io/alta_params.cpp's forward maps,
+// azimuths brought into the box as engine/io/alta_func_eval.cpp's altaCoordinates does).
 void emitCoordinates(std::ostringstream& s, const AltaFunc& f, const AltaRational& r) {
   s << "  vec3 h = normalize(wi + wo);\n"
-    << "  float cosH = clamp(h.z, -1.0, 1.0), cosD = clamp(dot(wi, h), -1.0, 1.0);\n";
+    << "  float cosH = clamp(h.z, -1.0, 1.0), cosD = clamp(dot(wi, h), -1.0, 1.0);\n"
+    << "  vec3 hT = 0.5 * (wo + wi), bT = 0.5 * (wi - wo);\n";
+  const auto rusinDifference = [&] {
+    s << "  float phiH = iblxAltaAtan2(h.y, h.x), thetaH = acos(cosH);\n"
+      << "  float cp = cos(phiH), sp = sin(phiH), ct = cos(thetaH), st = sin(thetaH);\n"
+      << "  vec3 r1 = vec3(cp * wi.x + sp * wi.y, -sp * wi.x + cp * wi.y, wi.z);\n"
+      << "  vec3 d = vec3(ct * r1.x - st * r1.z, r1.y, st * r1.x + ct * r1.z);\n";
+  };
+  const auto schlickK = [&](const char* x, const char* y) {
+    s << "  vec3 kv = vec3(" << x << ", " << y << ", wo.z + wi.z);\n"
+      << "  kv = dot(kv, kv) > 1e-20 ? normalize(kv) : vec3(0.0, 0.0, 1.0);\n";
+  };
   switch (f.paramIn) {
-    case AltaParam::CosTh:
-      s << "  float x0 = cosH;\n";
+    case AltaParam::RusinThPhTdPd:
+      rusinDifference();
+      s << "  float x0 = thetaH, x1 = phiH, x2 = acos(cosD), x3 = iblxAltaAtan2(d.y, d.x);\n";
       break;
-    case AltaParam::CosThTd:
-      s << "  float x0 = cosH, x1 = cosD;\n";
+    case AltaParam::RusinThTdPd:
+      rusinDifference();
+      s << "  float x0 = thetaH, x1 = acos(cosD), x2 = iblxAltaAtan2(d.y, d.x);\n";
       break;
     case AltaParam::RusinThTd:
       s << "  float x0 = acos(cosH), x1 = acos(cosD);\n";
       break;
-    case AltaParam::RusinThTdPd:
-      s << "  float phiH = iblxAltaAtan2(h.y, h.x), thetaH = acos(cosH);\n"
-        << "  float cp = cos(phiH), sp = sin(phiH), ct = cos(thetaH), st = sin(thetaH);\n"
-        << "  vec3 r1 = vec3(cp * wi.x + sp * wi.y, -sp * wi.x + cp * wi.y, wi.z);\n"
-        << "  vec3 d = vec3(ct * r1.x - st * r1.z, r1.y, st * r1.x + ct * r1.z);\n"
-        << "  float x0 = thetaH, x1 = acos(cosD);\n"
-        << "  float x2 = iblxAltaFold(iblxAltaWrap(iblxAltaAtan2(d.y, d.x)), " << glslFloat(r.min[2]) << ", "
-        << glslFloat(r.max[2]) << ", true);\n";
+    case AltaParam::RusinVh:
+      s << "  float x0 = h.x, x1 = h.y, x2 = h.z;\n";
+      break;
+    case AltaParam::CosThTd:
+      s << "  float x0 = cosH, x1 = cosD;\n";
+      break;
+    case AltaParam::CosTh:
+      s << "  float x0 = cosH;\n";
+      break;
+    case AltaParam::SchlickVk:
+      schlickK("wi.x - wo.x", "wi.y - wo.y");
+      s << "  float x0 = kv.x, x1 = kv.y, x2 = kv.z;\n";
+      break;
+    case AltaParam::SchlickTlTkProjDphi:
+      schlickK("wo.x - wi.x", "wo.y - wi.y");
+      s << "  float thetaK = acos(clamp(kv.z, -1.0, 1.0));\n"
+        << "  float dk = iblxAltaAtan2(wi.y, wi.x) - iblxAltaAtan2(kv.y, kv.x);\n"
+        << "  float x0 = acos(clamp(wi.z, -1.0, 1.0)), x1 = thetaK * cos(dk), x2 = thetaK * sin(dk);\n";
+      break;
+    case AltaParam::CosTk:
+      schlickK("wo.x - wi.x", "wo.y - wi.y");
+      s << "  float x0 = kv.z;\n";
+      break;
+    case AltaParam::RetroTlTvlProjDphi:
+      s << "  float thetaL = acos(clamp(wi.z, -1.0, 1.0)), thetaV = acos(clamp(wo.z, -1.0, 1.0));\n"
+        << "  float cosVL = clamp(dot(wo, wi), -1.0, 1.0), thetaVL = acos(cosVL);\n"
+        << "  float sinL = sin(thetaL), sinVL = sin(thetaVL);\n"
+        << "  float x0 = thetaL, x1 = thetaV - thetaL, x2 = 0.0;\n"
+        << "  if (sinL * sinVL >= 1e-6) {\n"
+        << "    float cosA = (cos(thetaV) - cos(thetaL) * cosVL) / (sinL * sinVL);\n"
+        << "    float sinA = sin(iblxAltaAtan2(wi.y, wi.x) - iblxAltaAtan2(wo.y, wo.x)) * sin(thetaV) / "
+           "sinVL;\n"
+        << "    float a = atan(sinA, cosA);\n"
+        << "    x1 = thetaVL * cos(a);\n"
+        << "    x2 = thetaVL * sin(a);\n"
+        << "  }\n";
+      break;
+    case AltaParam::Stereographic:
+      s << "  float x0 = wo.x / (1.0 + wo.z), x1 = wo.y / (1.0 + wo.z), x2 = wi.x / (1.0 + wi.z),\n"
+        << "        x3 = wi.y / (1.0 + wi.z);\n";
+      break;
+    case AltaParam::SphericalTlPlTvPv:
+      s << "  float x0 = acos(clamp(wi.z, -1.0, 1.0)), x1 = iblxAltaAtan2(wi.y, wi.x),\n"
+        << "        x2 = acos(clamp(wo.z, -1.0, 1.0)), x3 = iblxAltaAtan2(wo.y, wo.x);\n";
+      break;
+    case AltaParam::CosTlv:
+      s << "  float x0 = dot(wo, wi);\n";
+      break;
+    case AltaParam::CosTlr:
+      s << "  float x0 = wo.x * wi.x - wo.y * wi.y - wo.z * wi.z;\n";
       break;
     case AltaParam::IsotropicTvTlDphi:
       s << "  float x0 = acos(clamp(wo.z, -1.0, 1.0)), x1 = acos(clamp(wi.z, -1.0, 1.0));\n"
-        << "  float dphi = iblxAltaAtan2(wi.y, wi.x) - iblxAltaAtan2(wo.y, wo.x);\n"
-        << "  dphi = dphi < 0.0 ? dphi + 2.0 * kAltaPi : dphi;\n"
-        << "  float x2 = iblxAltaFold(dphi, " << glslFloat(r.min[2]) << ", " << glslFloat(r.max[2])
-        << ", false);\n";
+        << "  float x2 = iblxAltaAtan2(wi.y, wi.x) - iblxAltaAtan2(wo.y, wo.x);\n";
       break;
-    default:
-      break;  // the parametrisations the function-file parser refuses
+    case AltaParam::IsotropicTvProjDphi:
+      s << "  float thetaV = acos(clamp(wo.z, -1.0, 1.0));\n"
+        << "  float dv = iblxAltaAtan2(wo.y, wo.x) - iblxAltaAtan2(wi.y, wi.x);\n"
+        << "  float x0 = thetaV * cos(dv), x1 = thetaV * sin(dv);\n";
+      break;
+    case AltaParam::IsotropicTlTvProjDphi:
+      s << "  float thetaV = acos(clamp(wo.z, -1.0, 1.0));\n"
+        << "  float dl = iblxAltaAtan2(wi.y, wi.x) - iblxAltaAtan2(wo.y, wo.x);\n"
+        << "  float x0 = acos(clamp(wi.z, -1.0, 1.0)), x1 = thetaV * cos(dl), x2 = thetaV * sin(dl);\n";
+      break;
+    case AltaParam::Stark2d:
+      s << "  float x0 = length(hT.xy), x1 = length(bT);\n";
+      break;
+    case AltaParam::Stark3d:
+      s << "  float x0 = length(hT.xy), x1 = length(bT);\n"
+        << "  float x2 = iblxAltaAtan2(bT.y, bT.x) - iblxAltaAtan2(hT.y, hT.x);\n";
+      break;
+    case AltaParam::Neumann2d:
+      s << "  float x0 = length(hT.xy), x1 = length(bT.xy);\n";
+      break;
+    case AltaParam::Neumann3d:
+      s << "  float x0 = length(hT.xy), x1 = length(bT.xy);\n"
+        << "  float x2 = iblxAltaAtan2(bT.y, bT.x) - iblxAltaAtan2(hT.y, hT.x);\n";
+      break;
+    case AltaParam::Cartesian:
+      s << "  float x0 = wo.x, x1 = wo.y, x2 = wo.z, x3 = wi.x, x4 = wi.y, x5 = wi.z;\n";
+      break;
+  }
+  for (int d = 0; d < f.dimX; ++d) {
+    // Appended, not "x" + to_string(d): GCC 12 reports a false -Wrestrict for that at -O3.
+    std::string x = "x";
+    x += std::to_string(d);
+    const std::string lo = glslFloat(r.min[std::size_t(d)]), hi = glslFloat(r.max[std::size_t(d)]);
+    switch (altaAngleKind(f.paramIn, d)) {
+      case AltaAngle::NotAngle:
+        break;
+      case AltaAngle::Turn:
+        s << "  " << x << " = clamp(" << lo << " + iblxAltaWrap(" << x << " - " << lo << "), " << lo << ", "
+          << hi << ");\n";
+        break;
+      case AltaAngle::Reciprocity:
+      case AltaAngle::Mirror:
+        s << "  " << x << " = iblxAltaFold(iblxAltaWrap(" << x << "), " << lo << ", " << hi << ", "
+          << (altaAngleKind(f.paramIn, d) == AltaAngle::Reciprocity ? "true" : "false") << ");\n";
+        break;
+    }
   }
 }
 

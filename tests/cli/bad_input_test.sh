@@ -257,8 +257,11 @@ printf '#ALTA FUNC HEADER\n#DIM 3 3\n#ALTA HEADER END\n#FUNC nonlinear_function_
 expect_error "alta-func unknown plugin" "plugin.func:4: unknown plugin 'nonlinear_function_lafortune'" render --brdf "$tmp/plugin.func" --out "$tmp/b.png"
 printf '#ALTA FUNC HEADER\n#DIM 3 3\n#ALTA HEADER END\n#FUNC nonlinear_function_blinn\nKs 1\nKs 2\n' > "$tmp/count.func"
 expect_error "alta-func parameter count" "count.func:6: expected 'N <value>' (channel 1 of the blinn lobe)" render --brdf "$tmp/count.func" --out "$tmp/b.png"
-printf '#ALTA FUNC HEADER\n#DIM 1 1\n#PARAM_IN STARK_2D\n#ALTA HEADER END\n#FUNC rational_function\n#MIN 0\n#MAX 1\n' > "$tmp/param.func"
-expect_error "alta-func parametrisation" "param.func:3: #PARAM_IN STARK_2D: iblx evaluates rational functions over COS_TH" render --brdf "$tmp/param.func" --out "$tmp/b.png"
+printf '#ALTA FUNC HEADER\n#DIM 1 1\n#PARAM_IN STARK_9D\n#ALTA HEADER END\n#FUNC rational_function\n#MIN 0\n#MAX 1\n' > "$tmp/param.func"
+expect_error "alta-func parametrisation" "param.func:3: #PARAM_IN STARK_9D: not one of ALTA's parametrisations: RUSIN_TH_PH_TD_PD" render --brdf "$tmp/param.func" --out "$tmp/b.png"
+# A rational fit over STARK_2D, as ALTA's documentation fits gold-metallic-paint.
+printf '#ALTA FUNC HEADER\n#CMD ALTA --func rational_function_chebychev\n#DIM 2 1\n#PARAM_IN  STARK_2D\n#ALTA HEADER END\n#FUNC rational_function\n#MIN 0 0\n#MAX 1 1\n#NP 2\n#NQ 1\n0 0 0.3\n1 0 0.1\n0 0 1\n' > "$tmp/stark.func"
+expect_ok "alta-func over STARK_2D" render --brdf "$tmp/stark.func" --size 8x8 --spp 2 --passes 1 --out "$tmp/stark.png"
 head -n 12 "$tmp/ggx.func" > "$tmp/cut.func"
 expect_error "alta-func truncated" "cut.func:12: truncated file" render --brdf "$tmp/cut.func" --out "$tmp/b.png"
 expect_error "missing alta-func file" "none.func: no such file" render --brdf "$tmp/none.func" --out "$tmp/b.png"

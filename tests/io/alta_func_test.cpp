@@ -140,10 +140,11 @@ TEST_CASE("alta-func: every malformed file is one error naming FILE:LINE and the
       {header("99 3"), "#DIM nX = 99: must be in [1, 6]"},
       {header("3"), "#DIM needs two integers"},
       {header("3 x"), "#DIM nY 'x' is not an integer"},
+      {header("1 1", "RUSIN_TH_PH_TD") + kRational1d,
+       "bad.func:4: #PARAM_IN RUSIN_TH_PH_TD: not one of ALTA's parametrisations: RUSIN_TH_PH_TD_PD, "
+       "RUSIN_TH_TD_PD, RUSIN_TH_TD"},
       {header("1 1", "ISOTROPIC_TL_TV_PROJ_DPHI") + kRational1d,
-       "bad.func:4: #PARAM_IN ISOTROPIC_TL_TV_PROJ_DPHI: iblx evaluates rational functions over COS_TH, "
-       "COS_TH_TD, "
-       "RUSIN_TH_TD, RUSIN_TH_TD_PD, ISOTROPIC_TV_TL_DPHI"},
+       "bad.func:3: #DIM nX = 1 but ISOTROPIC_TL_TV_PROJ_DPHI has 3 dimensions"},
       {header("2 1", "RUSIN_TH_TD_PD") + kRational1d,
        "bad.func:3: #DIM nX = 2 but RUSIN_TH_TD_PD has 3 dimensions"},
       {"#ALTA FUNC HEADER\n#DIM 1 1\n#ALTA HEADER END\n" + kRational1d,
