@@ -82,6 +82,16 @@ expect_error "sample index wrap" "exceeds 2^32" render --spp 4096 --passes 16000
 [ ! -e "$tmp/a.png" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: an image was written despite errors"; }
 
 expect_ok "list methods" render --list-methods
+# The listing reads the strategies' capabilities: which methods take an env or a BRDF technique of the user's
+# choice, and every material file format.
+listing=$("$iblx" render --list-methods 2>&1)
+if grep -q "env techniques (--env-sampler, used by mis, ris;" <<< "$listing" &&
+  grep -q "BRDF techniques (--brdf-sampler, used by brdf, mis, product-mis)" <<< "$listing" &&
+  grep -q "merl .binary, UTIA .bin, ALTA data, MIT CSAIL .dat, RGL-EPFL .bsdf or ALTA function file" <<< "$listing"; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1)); echo "FAIL: --list-methods does not derive its words from the registry: $listing"
+fi
 expect_ok "tiny render" render --size 16x16 --spp 4 --passes 2 --out "$tmp/ok.png"
 [ -s "$tmp/ok.png" ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: tiny render wrote no image"; }
 json=$("$iblx" render --size 16x16 --spp 4 --passes 2 --json --reference --out "$tmp/ok.exr" 2>/dev/null)
