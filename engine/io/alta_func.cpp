@@ -171,6 +171,14 @@ class Parser {
           fail(dimLine, "#DIM nX = " + std::to_string(f.dimX) + " but " + paramInName + " has " +
                             std::to_string(altaParamDimension(f.paramIn)) + " dimensions");
         i = parseRational(i + 1, f, lobe);
+        std::size_t terms = 0;
+        for (const auto& ch : lobe.rational.channels) terms += ch.p.size() + ch.q.size();
+        for (const AltaLobe& earlier : f.lobes)
+          for (const auto& ch : earlier.rational.channels) terms += ch.p.size() + ch.q.size();
+        if (terms > std::size_t(kAltaMaxFileTerms))
+          fail(lobe.line, "the rational functions up to this one have " + std::to_string(terms) +
+                              " terms, more than the " + std::to_string(kAltaMaxFileTerms) +
+                              " iblx compiles into one shader");
       } else {
         i = parseNonlinear(i + 1, f, lobe);
       }

@@ -74,7 +74,10 @@ struct AltaFunc {
 
 // Limits on what a file may declare (the generated GLSL unrolls every term).
 constexpr int kAltaMaxTerms = 1000;  // #NP and #NQ
-constexpr int kAltaMaxDegree = 40;   // per input dimension
+// Every rational term of a file, over its lobes and channels: each becomes GLSL that glslang compiles, whose
+// time and memory grow with the count (16 lobes of 2,000 terms took over a minute and 3.4 GB).
+constexpr int kAltaMaxFileTerms = 4096;
+constexpr int kAltaMaxDegree = 40;  // per input dimension
 constexpr int kAltaMaxLobes = 16;
 
 // Throws iblx::Error "NAME:LINE: problem" for any malformed input.

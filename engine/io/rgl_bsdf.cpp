@@ -223,6 +223,12 @@ RglTables loadRglBsdf(const fs::path& path) {
     fields.get("spectra", TensorType::Float32, 5);
     const std::vector<float> wavelengths = fields.floats("wavelengths", 1, false);
     checkIncreasing(wavelengths, "wavelengths", name);
+    // Outside the visible range the colour-matching functions are nearly 0: such a material would render
+    // black, or as the noise of dividing by its tiny white.
+    if (!(wavelengths.back() >= 360.0f && wavelengths.front() <= 830.0f))
+      throw Error(name + ": its wavelengths (" + std::to_string(int(wavelengths.front())) + " to " +
+                  std::to_string(int(wavelengths.back())) +
+                  " nm) lie outside the visible range (360 to 830 nm): it has no colour to render");
     fields.expectShape("spectra", {np, nt, wavelengths.size(), n, n});
     const std::vector<float> values = fields.floats("spectra", 5, true);
     const SpectrumToRgb toRgb(wavelengths);

@@ -69,7 +69,9 @@ SceneGpu uploadScene(const VulkanContext& context, const Scene& scene) {
   }
   if (scene.brdf->data) {
     const TechniqueData data = scene.brdf->data(scene);
-    gpu.brdfData = uploadTables(context, data, "BRDF " + scene.brdf->name);
+    // A table too large for the device names the file it came from.
+    gpu.brdfData = uploadTables(
+        context, data, "BRDF " + (scene.brdfFile.empty() ? scene.brdf->name : scene.brdfFile.string()));
     gpu.brdfDataLayout = data.layout();
   }
   gpu.accum.fill(0);

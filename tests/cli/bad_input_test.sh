@@ -131,6 +131,9 @@ expect_ok "merl-synth" merl-synth --brdf lambert --param albedo=0.5 --out "$tmp/
 [ "$(stat -c %s "$tmp/lambert.binary" 2>/dev/null)" = 34992012 ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: merl-synth file size"; }
 expect_ok "merl render" render --brdf "$tmp/lambert.binary" --method brdf --brdf-sampler merl-thetah --size 8x8 --spp 2 --passes 1 --out "$tmp/m.png"
 expect_ok "merl render mis" render --brdf "$tmp/lambert.binary" --size 8x8 --spp 2 --passes 1 --out "$tmp/m.png"
+# A measured table larger than the device's largest buffer (here capped at 1 MiB) is reported naming its file.
+IBLX_MAX_BUFFER_MIB=1 expect_error "measured table over the device limit" "buffer 'BRDF $tmp/lambert.binary" \
+  render --brdf "$tmp/lambert.binary" --method env-cdf --size 8x8 --spp 2 --passes 1 --out "$tmp/m.png"
 head -c 1000000 "$tmp/lambert.binary" > "$tmp/truncated.binary"
 mkdir -p "$tmp/dir.binary"
 { cat "$tmp/lambert.binary"; printf '12345678'; } > "$tmp/oversized.binary"

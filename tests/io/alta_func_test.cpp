@@ -326,3 +326,22 @@ TEST_CASE("alta-func: the least-squares fit recovers a rational function exactly
     peak[0].push_back(std::exp(-40.0 * x[3 * s] * x[3 * s]) * 10.0);
   CHECK(fitAltaRational(3, x, peak, lo, hi, 1, 0).rmsRelative > 0.05);
 }
+
+TEST_CASE("alta-func: more rational terms than one shader compiles in seconds are refused at the lobe") {
+  // Five grey lobes of 1,000 + 1 terms: the fifth passes the file's 4,096.
+  std::string text = "#ALTA FUNC HEADER\n#DIM 1 1\n#PARAM_IN COS_TH\n#ALTA HEADER END\n";
+  int line = 4;
+  int fifth = 0;
+  for (int lobe = 0; lobe < 5; ++lobe) {
+    text += "#FUNC rational_function\n#MIN 0\n#MAX 1\n#NP 1000\n#NQ 1\n";
+    if (lobe == 4) fifth = line + 1;
+    line += 5;
+    for (int k = 0; k < 1000; ++k) text += std::to_string(k % 40) + " 0.001\n";
+    text += "0 1\n";
+    line += 1001;
+  }
+  const std::string message = test::errorMessage([&] { parseAltaFunc(text, "many.func"); });
+  CHECK(test::contains(message,
+                       "many.func:" + std::to_string(fifth) +
+                           ": the rational functions up to this one have 5005 terms, more than the 4096"));
+}

@@ -109,6 +109,28 @@ TEST_CASE("rgl .bsdf: a damaged container is refused with a message naming the p
   CHECK(contains(errorMessage([&] { loadRglBsdf(dir.file("missing.bsdf")); }), "cannot open"));
 }
 
+TEST_CASE("tensor file: fields that alias one blob are refused before each copies it") {
+  // One 4000-byte blob and three one-value fields; the three are then pointed at the blob with its length:
+  // each lies inside the file, together they claim four times what it holds (1,000 such fields reached 6 GB).
+  ScratchDir dir;
+  const auto path = dir.file("aliased.bsdf");
+  TensorFile file;
+  file.fields["blob"] = float32Field({1000}, std::vector<float>(1000, 0.5f));
+  for (const char* name : {"xa", "xb", "xc"}) file.fields[name] = float32Field({1}, std::vector<float>{1.0f});
+  writeTensorFile(path, file);
+  std::vector<unsigned char> bytes = readBytes(path);
+  std::uint64_t blob = 0;
+  std::memcpy(&blob, bytes.data() + offsetFieldAt(bytes, "blob"), 8);
+  const std::uint64_t extent = 1000;
+  for (const char* name : {"xa", "xb", "xc"}) {
+    const std::size_t at = offsetFieldAt(bytes, name);
+    std::memcpy(bytes.data() + at, &blob, 8);
+    std::memcpy(bytes.data() + at + 8, &extent, 8);  // the one dimension's extent follows the offset
+  }
+  writeBytes(path, bytes);
+  CHECK(contains(errorMessage([&] { readTensorFile(path); }), "-byte file: their data overlap"));
+}
+
 TEST_CASE("rgl .bsdf: wrong fields are refused, naming the field") {
   {
     TensorFile f = smallFile();
@@ -222,4 +244,11 @@ TEST_CASE("rgl .bsdf: spectra become linear sRGB; a constant spectrum stays grey
   CHECK(t.spectralBands == 3);
   REQUIRE(t.rgb.values.size() == 2 * 3 * 4);
   for (float v : t.rgb.values) CHECK(v == doctest::Approx(0.2f).epsilon(1e-5));
+
+  // An infrared spectrum rendered black without a word; it is refused, naming the range.
+  const float infrared[3] = {1000.0f, 1100.0f, 1200.0f};
+  f.fields["wavelengths"] = float32Field({3}, infrared);
+  writeTensorFile(dir.file("ir.bsdf"), f);
+  CHECK(contains(errorMessage([&] { loadRglBsdf(dir.file("ir.bsdf")); }),
+                 "ir.bsdf: its wavelengths (1000 to 1200 nm) lie outside the visible range (360 to 830 nm)"));
 }
