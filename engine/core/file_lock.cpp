@@ -15,7 +15,8 @@ namespace iblx {
 FileLock::FileLock(const std::filesystem::path& path, const std::string& what, LockBusy busy) {
   std::error_code ec;
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), ec);
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  fd_ = std::filesystem::is_directory(path, ec) ? ::open(path.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)
+                                                : ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd_ < 0) throw Error("cannot create the lock file " + path.string() + ": " + std::strerror(errno));
   // flock() on Linux NFS clients is carried out as a whole-file fcntl() lock, which the NFS lock manager
   // shares between machines.

@@ -13,11 +13,11 @@ enum class LockBusy { Wait, Refuse };
 
 class FileLock {
  public:
-  // Holds the lock on `path` (created if missing, never removed: removing it would let two processes hold
-  // locks on different files of one name). `what` names the artefact: while another process holds the lock,
-  // LockBusy::Wait prints "waiting for another iblx computing WHAT" and blocks until it is free;
-  // LockBusy::Refuse throws Error("WHAT is being written by another iblx ..."). Throws Error naming the path
-  // when it cannot be created or locked.
+  // Holds the lock on `path`: an existing directory itself (nothing is created in it), else a file, created
+  // if missing and never removed (removing it would let two processes hold locks on different files of one
+  // name). `what` names the artefact: while another process holds the lock, LockBusy::Wait prints "waiting
+  // for another iblx computing WHAT" and blocks until it is free; LockBusy::Refuse throws Error("WHAT is
+  // being written by another iblx ..."). Throws Error naming the path when it cannot be created or locked.
   FileLock(const std::filesystem::path& path, const std::string& what, LockBusy busy = LockBusy::Wait);
   ~FileLock();
   FileLock(const FileLock&) = delete;

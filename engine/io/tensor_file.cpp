@@ -113,8 +113,9 @@ TensorFile readTensorFile(const fs::path& path) {
     throw Error(name + ": the tensor file declares " + std::to_string(count) + " fields, expected 1 to " +
                 std::to_string(kMaxFields));
   TensorFile file;
-  // The fields' data together: each field stores its own bytes, so they fit the file. Fields that all point
-  // at one blob would otherwise copy it once each (1,000 aliases of a large blob reached 6 GB).
+  // The fields' data together: each field stores its own bytes, so they fit the file (a wrong dtype may
+  // double one field's claim: its own message follows). Fields that all point at one blob would otherwise
+  // copy it once each (1,000 aliases of a large blob reached 6 GB).
   std::uint64_t allFields = 0;
   for (std::uint32_t k = 0; k < count; ++k) {
     const std::string which = "field " + std::to_string(k);
@@ -149,7 +150,7 @@ TensorFile readTensorFile(const fs::path& path) {
       throw Error(name + ": " + quoted + "'s data (" + std::to_string(fieldBytes) + " bytes at offset " +
                   std::to_string(offset) + ") lies outside the " + std::to_string(size) + "-byte file");
     allFields += fieldBytes;
-    if (allFields > size)
+    if (allFields > 2 * size)
       throw Error(name + ": the fields up to " + quoted + " claim " + std::to_string(allFields) +
                   " bytes of data in a " + std::to_string(size) +
                   "-byte file: their data overlap (each field stores its own)");

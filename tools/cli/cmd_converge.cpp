@@ -91,7 +91,7 @@ FileLock claimOutDir(const std::filesystem::path& outDir) {
   std::filesystem::create_directories(outDir, ec);
   if (!std::filesystem::is_directory(outDir))
     throw Error("--out-dir " + outDir.string() + ": cannot create it" + (ec ? ": " + ec.message() : ""));
-  return FileLock(outDir / ".iblx-converge.lock", "--out-dir " + outDir.string(), LockBusy::Refuse);
+  return FileLock(outDir, "--out-dir " + outDir.string(), LockBusy::Refuse);
 }
 
 // Every method with every seed, until the budget or Ctrl-C (which keeps the runs measured so far); warns of
