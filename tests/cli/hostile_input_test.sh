@@ -87,6 +87,12 @@ out=$(timeout 120 "$iblx" render --brdf "$tmp/bright.brdf" --method env-cdf --si
 status=$?
 [ $status -eq 0 ] && { ! printf '%s' "$out" | grep -q "NaN/Inf" || printf '%s' "$out" | grep -q "bright.brdf may return values beyond float range"; } \
   && pass || fail "a BRDF returning 1e38: exit $status, $out"
+# The same from an ALTA function file (any BRDF read from a file): its NaN/Inf estimates name the file.
+printf '#ALTA FUNC HEADER\n#DIM 1 1\n#PARAM_IN COS_TH\n#ALTA HEADER END\n#FUNC rational_function\n#MIN 0\n#MAX 1\n#NP 1\n#NQ 1\n0 1e37\n0 1\n' > "$tmp/huge.func"
+out=$(timeout 120 "$iblx" render --brdf "$tmp/huge.func" --method env-cdf --size 8x8 --spp 4 --passes 1 --out "$tmp/h.png" 2>&1 >/dev/null)
+status=$?
+[ $status -eq 0 ] && printf '%s' "$out" | grep -q "huge.func may return values beyond float range" \
+  && pass || fail "an ALTA function returning 1e37: exit $status, $out"
 [ ! -e "$tmp/a.png" ] && [ ! -e "$tmp/a.exr" ] && pass || fail "an output was written despite hostile input"
 
 # Outputs on a full device (a file-size limit of 0 stands in for it): every writer exits non-zero naming its
