@@ -11,10 +11,6 @@
 namespace iblx {
 namespace {
 
-double clampTo(double x, double lo, double hi) {
-  return std::min(std::max(x, lo), hi);
-}
-
 // Every degree vector of total degree <= n in dims dimensions, by total degree.
 std::vector<std::vector<int>> monomials(int dims, int n) {
   std::vector<std::vector<int>> out;
@@ -51,7 +47,7 @@ AltaFitResult fitAltaRational(int dimX, std::span<const double> x, std::span<con
   for (std::size_t s = 0; s < n; ++s)
     for (int k = 0; k < dimX; ++k) {
       const std::size_t i = s * std::size_t(dimX) + std::size_t(k);
-      xs[i] = 2.0 * ((clampTo(x[i], min[std::size_t(k)], max[std::size_t(k)]) - min[std::size_t(k)]) /
+      xs[i] = 2.0 * ((std::clamp(x[i], min[std::size_t(k)], max[std::size_t(k)]) - min[std::size_t(k)]) /
                          (max[std::size_t(k)] - min[std::size_t(k)]) -
                      0.5);
     }

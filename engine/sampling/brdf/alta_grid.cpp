@@ -31,18 +31,6 @@ glm::dvec3 direction(double theta, double phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
 }
 
-bool isAzimuth(AltaParam param, int dim) {
-  switch (param) {
-    case AltaParam::RusinThTdPd:
-    case AltaParam::IsotropicTvTlDphi:
-      return dim == 2;
-    case AltaParam::SphericalTlPlTvPv:
-      return dim == 1 || dim == 3;
-    default:
-      return false;
-  }
-}
-
 double positiveMod(double x, double period) {
   const double r = std::fmod(x, period);
   return r < 0.0 ? r + period : r;
@@ -69,12 +57,13 @@ double fold(double x, AltaFold rule, double axisMin) {
 }
 
 AltaFold foldFor(AltaParam param, int dim, double lo, double hi) {
-  if (!isAzimuth(param, dim)) return AltaFold::Clamp;
+  // The azimuths and their symmetries are the parametrisation's (altaAngleKind, engine/io/alta_params.h).
+  const AltaAngle angle = altaAngleKind(param, dim);
+  if (angle == AltaAngle::NotAngle) return AltaFold::Clamp;
   if (hi - lo >= 2.0 * kPi - 0.1) return AltaFold::Turn;
-  const bool isotropic = param != AltaParam::SphericalTlPlTvPv;
-  if (isotropic && lo >= -0.01 && hi <= kPi + 0.01) {
+  if (angle != AltaAngle::Turn && lo >= -0.01 && hi <= kPi + 0.01) {
     const bool quarter = hi <= 0.5 * kPi + 0.01;
-    if (param == AltaParam::RusinThTdPd) return quarter ? AltaFold::ReciprocityMirror : AltaFold::Reciprocity;
+    if (angle == AltaAngle::Reciprocity) return quarter ? AltaFold::ReciprocityMirror : AltaFold::Reciprocity;
     return AltaFold::Mirror;
   }
   return AltaFold::Turn;
@@ -147,12 +136,13 @@ class ScatteredSamples {
   std::size_t size() const { return values_.size(); }
   const double* point(std::size_t i) const { return points_.data() + i * std::size_t(dims_); }
 
-  // Shepard's inverse-distance-weighted mean (power 2) of the k nearest points to p (an exact hit takes that
-  // point's value), leaving out point `skip` (leave-one-out), if any.
-  glm::dvec3 interpolate(const double* p, std::size_t k, std::optional<std::size_t> skip = {}) const {
-    const std::size_t wanted = std::min(size(), k + (skip ? 1 : 0));
-    std::vector<std::uint32_t> indices(wanted);
-    std::vector<double> d2(wanted);
+  // Shepard's inverse-distance-weighted mean (power 2) of the kNeighbours nearest points to p (an exact hit
+  // takes that point's value), leaving out point `skip` (leave-one-out), if any. No allocation: it runs once
+  // per grid node and once per sample.
+  glm::dvec3 interpolate(const double* p, std::optional<std::size_t> skip = {}) const {
+    const std::size_t wanted = std::min(size(), std::size_t(kNeighbours) + (skip ? 1 : 0));
+    std::array<std::uint32_t, kNeighbours + 1> indices{};
+    std::array<double, kNeighbours + 1> d2{};
     const std::size_t found = tree_->knnSearch(p, wanted, indices.data(), d2.data());
     glm::dvec3 sum(0.0);
     double weights = 0.0;
@@ -270,7 +260,7 @@ AltaGrid makeAltaGrid(const AltaData& data, const std::string& name) {
         p[std::size_t(d)] = count > 1 ? double(rest % count) / double(count - 1) : 0.0;
         rest /= count;
       }
-      const glm::dvec3 value = samples.interpolate(p.data(), kNeighbours);
+      const glm::dvec3 value = samples.interpolate(p.data());
       for (int c = 0; c < 3; ++c) grid.rgb[std::size_t(c) * nodes + node] = float(value[c]);
     }
     // How well the resampling predicts the measurements: each distinct sample from its 8 nearest others, as
@@ -278,7 +268,7 @@ AltaGrid makeAltaGrid(const AltaData& data, const std::string& name) {
     if (samples.size() > std::size_t(kNeighbours)) {
       double squared = 0.0, reference = 0.0;
       for (std::size_t i = 0; i < samples.size(); ++i) {
-        const glm::dvec3 predicted = samples.interpolate(samples.point(i), kNeighbours, i);
+        const glm::dvec3 predicted = samples.interpolate(samples.point(i), i);
         const double y = (samples.value(i).x + samples.value(i).y + samples.value(i).z) / 3.0;
         const double e = (predicted.x + predicted.y + predicted.z) / 3.0 - y;
         squared += e * e;
