@@ -26,8 +26,7 @@ constexpr std::uint64_t kMaxAltaFileBytes = std::uint64_t(4) << 30;
 
 std::string supportedParams() {
   std::string s;
-  for (AltaParam p : altaParams())
-    if (altaTableParam(p)) s.append(s.empty() ? "" : ", ").append(altaParamName(p));
+  for (AltaParam p : altaParams()) s.append(s.empty() ? "" : ", ").append(altaParamName(p));
   return s;
 }
 
@@ -147,7 +146,7 @@ std::string altaOutputName(AltaOutput output) {
   return "?";
 }
 
-std::optional<AltaParam> altaTableParam(AltaParam file) {
+AltaParam altaTableParam(AltaParam file) {
   switch (file) {
     case AltaParam::RusinThTdPd:
     case AltaParam::RusinThTd:
@@ -169,15 +168,15 @@ std::optional<AltaParam> altaTableParam(AltaParam file) {
     case AltaParam::Stark3d:
     case AltaParam::Neumann3d:
       return AltaParam::IsotropicTvTlDphi;
-    case AltaParam::RusinVh:
+    case AltaParam::RusinVh:  // a vector or one value: no parametrisation above holds these functions
     case AltaParam::SchlickVk:
     case AltaParam::CosTk:
     case AltaParam::CosTlv:
     case AltaParam::CosTlr:
     case AltaParam::Neumann2d:
-      return std::nullopt;
+      return file;
   }
-  return std::nullopt;
+  return file;
 }
 
 bool looksLikeAltaData(const fs::path& path) {
@@ -240,15 +239,11 @@ AltaData loadAltaData(const fs::path& path) {
   AltaData data;
   const std::string& paramName = h.keys.at("PARAM_IN");
   const std::string paramWhere = name + ":" + std::to_string(h.lines.at("PARAM_IN"));
-  bool known = false;
-  if (const auto p = findAltaParam(paramName); p && altaTableParam(*p)) data.param = *p, known = true;
-  if (!known) {
-    if (findAltaParam(paramName))
-      throw Error(paramWhere + ": #PARAM_IN " + paramName +
-                  " is an ALTA parametrisation iblx does not read; " + "it reads " + supportedParams());
-    throw Error(paramWhere + ": unknown #PARAM_IN '" + printableExcerpt(paramName) + "'; iblx reads " +
-                supportedParams());
-  }
+  const std::optional<AltaParam> param = findAltaParam(paramName);
+  if (!param)
+    throw Error(paramWhere + ": unknown #PARAM_IN '" + printableExcerpt(paramName) +
+                "'; ALTA's parametrisations are " + supportedParams());
+  data.param = *param;
   if (inputs != altaParamDimension(data.param))
     throw Error(name + ":" + std::to_string(h.lines.at("DIM")) + ": #DIM gives " + std::to_string(inputs) +
                 " inputs, but " + paramName + " has " + std::to_string(altaParamDimension(data.param)));

@@ -9,17 +9,16 @@
 // #SAMPLE_COUNT n, #ENDIAN little, then "#BEGIN_STREAM" and a newline, n x (N + P + interval) doubles, and
 // "#END_STREAM". Angles in radians.
 //
-// Inputs: every parametrisation of engine/io/alta_params.h but the six altaTableParam names, with wi = light
-// L and wo = view V. Outputs: INV_STERADIAN (f, 1/sr), INV_STERADIAN_COSINE_FACTOR (f cos theta_L), RGB_COLOR
-// (f per linear RGB channel) and XYZ_COLOR (CIE XYZ, converted to linear sRGB); 1 output is grey. A missing
-// #PARAM_OUT is read as INV_STERADIAN (ALTA's reader leaves it unknown).
+// Inputs: every parametrisation of engine/io/alta_params.h, with wi = light L and wo = view V. Outputs:
+// INV_STERADIAN (f, 1/sr), INV_STERADIAN_COSINE_FACTOR (f cos theta_L), RGB_COLOR (f per linear RGB channel)
+// and XYZ_COLOR (CIE XYZ, converted to linear sRGB); 1 output is grey. A missing #PARAM_OUT is read as
+// INV_STERADIAN (ALTA's reader leaves it unknown).
 #pragma once
 
 #include "engine/io/alta_params.h"
 
 #include <cstddef>
 #include <filesystem>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,7 +29,7 @@ enum class AltaOutput { InvSteradian, InvSteradianCosine, RgbColor, XyzColor };
 std::string altaOutputName(AltaOutput output);
 
 struct AltaData {
-  AltaParam param = AltaParam::RusinThTdPd;  // the file's; altaTableParam has a value for it
+  AltaParam param = AltaParam::RusinThTdPd;  // the file's
   AltaOutput output = AltaOutput::InvSteradian;
   std::size_t samples = 0;
   std::vector<double> x;    // samples x dimensions of param
@@ -38,14 +37,15 @@ struct AltaData {
   std::size_t negativeEntries = 0;
 };
 
-// The parametrisation iblx tabulates a file's samples in (engine/sampling/brdf/alta_grid.h): the file's own
-// where the GLSL part computes it (RUSIN_TH_TD_PD, RUSIN_TH_TD, ISOTROPIC_TV_TL_DPHI, SPHERICAL_TL_PL_TV_PV),
-// else one that holds the same function, the samples converted through altaDirections (alta_params.h): the
-// 4D ones and CARTESIAN to SPHERICAL_TL_PL_TV_PV; COS_TH, COS_TH_TD and STARK_2D to RUSIN_TH_TD (COS_TH
-// with theta_d on one node); the isotropic 3D ones and ISOTROPIC_TV_PROJ_DPHI to ISOTROPIC_TV_TL_DPHI
-// (ISOTROPIC_TV_PROJ_DPHI with theta_L on one node). nullopt for the parametrisations no tabulated one holds
-// (RUSIN_VH, SCHLICK_VH, COS_TK, COS_TLV, COS_TLR, NEUMANN_2D): a data file in one of them is refused.
-std::optional<AltaParam> altaTableParam(AltaParam file);
+// The parametrisation iblx tabulates a file's samples in (engine/sampling/brdf/alta_grid.h). Where a
+// conversion keeps the function and gives axes on which measurements lie as a grid (angles rather than
+// cosines or vector components), one of four: the samples are converted through altaDirections
+// (alta_params.h), the 4D ones and CARTESIAN to SPHERICAL_TL_PL_TV_PV; COS_TH, COS_TH_TD and STARK_2D to
+// RUSIN_TH_TD (COS_TH with theta_d on one node); the isotropic 3D ones and ISOTROPIC_TV_PROJ_DPHI to
+// ISOTROPIC_TV_TL_DPHI (ISOTROPIC_TV_PROJ_DPHI with theta_L on one node). Otherwise (those four, and
+// RUSIN_VH, SCHLICK_VH, COS_TK, COS_TLV, COS_TLR, NEUMANN_2D, whose functions none of the four holds) the
+// file's own: the GLSL part computes every parametrisation's coordinates (shaders/lib/alta_params.glsl).
+AltaParam altaTableParam(AltaParam file);
 
 // Whether a file starts like an ALTA data file: a '#' header with #DIM and #PARAM_IN, not a function file.
 bool looksLikeAltaData(const std::filesystem::path& path);

@@ -60,7 +60,6 @@ bool sampleable(const AltaFunc& f) {
 constexpr const char* kHelpers = R"(const float kAltaPi = 3.14159265358979;
 vec3 iblxV = vec3(0.0, 0.0, 1.0);  // the view direction for the isfunc hook
 void iblxSetView(vec3 v) { iblxV = v; }
-float iblxAltaAtan2(float y, float x) { return x == 0.0 && y == 0.0 ? 0.0 : atan(y, x); }
 // ALTA's nonlinear_function_blinn: Ks cos^N theta_h (Blinn 1977, unnormalised).
 vec3 iblxAltaBlinn(vec3 h, vec3 ks, vec3 n) { return h.z > 0.0 ? ks * pow(vec3(h.z), n) : vec3(0.0); }
 // ALTA's nonlinear_function_beckmann: Ks D(h) / 4, Beckmann's D (Cook & Torrance 1982).
@@ -137,117 +136,11 @@ vec3 iblxAltaPdfBeckmann(vec3 wi, vec3 wo, vec3 ax, vec3 ay) {
 float iblxAltaWeight(float w) { return w >= 0.0 && w <= 3.0e38 ? w : 0.0; }
 )";
 
-// The coordinates of the file's parametrisation, as x0, x1, ... (engine/io/alta_params.cpp's forward maps,
+// The coordinates of the file's parametrisation, as x0, x1, ... (shaders/lib/alta_params.glsl's forward maps,
 // azimuths brought into the box as engine/io/alta_func_eval.cpp's altaCoordinates does).
 void emitCoordinates(std::ostringstream& s, const AltaFunc& f, const AltaRational& r) {
-  s << "  vec3 h = normalize(wi + wo);\n"
-    << "  float cosH = clamp(h.z, -1.0, 1.0), cosD = clamp(dot(wi, h), -1.0, 1.0);\n"
-    << "  vec3 hT = 0.5 * (wo + wi), bT = 0.5 * (wi - wo);\n";
-  const auto rusinDifference = [&] {
-    s << "  float phiH = iblxAltaAtan2(h.y, h.x), thetaH = acos(cosH);\n"
-      << "  float cp = cos(phiH), sp = sin(phiH), ct = cos(thetaH), st = sin(thetaH);\n"
-      << "  vec3 r1 = vec3(cp * wi.x + sp * wi.y, -sp * wi.x + cp * wi.y, wi.z);\n"
-      << "  vec3 d = vec3(ct * r1.x - st * r1.z, r1.y, st * r1.x + ct * r1.z);\n";
-  };
-  const auto schlickK = [&](const char* x, const char* y) {
-    s << "  vec3 kv = vec3(" << x << ", " << y << ", wo.z + wi.z);\n"
-      << "  kv = dot(kv, kv) > 1e-20 ? normalize(kv) : vec3(0.0, 0.0, 1.0);\n";
-  };
-  switch (f.paramIn) {
-    case AltaParam::RusinThPhTdPd:
-      rusinDifference();
-      s << "  float x0 = thetaH, x1 = phiH, x2 = acos(cosD), x3 = iblxAltaAtan2(d.y, d.x);\n";
-      break;
-    case AltaParam::RusinThTdPd:
-      rusinDifference();
-      s << "  float x0 = thetaH, x1 = acos(cosD), x2 = iblxAltaAtan2(d.y, d.x);\n";
-      break;
-    case AltaParam::RusinThTd:
-      s << "  float x0 = acos(cosH), x1 = acos(cosD);\n";
-      break;
-    case AltaParam::RusinVh:
-      s << "  float x0 = h.x, x1 = h.y, x2 = h.z;\n";
-      break;
-    case AltaParam::CosThTd:
-      s << "  float x0 = cosH, x1 = cosD;\n";
-      break;
-    case AltaParam::CosTh:
-      s << "  float x0 = cosH;\n";
-      break;
-    case AltaParam::SchlickVk:
-      schlickK("wi.x - wo.x", "wi.y - wo.y");
-      s << "  float x0 = kv.x, x1 = kv.y, x2 = kv.z;\n";
-      break;
-    case AltaParam::SchlickTlTkProjDphi:
-      schlickK("wo.x - wi.x", "wo.y - wi.y");
-      s << "  float thetaK = acos(clamp(kv.z, -1.0, 1.0));\n"
-        << "  float dk = iblxAltaAtan2(wi.y, wi.x) - iblxAltaAtan2(kv.y, kv.x);\n"
-        << "  float x0 = acos(clamp(wi.z, -1.0, 1.0)), x1 = thetaK * cos(dk), x2 = thetaK * sin(dk);\n";
-      break;
-    case AltaParam::CosTk:
-      schlickK("wo.x - wi.x", "wo.y - wi.y");
-      s << "  float x0 = kv.z;\n";
-      break;
-    case AltaParam::RetroTlTvlProjDphi:
-      s << "  float thetaL = acos(clamp(wi.z, -1.0, 1.0)), thetaV = acos(clamp(wo.z, -1.0, 1.0));\n"
-        << "  float cosVL = clamp(dot(wo, wi), -1.0, 1.0), thetaVL = acos(cosVL);\n"
-        << "  float sinL = sin(thetaL), sinVL = sin(thetaVL);\n"
-        << "  float x0 = thetaL, x1 = thetaV - thetaL, x2 = 0.0;\n"
-        << "  if (sinL * sinVL >= 1e-6) {\n"
-        << "    float cosA = (cos(thetaV) - cos(thetaL) * cosVL) / (sinL * sinVL);\n"
-        << "    float sinA = sin(iblxAltaAtan2(wi.y, wi.x) - iblxAltaAtan2(wo.y, wo.x)) * sin(thetaV) / "
-           "sinVL;\n"
-        << "    float a = atan(sinA, cosA);\n"
-        << "    x1 = thetaVL * cos(a);\n"
-        << "    x2 = thetaVL * sin(a);\n"
-        << "  }\n";
-      break;
-    case AltaParam::Stereographic:
-      s << "  float x0 = wo.x / (1.0 + wo.z), x1 = wo.y / (1.0 + wo.z), x2 = wi.x / (1.0 + wi.z),\n"
-        << "        x3 = wi.y / (1.0 + wi.z);\n";
-      break;
-    case AltaParam::SphericalTlPlTvPv:
-      s << "  float x0 = acos(clamp(wi.z, -1.0, 1.0)), x1 = iblxAltaAtan2(wi.y, wi.x),\n"
-        << "        x2 = acos(clamp(wo.z, -1.0, 1.0)), x3 = iblxAltaAtan2(wo.y, wo.x);\n";
-      break;
-    case AltaParam::CosTlv:
-      s << "  float x0 = dot(wo, wi);\n";
-      break;
-    case AltaParam::CosTlr:
-      s << "  float x0 = wo.x * wi.x - wo.y * wi.y - wo.z * wi.z;\n";
-      break;
-    case AltaParam::IsotropicTvTlDphi:
-      s << "  float x0 = acos(clamp(wo.z, -1.0, 1.0)), x1 = acos(clamp(wi.z, -1.0, 1.0));\n"
-        << "  float x2 = iblxAltaAtan2(wi.y, wi.x) - iblxAltaAtan2(wo.y, wo.x);\n";
-      break;
-    case AltaParam::IsotropicTvProjDphi:
-      s << "  float thetaV = acos(clamp(wo.z, -1.0, 1.0));\n"
-        << "  float dv = iblxAltaAtan2(wo.y, wo.x) - iblxAltaAtan2(wi.y, wi.x);\n"
-        << "  float x0 = thetaV * cos(dv), x1 = thetaV * sin(dv);\n";
-      break;
-    case AltaParam::IsotropicTlTvProjDphi:
-      s << "  float thetaV = acos(clamp(wo.z, -1.0, 1.0));\n"
-        << "  float dl = iblxAltaAtan2(wi.y, wi.x) - iblxAltaAtan2(wo.y, wo.x);\n"
-        << "  float x0 = acos(clamp(wi.z, -1.0, 1.0)), x1 = thetaV * cos(dl), x2 = thetaV * sin(dl);\n";
-      break;
-    case AltaParam::Stark2d:
-      s << "  float x0 = length(hT.xy), x1 = length(bT);\n";
-      break;
-    case AltaParam::Stark3d:
-      s << "  float x0 = length(hT.xy), x1 = length(bT);\n"
-        << "  float x2 = iblxAltaAtan2(bT.y, bT.x) - iblxAltaAtan2(hT.y, hT.x);\n";
-      break;
-    case AltaParam::Neumann2d:
-      s << "  float x0 = length(hT.xy), x1 = length(bT.xy);\n";
-      break;
-    case AltaParam::Neumann3d:
-      s << "  float x0 = length(hT.xy), x1 = length(bT.xy);\n"
-        << "  float x2 = iblxAltaAtan2(bT.y, bT.x) - iblxAltaAtan2(hT.y, hT.x);\n";
-      break;
-    case AltaParam::Cartesian:
-      s << "  float x0 = wo.x, x1 = wo.y, x2 = wo.z, x3 = wi.x, x4 = wi.y, x5 = wi.z;\n";
-      break;
-  }
+  s << "  float x[6];\n  altaParamCoordinates(wi, wo, x);\n";
+  for (int d = 0; d < f.dimX; ++d) s << "  float x" << d << " = x[" << d << "];\n";
   for (int d = 0; d < f.dimX; ++d) {
     // Appended, not "x" + to_string(d): GCC 12 reports a false -Wrestrict for that at -O3.
     std::string x = "x";
@@ -441,6 +334,8 @@ std::string altaFuncBrdfSource(const AltaFunc& f, const std::string& displayName
   s << "// Generated by iblx from " << source
     << " (engine/scene/alta_func_brdf.cpp): an ALTA function file's sum of lobes as brdfEval.\n"
     << "#ifndef IBLX_ALTA_FUNC\n#define IBLX_ALTA_FUNC\n"
+    << "#define ALTA_PARAM_IN " << int(f.paramIn) << "  // " << altaParamName(f.paramIn) << "\n"
+    << "#include \"lib/alta_params.glsl\"\n"
     << kHelpers;
   for (std::size_t i = 0; i < f.lobes.size(); ++i)
     if (f.lobes[i].kind == AltaLobeKind::Rational) emitRational(s, f, f.lobes[i], i);

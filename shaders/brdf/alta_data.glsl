@@ -1,6 +1,6 @@
 // BRDF of an ALTA data file (engine/io/alta_data.h) on its grid (engine/sampling/brdf/alta_grid.h): the direction
-// pair's coordinates in the file's parametrisation (ALTA_PARAM: 0 RUSIN_TH_TD_PD, 1 RUSIN_TH_TD,
-// 2 ISOTROPIC_TV_TL_DPHI, 3 SPHERICAL_TL_PL_TV_PV), azimuths folded into their axes (ALTA_FOLD<d>), then a
+// pair's coordinates in the grid's parametrisation (ALTA_PARAM_IN, one of four dimensions or fewer; the forward
+// maps are lib/alta_params.glsl's), azimuths folded into their axes (ALTA_FOLD<d>), then a
 // multilinear lookup over the (possibly uneven) axes; values stored as f cos(theta_L) (ALTA_COSINE) are
 // divided by the cosine. GPU twin of evalAltaGrid (engine/sampling/brdf/alta_grid.cpp). Every loop has a
 // compile-time trip count and is unrolled: lavapipe caps the loop iterations of an invocation (the reference
@@ -8,6 +8,7 @@
 #extension GL_EXT_control_flow_attributes : require
 #include "lib/table.glsl"
 #include "lib/constants.glsl"
+#include "lib/alta_params.glsl"
 
 // The axes (ALTA_AT_AXIS<d>: ALTA_N<d> increasing node coordinates), then the values, planar by channel.
 IBLX_TABLE(altaData, 1);
@@ -30,21 +31,10 @@ float altaFold(float x, int rule, float axisMin) {
   return x;
 }
 
-vec3 altaRotateZ(vec3 v, float a) { return vec3(v.x * cos(a) - v.y * sin(a), v.x * sin(a) + v.y * cos(a), v.z); }
-vec3 altaRotateY(vec3 v, float a) { return vec3(v.x * cos(a) + v.z * sin(a), v.y, -v.x * sin(a) + v.z * cos(a)); }
-
 vec4 altaCoordinates(vec3 wi, vec3 wo) {
-#if ALTA_PARAM <= 1
-  vec3 sum = wi + wo;
-  vec3 h = dot(sum, sum) > 0.0 ? normalize(sum) : vec3(0.0, 0.0, 1.0);
-  float thetaH = acos(clamp(h.z, -1.0, 1.0)), phiH = atan(h.y, h.x);
-  vec3 d = altaRotateY(altaRotateZ(wi, -phiH), -thetaH);  // Rusinkiewicz 1998
-  return vec4(thetaH, acos(clamp(d.z, -1.0, 1.0)), atan(d.y, d.x), 0.0);
-#elif ALTA_PARAM == 2
-  return vec4(acos(clamp(wo.z, -1.0, 1.0)), acos(clamp(wi.z, -1.0, 1.0)), atan(wi.y, wi.x) - atan(wo.y, wo.x), 0.0);
-#else
-  return vec4(acos(clamp(wi.z, -1.0, 1.0)), atan(wi.y, wi.x), acos(clamp(wo.z, -1.0, 1.0)), atan(wo.y, wo.x));
-#endif
+  float x[6];
+  altaParamCoordinates(wi, wo, x);
+  return vec4(x[0], x[1], x[2], x[3]);
 }
 
 // The lower node of x on an axis and the upper node's weight, x folded and clamped first.

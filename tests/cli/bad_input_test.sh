@@ -223,8 +223,16 @@ expect_ok "measured-synth alta cartesian" measured-synth --format alta --alta-pa
 warning=$("$iblx" render --brdf "$tmp/cart.data" --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png" 2>&1 >/dev/null)
 printf '%s' "$warning" | grep -q "the 2000 CARTESIAN samples, read as SPHERICAL_TL_PL_TV_PV coordinates, are directions; resampled onto a 16 x 16 x 16 x 16 SPHERICAL_TL_PL_TV_PV grid" &&
   passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: alta resampling warning: $warning"; }
-printf '#DIM 1 1\n#PARAM_IN COS_TLV\n0 1\n' > "$tmp/tlv.data"
-expect_error "alta data parametrisation" "tlv.data:2: #PARAM_IN COS_TLV is an ALTA parametrisation iblx does not read" render --brdf "$tmp/tlv.data" --out "$tmp/b.png"
+printf '#DIM 1 1\n#PARAM_IN COS_TLV\n-1 0.5\n0 1\n1 2\n' > "$tmp/tlv.data"
+expect_ok "alta COS_TLV data" render --brdf "$tmp/tlv.data" --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png"
+printf '#DIM 1 1\n#PARAM_IN COS_TLX\n0 1\n' > "$tmp/tlx.data"
+expect_error "alta data parametrisation" "tlx.data:2: unknown #PARAM_IN 'COS_TLX'; ALTA's parametrisations are RUSIN_TH_PH_TD_PD" render --brdf "$tmp/tlx.data" --out "$tmp/b.png"
+# A parametrisation without a grid of its own is written as scattered samples in its coordinates (its
+# coordinates were once written as SPHERICAL_TL_PL_TV_PV's four under its two-value header).
+expect_ok "measured-synth alta NEUMANN_2D" measured-synth --format alta --alta-param NEUMANN_2D --brdf ggx --out "$tmp/neumann.data"
+[ "$(sed -n 2p "$tmp/neumann.data" | grep -c "PARAM_IN NEUMANN_2D")$(grep -v '^#' "$tmp/neumann.data" | head -1 | wc -w)" = "15" ] &&
+  passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: measured-synth NEUMANN_2D rows: $(head -5 "$tmp/neumann.data")"; }
+expect_ok "alta NEUMANN_2D render" render --brdf "$tmp/neumann.data" --size 8x8 --spp 2 --passes 1 --out "$tmp/a.png"
 # Shaped like ALTA's own example files: a 1D COS_TH slice with a doubled blank after #PARAM_IN, and
 # retro-reflection measurements over ISOTROPIC_TL_TV_PROJ_DPHI without a #PARAM_OUT line.
 { printf '#DIM 1 3\n#PARAM_IN  COS_TH\n#PARAM_OUT RGB_COLOR\n'
@@ -243,7 +251,7 @@ expect_error "alta data number" "nan.data:4: 'zero' is not a number" render --br
 printf '#DIM 3 1\n#PARAM_IN RUSIN_TH_TD_PD\n#FORMAT binary\n#VERSION 0\n#PRECISION ieee754-double\n#ENDIAN little\n#SAMPLE_COUNT 9\n#BEGIN_STREAM\n12345678\n#END_STREAM\n' > "$tmp/short.data"
 expect_error "alta binary stream length" "but #SAMPLE_COUNT 9 x 4 doubles needs 288" render --brdf "$tmp/short.data" --out "$tmp/b.png"
 expect_error "missing alta data file" "none.data: no such file" render --brdf "$tmp/none.data" --out "$tmp/b.png"
-expect_error "measured-synth alta param" "--alta-param COS_TH: valid: RUSIN_TH_TD_PD" measured-synth --format alta --alta-param COS_TH --out "$tmp/c.data"
+expect_error "measured-synth alta param" "--alta-param COS_THX: valid: RUSIN_TH_PH_TD_PD" measured-synth --format alta --alta-param COS_THX --out "$tmp/c.data"
 
 # ALTA function files: measured-synth writes an exact diffuse lobe for Lambert and a rational fit otherwise;
 # recognised by their first line whatever their name; bad files are refused naming FILE:LINE.

@@ -52,11 +52,14 @@ TEST_CASE("alta data: the GPU lookup agrees with the CPU twin in every parametri
   for (AltaParam p : kGridParams) files.push_back(synthesizeAlta("ward-" + altaParamName(p), ward, {}, p));
   files.push_back(
       synthesizeAlta("ward-cartesian", ward, {}, AltaParam::Cartesian, AltaOutput::RgbColor, 3000));
+  // Tabulated in their own coordinates (a vector, a 2D and a 1D form): lib/alta_params.glsl's maps.
+  for (AltaParam p : {AltaParam::RusinVh, AltaParam::Neumann2d, AltaParam::CosTlr})
+    files.push_back(synthesizeAlta("ward-" + altaParamName(p), ward, {}, p, AltaOutput::RgbColor, 3000));
   files.push_back(synthesizeAlta("ggx-rusin-cos-binary", "ggx", {}, AltaParam::RusinThTdPd,
                                  AltaOutput::InvSteradianCosine, 0, true));
   for (const auto& path : files) {
     CAPTURE(path.filename().string());
-    WarningCapture quiet;  // the Cartesian file's resampling warning
+    WarningCapture quiet;  // the scattered files' resampling warnings
     const AltaGrid grid = makeAltaGrid(loadAltaData(path), path.string());
     const Scene scene = sceneWith(constantEnv(2, 1, 0.0f), path.string(), {}, 1);
     REQUIRE(scene.brdf->evalPart == "brdf/alta_data.glsl");

@@ -64,13 +64,16 @@ std::optional<MeasuredSynthOptions> parseMeasuredSynthOptions(const Args& args) 
       [&](const std::string& v) { options.rglLayout.alpha = parseDouble("--rgl-alpha", v, 1e-3, 4.0); });
   parser.value("--alta-param", "NAME",
                "alta: RUSIN_TH_TD_PD (the default, 24^3 nodes), RUSIN_TH_TD (48^2), ISOTROPIC_TV_TL_DPHI "
-               "(24^3), SPHERICAL_TL_PL_TV_PV (12 x 24 x 12 x 24) or CARTESIAN (scattered)",
+               "(24^3), SPHERICAL_TL_PL_TV_PV (12 x 24 x 12 x 24), or any other of ALTA's parametrisations "
+               "(20,000 scattered samples)",
                [&](const std::string& v) {
                  const auto p = findAltaParam(v);
-                 if (!p || *p == AltaParam::CosTh || *p == AltaParam::CosThTd)
-                   throw Error("--alta-param " + v +
-                               ": valid: RUSIN_TH_TD_PD, RUSIN_TH_TD, ISOTROPIC_TV_TL_DPHI, "
-                               "SPHERICAL_TL_PL_TV_PV, CARTESIAN");
+                 if (!p) {
+                   std::string names;
+                   for (AltaParam q : altaParams())
+                     names.append(names.empty() ? "" : ", ").append(altaParamName(q));
+                   throw Error("--alta-param " + v + ": valid: " + names);
+                 }
                  options.altaParam = *p;
                });
   parser.value("--alta-output", "NAME",

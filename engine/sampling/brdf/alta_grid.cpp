@@ -187,9 +187,7 @@ namespace {}  // namespace
 
 AltaGrid makeAltaGrid(const AltaData& data, const std::string& name) {
   AltaGrid grid;
-  const std::optional<AltaParam> tableParam = altaTableParam(data.param);
-  if (!tableParam) throw Error(name + ": iblx does not tabulate ALTA data in " + altaParamName(data.param));
-  grid.param = *tableParam;
+  grid.param = altaTableParam(data.param);
   grid.cosineFactor = data.output == AltaOutput::InvSteradianCosine;
   const int dims = altaParamDimension(grid.param);
   const std::vector<double> x = gridCoordinates(data, grid.param, name);
@@ -333,12 +331,8 @@ TechniqueData altaGridTechniqueData(const AltaGrid& grid) {
   TechniqueData out;
   std::vector<float> table;
   const int dims = int(grid.axes.size());
-  // shaders/brdf/alta_data.glsl's numbering of the parametrisations.
-  const int glslParam = grid.param == AltaParam::RusinThTdPd         ? 0
-                        : grid.param == AltaParam::RusinThTd         ? 1
-                        : grid.param == AltaParam::IsotropicTvTlDphi ? 2
-                                                                     : 3;
-  out.define("ALTA_PARAM", std::to_string(glslParam));
+  // shaders/lib/alta_params.glsl numbers the parametrisations as AltaParam lists them.
+  out.define("ALTA_PARAM_IN", std::to_string(int(grid.param)));
   out.define("ALTA_DIMS", std::to_string(dims));
   for (int d = 0; d < 4; ++d) {
     const std::string k = std::to_string(d);
@@ -370,7 +364,9 @@ AltaSynthPlan planAltaSynth(AltaParam param, AltaOutput output, std::size_t scat
     plan.data.x.insert(plan.data.x.end(), x.begin(), x.end());
     plan.wi.push_back(wi), plan.wo.push_back(wo);
   };
-  if (scattered > 0 || param == AltaParam::Cartesian) {
+  const bool hasGrid = param == AltaParam::RusinThTdPd || param == AltaParam::RusinThTd ||
+                       param == AltaParam::IsotropicTvTlDphi || param == AltaParam::SphericalTlPlTvPv;
+  if (scattered > 0 || !hasGrid) {
     std::uint64_t state = 0x9e3779b97f4a7c15ull;
     const auto uniform = [&] {  // splitmix64
       std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);

@@ -56,9 +56,10 @@ glm::dvec3 evalAltaGrid(const AltaGrid& grid, glm::dvec3 wi, glm::dvec3 wo);
 // The grid's table ("altaData": the axes, then the values) and the ALTA_* defines of its GLSL part.
 TechniqueData altaGridTechniqueData(const AltaGrid& grid);
 
-// `iblx measured-synth --format alta`: the sample positions of a regular grid of `param` (not Cartesian),
-// theta_h spaced as MERL's (sqrt-warped) for Rusinkiewicz's coordinates, or of `scattered` random direction
-// pairs (any param; Cartesian needs them), and the direction pairs to evaluate there.
+// `iblx measured-synth --format alta`: the sample positions of a regular grid of `param` (RUSIN_TH_TD_PD,
+// RUSIN_TH_TD, ISOTROPIC_TV_TL_DPHI or SPHERICAL_TL_PL_TV_PV), theta_h spaced as MERL's (sqrt-warped) for
+// Rusinkiewicz's coordinates, or of `scattered` random direction pairs (any param; 20,000 when 0 for the
+// others), and the direction pairs to evaluate there.
 struct AltaSynthPlan {
   AltaData data;  // x filled, rgb to fill
   std::vector<glm::dvec3> wi, wo;
