@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <fstream>
 #include <numbers>
@@ -209,6 +210,10 @@ class Parser {
     if (ec != std::errc() || end != t.data() + t.size())
       fail(l.number, what + " '" + clip(t) + "' is not a number");
     if (!std::isfinite(v)) fail(l.number, what + " " + clip(t) + " is not finite");
+    // The GPU evaluates in float: a larger literal would become infinity there and the lobe silently 0.
+    if (std::abs(v) > double(std::numeric_limits<float>::max()))
+      fail(l.number,
+           what + " " + clip(t) + " is beyond float's range (3.4e38), in which the GPU evaluates it");
     return v;
   }
   int parseInt(const Line& l, std::size_t token, const std::string& what) const {

@@ -49,12 +49,13 @@ double altaBasisValue(AltaBasis basis, int degree, double x) {
   return cur;
 }
 
+double altaBoxCoordinate(double x, double lo, double hi) {
+  return 2.0 * ((clampTo(x, lo, hi) - lo) / (hi - lo) - 0.5);
+}
+
 double evalAltaRational(const AltaRational& r, AltaBasis basis, int channel, std::span<const double> x) {
   std::vector<double> xs(x.size());
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    const double lo = r.min[k], hi = r.max[k];
-    xs[k] = 2.0 * ((clampTo(x[k], lo, hi) - lo) / (hi - lo) - 0.5);
-  }
+  for (std::size_t k = 0; k < x.size(); ++k) xs[k] = altaBoxCoordinate(x[k], r.min[k], r.max[k]);
   const AltaRationalChannel& ch = r.channels[std::size_t(channel)];
   double p = 0.0, q = 0.0;
   for (const AltaTerm& t : ch.p) p += t.coefficient * altaTermBasis(basis, t.degrees, xs);

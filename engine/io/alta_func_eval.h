@@ -14,6 +14,9 @@ namespace iblx {
 // The basis polynomial of degree n at x: x^n, T_n(x) (Chebyshev, first kind) or P_n(x) (Legendre), by their
 // three-term recurrences (Abramowitz & Stegun 22.7).
 double altaBasisValue(AltaBasis basis, int degree, double x);
+// A coordinate of the rational function's box [lo, hi], clamped to it, on [-1, 1] where the basis is
+// evaluated (ALTA's rational_function: x' = 2 ((x - min) / (max - min) - 0.5)).
+double altaBoxCoordinate(double x, double lo, double hi);
 // A channel's P/Q at the parametrisation's coordinates x (clamped to the box first), 0 where Q = 0.
 double evalAltaRational(const AltaRational& r, AltaBasis basis, int channel, std::span<const double> x);
 // The coordinates of (wi = light, wo = view), local frame n = +z, with angles folded into the box of `r` by

@@ -47,9 +47,7 @@ AltaFitResult fitAltaRational(int dimX, std::span<const double> x, std::span<con
   for (std::size_t s = 0; s < n; ++s)
     for (int k = 0; k < dimX; ++k) {
       const std::size_t i = s * std::size_t(dimX) + std::size_t(k);
-      xs[i] = 2.0 * ((std::clamp(x[i], min[std::size_t(k)], max[std::size_t(k)]) - min[std::size_t(k)]) /
-                         (max[std::size_t(k)] - min[std::size_t(k)]) -
-                     0.5);
+      xs[i] = altaBoxCoordinate(x[i], min[std::size_t(k)], max[std::size_t(k)]);
     }
   const auto basisAt = [&](const std::vector<int>& d, std::size_t s) {
     return altaTermBasis(AltaBasis::Chebyshev, d,

@@ -3,6 +3,7 @@
 #include "engine/scene/alta_func_brdf.h"
 
 #include "engine/io/alta_func_eval.h"
+#include "engine/scene/glsl_line.h"
 #include "engine/core/hash.h"
 
 #include <algorithm>
@@ -162,8 +163,14 @@ void emitCoordinates(std::ostringstream& s, const AltaFunc& f, const AltaRationa
   }
 }
 
-void emitRational(std::ostringstream& s, const AltaFunc& f, const AltaLobe& lobe, std::size_t index) {
+void emitRational(std::ostringstream& s, const AltaFunc& f, const AltaLobe& lobe, std::size_t index,
+                  const std::string& displayName) {
   const AltaRational& r = lobe.rational;
+  // Compile messages name the file and the lobe, not the generated part.
+  s << "#line 1 "
+    << glslLineFileName(displayName + " (the GLSL generated from its #FUNC at line " +
+                        std::to_string(lobe.line) + ")")
+    << "\n";
   s << "// Rational function (#FUNC at line " << lobe.line << "): P / Q in the " << altaBasisName(f.basis)
     << " basis over " << altaParamName(f.paramIn) << ", x' = 2 ((x - min) / (max - min) - 0.5) on the\n"
     << "// clamped box (Pacanowski et al. 2012, \"Rational BRDF\").\n"
@@ -338,8 +345,9 @@ std::string altaFuncBrdfSource(const AltaFunc& f, const std::string& displayName
     << "#include \"lib/alta_params.glsl\"\n"
     << kHelpers;
   for (std::size_t i = 0; i < f.lobes.size(); ++i)
-    if (f.lobes[i].kind == AltaLobeKind::Rational) emitRational(s, f, f.lobes[i], i);
-  s << "vec3 brdfEval(vec3 wi, vec3 wo) {\n"
+    if (f.lobes[i].kind == AltaLobeKind::Rational) emitRational(s, f, f.lobes[i], i, displayName);
+  s << "#line 1 " << glslLineFileName(displayName + " (the GLSL generated from its lobes)") << "\n"
+    << "vec3 brdfEval(vec3 wi, vec3 wo) {\n"
     << "  if (wi.z <= 0.0 || wo.z <= 0.0) return vec3(0.0);\n"
     << "  vec3 h = normalize(wi + wo);\n  vec3 f = vec3(0.0);\n";
   for (std::size_t i = 0; i < f.lobes.size(); ++i)

@@ -1,6 +1,8 @@
 // .brdf files as BRDFs: parameter checks, renaming of the snippet's top-level names, the generated part.
 #include "engine/scene/analytic_brdf.h"
 
+#include "engine/scene/glsl_line.h"
+
 #include "engine/core/error.h"
 #include "engine/core/hash.h"
 #include "engine/core/log.h"
@@ -123,20 +125,11 @@ TopLevelNames topLevelNames(const std::string& s, const std::vector<Token>& toke
   return names;
 }
 
-// A file name as a #line string. glslang's preprocessor has no escapes in strings, so a quote, a backslash or
-// a control character (a newline in a path) cannot be written at all: each becomes '?', which only changes
-// how compile messages spell the path.
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) out += c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20 ? '?' : c;
-  return out + "\"";
-}
-
 void appendSection(std::ostringstream& out, const std::vector<std::string>& lines,
                    const std::vector<int>& numbers, const std::string& file) {
   for (std::size_t i = 0; i < lines.size(); ++i) {
     if (i == 0 || numbers[i] != numbers[i - 1] + 1)
-      out << "#line " << numbers[i] << " " << quoted(file) << "\n";
+      out << "#line " << numbers[i] << " " << glslLineFileName(file) << "\n";
     out << lines[i] << "\n";
   }
 }
@@ -211,7 +204,7 @@ std::string analyticBrdfSource(const BrdfFile& file, const std::string& partPath
     << "void iblxSetView(vec3 v) { iblxV = v; }  // for kernels included before this part (test probes)\n";
   appendSection(s, shader, file.shader.lineNumbers, file.displayName);
   appendSection(s, isFunc, file.isFunc.lineNumbers, file.displayName);
-  s << "#line 1 " << quoted(partPath + " (generated wrapper)") << "\n"
+  s << "#line 1 " << glslLineFileName(partPath + " (generated wrapper)") << "\n"
     << "vec3 brdfEval(vec3 wi, vec3 wo) {\n"
     << "  if (wi.z <= 0.0 || wo.z <= 0.0) return vec3(0.0);\n"
     << "  vec3 f = BRDF(wi, wo, vec3(0.0, 0.0, 1.0), vec3(1.0, 0.0, 0.0), vec3(0.0, 1.0, 0.0));\n"

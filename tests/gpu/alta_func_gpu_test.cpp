@@ -7,6 +7,7 @@
 #include "engine/io/alta_func_eval.h"
 
 #include "engine/render/alta_func_synth.h"
+#include "engine/scene/alta_func_brdf.h"
 #include "engine/render/brdf_tabulation.h"
 #include "tests/gpu/gpu_fixture.h"
 #include "tests/gpu/render_checks.h"
@@ -223,4 +224,28 @@ TEST_CASE("alta-func: measured-synth's rational fit of GGX renders like GGX") {
   CHECK(exact.exact);
   CHECK(exact.func.lobes[0].values[2][0] == doctest::Approx(0.7 / std::numbers::pi));
   checkNoNewValidationErrors();
+}
+
+TEST_CASE("alta-func: a compile error in the generated part names the file and the lobe, not the part") {
+  // A valid file does not fail to compile; a damaged generated source stands in for whatever might (a
+  // compiler limit, an iblx bug), and its message must lead the user to the file.
+  const auto path = altaFile("named", rationalText("COS_TH", 1, "rational_function", "0.5", "1", 3));
+  const auto brdf = makeAltaFuncBrdf(loadAltaFunc(path), path);
+  std::string source = brdf->evalSource;
+  const std::size_t at = source.find("  return value;");
+  REQUIRE(at != std::string::npos);
+  source.replace(at, 15, "  return valu;");
+  ShaderCompiler compiler("-");
+  compiler.addSource(brdf->evalPart, source);
+  const std::string prelude = "#version 460\n#extension GL_GOOGLE_include_directive : require\n#include \"" +
+                              brdf->evalPart + "\"\nvoid main() {}\n";
+  std::string message;
+  try {
+    compiler.compile(prelude, "probe");
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  INFO(message);
+  CHECK(contains(message, path.string() + " (the GLSL generated from its #FUNC at line 6)"));
+  CHECK(!contains(message, "generated/alta_"));
 }
