@@ -15,7 +15,7 @@
 namespace iblx {
 namespace {
 constexpr uint32_t kMaxSamplesPerDispatch = 256;
-constexpr vk::DeviceSize kProductTableBudget = vk::DeviceSize(1) << 30;
+constexpr vk::DeviceSize kProductTableBudget = vk::DeviceSize(2) << 30;
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
@@ -45,24 +45,38 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   brdfTechniqueBuffers_ =
       uploadTables(context, brdfData, method.brdfTechnique ? method.brdfTechnique->name : "");
   const bool recording = mode == IntegratorMode::RecordPixel;
-  // A product strategy keeps its per-pixel tables across dispatches where the whole image's fit one buffer
-  // and kProductTableBudget (lavapipe's 128 MiB holds 256x256 pixels, 1 GiB 724x724); else each dispatch
+  // A product strategy keeps its per-pixel tables across dispatches where the image's fit
+  // kProductTableMaxChunks of the device's largest buffers and kProductTableBudget (lavapipe's 128 MiB
+  // buffers hold 256 x 256 pixels each, so 512 x 512 in four; 2 GiB holds 1024 x 1024); else each dispatch
   // rebuilds them in private memory.
-  const vk::DeviceSize productTableBytes = vk::DeviceSize(scene.gbuffer.width) *
-                                           vk::DeviceSize(scene.gbuffer.height) * kProductTableStride *
-                                           sizeof(float);
-  const bool productTablesInBuffer = !recording && method.method->strategyInfo().buildsProductTable &&
-                                     productTableBytes <= context.limits().maxStorageBufferRange &&
-                                     productTableBytes <= kProductTableBudget;
-  if (productTablesInBuffer) productTables_ = Buffer(context, productTableBytes, "product tables");
+  const ProductTableChunks productTables = [&] {
+    const vk::DeviceSize pixels = vk::DeviceSize(scene.gbuffer.width) * vk::DeviceSize(scene.gbuffer.height);
+    const vk::DeviceSize pixelBytes = vk::DeviceSize(kProductTableStride) * sizeof(float);
+    const vk::DeviceSize perChunk = context.limits().maxStorageBufferRange / pixelBytes;
+    if (recording || !method.method->strategyInfo().buildsProductTable || perChunk == 0 ||
+        pixels * pixelBytes > kProductTableBudget)
+      return ProductTableChunks{};
+    const vk::DeviceSize chunks = (pixels + perChunk - 1) / perChunk;
+    if (chunks > kProductTableMaxChunks) return ProductTableChunks{};
+    // Even chunks: the last holds no fewer pixels than the others need.
+    const vk::DeviceSize pixelsPerChunk = (pixels + chunks - 1) / chunks;
+    return ProductTableChunks{uint32_t(chunks), uint32_t(pixelsPerChunk)};
+  }();
+  for (uint32_t c = 0; c < productTables.chunks; ++c) {
+    const vk::DeviceSize first = vk::DeviceSize(c) * productTables.pixelsPerChunk;
+    const vk::DeviceSize pixels = std::min<vk::DeviceSize>(
+        productTables.pixelsPerChunk, vk::DeviceSize(scene.gbuffer.width) * scene.gbuffer.height - first);
+    productTables_.emplace_back(context, pixels * kProductTableStride * sizeof(float),
+                                "product tables " + std::to_string(c));
+  }
   const std::string name = (recording ? "record samples " : "integrate ") + method.label();
   const KernelParts parts = integratorParts(scene, gpu_.brdfDataLayout, gpu_.chunking(), method, envData,
-                                            brdfData, mode, productTablesInBuffer);
+                                            brdfData, mode, productTables);
   const auto spirv = compileKernel(compiler, parts, name);
   const auto brdfSet = gpu_.brdfSet(brdfTechniqueBuffers_);
   KernelLayout layout = sceneKernelLayout(uint32_t(envBuffers_.size()), uint32_t(brdfSet.size() - 1));
   if (recording) layout.buffersPerSet[0] = kSampleRecordBinding + 1;
-  if (productTablesInBuffer) layout.buffersPerSet[0] = kProductTableBinding + 1;
+  if (productTables.chunks > 0) layout.buffersPerSet[0] = kProductTableBinding + productTables.chunks;
   kernel_ = std::make_unique<ComputeKernel>(context, spirv, layout, name);
   if (recording) sampleRecords_ = Buffer(context, 0, "sample records");
   bindFrameSet();
@@ -81,8 +95,8 @@ void Renderer::bindFrameSet() {
   std::vector<const Buffer*> set(frame.begin(), frame.end());
   if (mode_ == IntegratorMode::RecordPixel)
     set.push_back(&sampleRecords_);
-  else if (productTables_.size() > 0)
-    set.push_back(&productTables_);
+  else
+    for (const Buffer& chunk : productTables_) set.push_back(&chunk);
   kernel_->bindBuffers(0, set);
 }
 

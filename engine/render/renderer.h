@@ -1,6 +1,6 @@
-// The progressive renderer (docs/DESIGN.md §2, §6): builds the method's sampling data, assembles and compiles its
-// integrator, and adds one batch of samples per pixel per pass to a running mean, timed on the GPU and the
-// wall.
+// The progressive renderer (docs/DESIGN.md §2, §6): builds the method's sampling data, assembles and compiles
+// its integrator, and adds one batch of samples per pixel per pass to a running mean, timed on the GPU and
+// the wall.
 //
 //   Renderer renderer(ctx, compiler, scene, resolveMethod(methodSpec, *scene.brdf), seed);
 //   for (int i = 0; i < 16; ++i) renderer.runPass(64);
@@ -50,7 +50,7 @@ class Renderer {
   void setView(const Scene& scene);
 
   uint64_t samplesPerPixel() const { return samplesPerPixel_; }
-  std::vector<float> meanRgb() const;      // width*height*3
+  std::vector<float> meanRgb() const;  // width*height*3
   // The accumulation (gpu::AccumPixel per pixel, running means) and the G-buffer on the device, for kernels
   // that show the image without reading it back (the viewer's display kernel).
   const Buffer& accumulation() const { return gpu_.accum; }
@@ -58,6 +58,8 @@ class Renderer {
   std::vector<float> varianceRgb() const;  // per-pixel sample variance of one estimate, width*height*3
   uint32_t nonFiniteSamples() const;
   double setupSeconds() const { return setupSeconds_; }  // table builds + shader compile + upload
+  // How many buffers hold the per-pixel product tables across dispatches (0: rebuilt in every dispatch).
+  std::size_t productTableChunks() const { return productTables_.size(); }
 
   // IntegratorMode::RecordPixel only: the pixel the passes integrate (restarts accumulation; the caller
   // checks it is an object pixel), and the records of the last pass's samples in sample order.
@@ -76,8 +78,8 @@ class Renderer {
   IntegratorMode mode_;
   Buffer sampleRecords_;  // RecordPixel: one pass's records, grown with the samples per pass
   // Image mode of a product strategy: every pixel's product table, kept across the dispatches of an
-  // accumulation (kProductTableBinding), when the image's tables fit one buffer; else empty.
-  Buffer productTables_;
+  // accumulation (kProductTableBinding on), in up to kProductTableMaxChunks buffers; else empty.
+  std::vector<Buffer> productTables_;
   uint32_t recordX_ = 0, recordY_ = 0, lastPassSamples_ = 0;
   std::unique_ptr<ComputeKernel> kernel_;  // after the buffers its sets refer to: destroyed before them
   void bindFrameSet();  // set 0: the frame buffers, then sampleRecords_ or productTables_ when in use

@@ -130,7 +130,7 @@ static_assert(kEnvProductGridWidth * kEnvProductGridRows <= kProductTableStride,
 KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, const EnvChunking& chunking,
                             const ResolvedMethod& method, const TechniqueData& envData,
                             const TechniqueData& brdfTechniqueData, IntegratorMode mode,
-                            bool productTablesInBuffer) {
+                            ProductTableChunks productTables) {
   // The sequence, the env technique, the BRDF, the BRDF technique and the strategy, in that order.
   std::vector<std::string> parts{method.sequence->part};
   if (method.envTechnique) parts.push_back(method.envTechnique->part);
@@ -144,11 +144,17 @@ KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, c
     k.defines.emplace_back("SAMPLE_RECORD_BINDING", std::to_string(kSampleRecordBinding));
     k.defines.emplace_back("SAMPLE_RECORD_DRAWS", std::to_string(method.drawsPerSample()) + "u");
   }
-  if (productTablesInBuffer) {
+  if (productTables.chunks > 0) {
     if (mode != IntegratorMode::Image || !strategy.buildsProductTable)
       throw Error("integratorParts: product tables in a buffer need a product strategy's image mode");
+    if (productTables.chunks > kProductTableMaxChunks || productTables.pixelsPerChunk == 0)
+      throw Error("integratorParts: product tables in " + std::to_string(productTables.chunks) +
+                  " chunks of " + std::to_string(productTables.pixelsPerChunk) + " pixels");
     k.defines.emplace_back("PRODUCT_TABLE_BINDING", std::to_string(kProductTableBinding));
     k.defines.emplace_back("PRODUCT_TABLE_STRIDE", std::to_string(kProductTableStride) + "u");
+    k.defines.emplace_back("PRODUCT_TABLE_CHUNKS", std::to_string(productTables.chunks));
+    k.defines.emplace_back("PRODUCT_TABLE_PIXELS_PER_CHUNK",
+                           std::to_string(productTables.pixelsPerChunk) + "u");
   }
   if (method.envTechnique)
     k.bindTables(kEnvTechniqueSet, 0, envData, "env technique " + method.envTechnique->name);

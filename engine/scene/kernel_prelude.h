@@ -68,12 +68,18 @@ KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf, const Tech
 // buffer at binding kSampleRecordBinding.
 enum class IntegratorMode { Image, RecordPixel };
 inline constexpr uint32_t kSampleRecordBinding = 8;
-// Image mode of a product strategy, when the image's tables fit one buffer (engine/render/renderer.cpp): the
-// per-pixel product tables, kProductTableStride floats per pixel, kept across the dispatches of an
-// accumulation in a set-0 buffer at this binding (RecordPixel mode puts its records there and rebuilds its
-// one pixel's table in private memory).
+// Image mode of a product strategy, when the image's tables fit kProductTableMaxChunks buffers
+// (engine/render/renderer.cpp): the per-pixel product tables, kProductTableStride floats per pixel, kept
+// across the dispatches of an accumulation in set-0 buffers from this binding on, each holding the tables of
+// pixelsPerChunk consecutive pixels (row-major), as the radiance is chunked (RecordPixel mode puts its
+// records at this binding and rebuilds its one pixel's table in private memory).
 inline constexpr uint32_t kProductTableBinding = 8;
 inline constexpr uint32_t kProductTableStride = kEnvProductMaxNodes;  // every product layout's node count
+inline constexpr uint32_t kProductTableMaxChunks = 4;
+struct ProductTableChunks {
+  uint32_t chunks = 0;  // 0: no buffers, each dispatch rebuilds the tables in private memory
+  uint32_t pixelsPerChunk = 0;
+};
 
 // How the environment's radiance is split over the frame's radiance tables (engine/render/scene_gpu.h): the
 // definitions every kernel that includes frame_resources.glsl gets.
@@ -87,7 +93,8 @@ struct EnvChunking {
 KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, const EnvChunking& chunking,
                             const ResolvedMethod& method, const TechniqueData& envData,
                             const TechniqueData& brdfTechniqueData,
-                            IntegratorMode mode = IntegratorMode::Image, bool productTablesInBuffer = false);
+                            IntegratorMode mode = IntegratorMode::Image,
+                            ProductTableChunks productTables = {});
 KernelParts referenceParts(const Scene& scene, const TechniqueData& brdfData, const EnvChunking& chunking);
 
 }  // namespace iblx

@@ -10,11 +10,12 @@
 // level's nodes (E_j the node's env-hier probability, F_j = mean_rgb(f) cos at the node's direction closest to
 // the mirror direction of wo, d = PRODUCT_DEFENSIVE),
 // kept as running sums per row (gProductColumnSums) and over rows (gProductRowSums). With PRODUCT_TABLE_BINDING
-// (the host's choice when the image's tables fit one buffer: engine/render/renderer.cpp) the first dispatch
-// after a restart (frame.sampleOffset 0) also stores a pixel's column sums in a per-pixel buffer, and every
-// later dispatch of the accumulation copies them back instead of evaluating the BRDF at every node again (once
-// per accumulation, not once per dispatch of at most 256 samples). Sampling reads the private copy: on lavapipe
-// a storage-buffer load per step of the scans below cost more than the copy. productSample chooses a row
+// (the host's choice when the image's tables fit PRODUCT_TABLE_CHUNKS buffers: engine/render/renderer.cpp) the
+// first dispatch after a restart (frame.sampleOffset 0) also stores a pixel's running sums per row in its
+// chunk, and every later dispatch of the accumulation samples from the stored sums instead of evaluating the
+// BRDF at every node again (once per accumulation, not once per dispatch of at most 256 samples): a dispatch
+// of many samples copies them into private memory and scans them, one of few samples reads the row totals and
+// then binary-searches the chosen row in the buffer. productSample chooses a row
 // by u.y and a node in it by u.x, rescales u inside the choice, fills the node's rectangle in u with it and lets
 // env-hier's descent (envSample) finish, so pdf = P(j) / E_j * p_env-hier, with P(j) computed from the same
 // sums in sampling and in productPdf.
@@ -85,10 +86,101 @@ const uint kProductNodes = PRODUCT_NODES_X * PRODUCT_NODES_Y;
 float gProductColumnSums[kProductNodes];  // per row: inclusive running sums of the weights
 float gProductRowSums[PRODUCT_NODES_Y];   // inclusive running sums of the row totals
 #ifdef PRODUCT_TABLE_BINDING
-// PRODUCT_TABLE_STRIDE floats per pixel, pixels row-major: integrate.comp's invocation (x, y) shades pixel
-// (x, y) in the image mode that binds this buffer.
-layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING) buffer ProductTableData { float productTables[]; };
+// PRODUCT_TABLE_STRIDE floats per pixel, pixels row-major, PRODUCT_TABLE_PIXELS_PER_CHUNK pixels per buffer:
+// integrate.comp's invocation (x, y) shades pixel (x, y) in the image mode that binds these buffers.
+layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING) buffer ProductTableData0 { float productTables0[]; };
+#if PRODUCT_TABLE_CHUNKS > 1
+layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 1) buffer ProductTableData1 { float productTables1[]; };
 #endif
+#if PRODUCT_TABLE_CHUNKS > 2
+layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 2) buffer ProductTableData2 { float productTables2[]; };
+#endif
+#if PRODUCT_TABLE_CHUNKS > 3
+layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 3) buffer ProductTableData3 { float productTables3[]; };
+#endif
+#if PRODUCT_TABLE_CHUNKS > 4
+#error "PRODUCT_TABLE_CHUNKS above kProductTableMaxChunks (engine/scene/kernel_prelude.h)"
+#endif
+// The pixel's place: its chunk and the offset of its table there (set by productPrepare).
+uint gProductTableChunk = 0u, gProductTableAt = 0u;
+float productStoredSum(uint j) {
+#if PRODUCT_TABLE_CHUNKS > 1
+  if (gProductTableChunk == 1u) return productTables1[gProductTableAt + j];
+#endif
+#if PRODUCT_TABLE_CHUNKS > 2
+  if (gProductTableChunk == 2u) return productTables2[gProductTableAt + j];
+#endif
+#if PRODUCT_TABLE_CHUNKS > 3
+  if (gProductTableChunk == 3u) return productTables3[gProductTableAt + j];
+#endif
+  return productTables0[gProductTableAt + j];
+}
+#define PRODUCT_TABLE_STORE(table) \
+  [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) table[gProductTableAt + j] = gProductColumnSums[j];
+#define PRODUCT_TABLE_LOAD(table) \
+  [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) gProductColumnSums[j] = table[gProductTableAt + j];
+void productTableLocate(uvec2 pixel) {
+  uint index = pixel.y * frame.width + pixel.x;
+  gProductTableChunk = index / PRODUCT_TABLE_PIXELS_PER_CHUNK;
+  gProductTableAt = (index - gProductTableChunk * PRODUCT_TABLE_PIXELS_PER_CHUNK) * PRODUCT_TABLE_STRIDE;
+}
+// Stores the private table into the pixel's chunk, or loads it back.
+#define PRODUCT_TABLE_COPY(table)  \
+  if (store) {                     \
+    PRODUCT_TABLE_STORE(table)     \
+  } else {                         \
+    PRODUCT_TABLE_LOAD(table)      \
+  }
+void productTableCopy(bool store) {
+  if (gProductTableChunk == 0u) {
+    PRODUCT_TABLE_COPY(productTables0)
+  }
+#if PRODUCT_TABLE_CHUNKS > 1
+  else if (gProductTableChunk == 1u) {
+    PRODUCT_TABLE_COPY(productTables1)
+  }
+#endif
+#if PRODUCT_TABLE_CHUNKS > 2
+  else if (gProductTableChunk == 2u) {
+    PRODUCT_TABLE_COPY(productTables2)
+  }
+#endif
+#if PRODUCT_TABLE_CHUNKS > 3
+  else if (gProductTableChunk == 3u) {
+    PRODUCT_TABLE_COPY(productTables3)
+  }
+#endif
+}
+// A dispatch of this many samples or more copies the stored table into private memory once and scans it
+// there (branch-free selects that vectorise across invocations); one of fewer reads only the entries its
+// samples' searches visit (docs/BENCHMARKS.md, "Product strategies").
+const uint kProductCopyMinSamples = 32u;
+#endif
+
+bool gProductReadStored = false;  // this dispatch samples from the stored table, not a private copy
+// A row's running sum up to node j, from the stored or the private table.
+float productColumnSum(uint j) {
+#ifdef PRODUCT_TABLE_BINDING
+  if (gProductReadStored) return productStoredSum(j);
+#endif
+  return gProductColumnSums[j];
+}
+
+// How many of the first n - 1 running sums at `first`, first + 1, ... are <= t: the index of the first entry
+// whose sum exceeds t, the last when none does (sums never decrease, so a binary search finds it).
+uint productSearchRow(uint first, uint n, float t) {
+  uint lower = 0u, len = n - 1u;
+  while (len > 0u) {
+    uint step = len >> 1u;
+    if (productColumnSum(first + lower + step) <= t) {
+      lower += step + 1u;
+      len -= step + 1u;
+    } else {
+      len = step;
+    }
+  }
+  return lower;
+}
 
 float productNodeArea(uint j) {
   vec4 r = productNodeRect(j);
@@ -135,20 +227,22 @@ void productBuildTable(Shading s) {
 
 void productPrepare(Shading s) {
 #ifdef PRODUCT_TABLE_BINDING
-  uvec2 pixel = gl_GlobalInvocationID.xy;
-  uint stored = (pixel.y * frame.width + pixel.x) * PRODUCT_TABLE_STRIDE;
+  productTableLocate(gl_GlobalInvocationID.xy);
+  gProductReadStored = false;
   if (frame.sampleOffset == 0u) {
     productBuildTable(s);
-    [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) productTables[stored + j] = gProductColumnSums[j];
+    productTableCopy(true);
+  } else if (frame.samplesPerPass >= kProductCopyMinSamples) {
+    productTableCopy(false);
   } else {
-    [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) gProductColumnSums[j] = productTables[stored + j];
+    gProductReadStored = true;
   }
 #else
   productBuildTable(s);
 #endif
   float rows = 0.0;
   [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {
-    rows += gProductColumnSums[y * PRODUCT_NODES_X + PRODUCT_NODES_X - 1u];
+    rows += productColumnSum(y * PRODUCT_NODES_X + PRODUCT_NODES_X - 1u);
     gProductRowSums[y] = rows;
   }
 }
@@ -157,9 +251,9 @@ void productPrepare(Shading s) {
 float productNodeProbability(uint x, uint y) {
   float total = gProductRowSums[PRODUCT_NODES_Y - 1u];
   uint base = y * PRODUCT_NODES_X;
-  float rowTotal = gProductColumnSums[base + PRODUCT_NODES_X - 1u];
+  float rowTotal = productColumnSum(base + PRODUCT_NODES_X - 1u);
   float rowWidth = gProductRowSums[y] - (y == 0u ? 0.0 : gProductRowSums[y - 1u]);
-  float columnWidth = gProductColumnSums[base + x] - (x == 0u ? 0.0 : gProductColumnSums[base + x - 1u]);
+  float columnWidth = productColumnSum(base + x) - (x == 0u ? 0.0 : productColumnSum(base + x - 1u));
   return total > 0.0 && rowTotal > 0.0 ? (rowWidth / total) * (columnWidth / rowTotal) : 0.0;
 }
 
@@ -186,12 +280,16 @@ vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
   for (uint k = 0u; k + 1u < PRODUCT_NODES_Y; ++k) y += gProductRowSums[k] <= ty ? 1u : 0u;
   float rowStart = y == 0u ? 0.0 : gProductRowSums[y - 1u], rowWidth = gProductRowSums[y] - rowStart;
   uint base = y * PRODUCT_NODES_X;
-  float rowTotal = gProductColumnSums[base + PRODUCT_NODES_X - 1u];
+  float rowTotal = productColumnSum(base + PRODUCT_NODES_X - 1u);
   float tx = u.x * rowTotal;
   uint x = 0u;
-  for (uint k = 0u; k + 1u < PRODUCT_NODES_X; ++k) x += gProductColumnSums[base + k] <= tx ? 1u : 0u;
-  float columnStart = x == 0u ? 0.0 : gProductColumnSums[base + x - 1u];
-  float columnWidth = gProductColumnSums[base + x] - columnStart;
+  if (gProductReadStored) {
+    x = productSearchRow(base, PRODUCT_NODES_X, tx);
+  } else {
+    for (uint k = 0u; k + 1u < PRODUCT_NODES_X; ++k) x += gProductColumnSums[base + k] <= tx ? 1u : 0u;
+  }
+  float columnStart = x == 0u ? 0.0 : productColumnSum(base + x - 1u);
+  float columnWidth = productColumnSum(base + x) - columnStart;
   if (!(rowWidth > 0.0) || !(columnWidth > 0.0)) return vec3(0.0, 1.0, 0.0);  // u on a float edge
   vec2 v = clamp(vec2((tx - columnStart) / columnWidth, (ty - rowStart) / rowWidth), vec2(0.0),
                  vec2(kOneMinusEpsilon));

@@ -118,17 +118,19 @@ TEST_CASE(
   spec.method = "product";
   const ResolvedMethod product = resolveMethod(spec, *scene.brdf);
   const TechniqueData envData = product.method->envData(env);
-  const auto prelude = [&](const ResolvedMethod& m, IntegratorMode mode, bool inBuffer) {
-    return assemblePrelude(integratorParts(scene, {}, EnvChunking{1, 32}, m, envData, {}, mode, inBuffer));
+  const auto prelude = [&](const ResolvedMethod& m, IntegratorMode mode, ProductTableChunks chunks) {
+    return assemblePrelude(integratorParts(scene, {}, EnvChunking{1, 32}, m, envData, {}, mode, chunks));
   };
-  const std::string kept = prelude(product, IntegratorMode::Image, true);
+  const std::string kept = prelude(product, IntegratorMode::Image, {3, 1000});
   CHECK(contains(kept, "#define PRODUCT_TABLE_BINDING " + std::to_string(kProductTableBinding) + "\n"));
   CHECK(contains(kept, "#define PRODUCT_TABLE_STRIDE 512u\n"));
-  CHECK(!contains(prelude(product, IntegratorMode::Image, false), "PRODUCT_TABLE_BINDING"));
+  CHECK(contains(kept, "#define PRODUCT_TABLE_CHUNKS 3\n#define PRODUCT_TABLE_PIXELS_PER_CHUNK 1000u\n"));
+  CHECK(!contains(prelude(product, IntegratorMode::Image, {}), "PRODUCT_TABLE_BINDING"));
+  CHECK_THROWS_AS(prelude(product, IntegratorMode::Image, {kProductTableMaxChunks + 1, 1000}), Error);
   // Recording puts its records at that binding and rebuilds its one pixel's table.
-  CHECK_THROWS_AS(prelude(product, IntegratorMode::RecordPixel, true), Error);
+  CHECK_THROWS_AS(prelude(product, IntegratorMode::RecordPixel, {1, 1000}), Error);
   spec.method = "env-hier";
-  CHECK_THROWS_AS(prelude(resolveMethod(spec, *scene.brdf), IntegratorMode::Image, true), Error);
+  CHECK_THROWS_AS(prelude(resolveMethod(spec, *scene.brdf), IntegratorMode::Image, {1, 1000}), Error);
 }
 
 }  // namespace iblx
