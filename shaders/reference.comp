@@ -7,6 +7,17 @@
 // Each dispatch adds the texels [sampleOffset, samplesPerPass) in row-major order with Kahan-compensated sums in
 // accum (mean = sum, meanSquare = compensation); the host sizes these ranges so that no invocation runs more loop
 // iterations than lavapipe allows (engine/render/reference.cpp).
+//
+// With REFERENCE_ORACLE_PASS the same sweep gives the variance of the oracle (engine/render/oracle.h): one
+// sample picks texel t with probability w_t / W, w_t = Y(L_t * integral over t of f cos) (Rec. 709 luminance),
+// W = sum of w_t, and a direction uniformly in solid angle inside it (texelToDirection preserves area), so its
+// estimate is c_t f cos with c_t = L_t * solidAngle_t * W / w_t. Pass 1 sums I (Kahan, in mean.rgb and
+// meanSquare.rgb as above) and W (mean.w, compensation meanSquare.w); pass 2 reads them and sums the variance
+// of one sample, sum over t of (w_t / W) * mean over t's Gauss points of (c_t f cos - I)^2: a sum of
+// non-negative terms, so a near-perfect oracle's small variance does not cancel away as W S - I^2 would.
+#ifndef REFERENCE_ORACLE_PASS
+#define REFERENCE_ORACLE_PASS 0
+#endif
 #include "lib/frame_resources.glsl"
 #include "lib/latlong.glsl"
 #include "lib/pixel_shading.glsl"
@@ -35,12 +46,43 @@ vec3 texelIntegral(ivec2 texel, Shading s, int subdivisions) {
   return sum * (texelSolidAngle(texel) / float(4 * subdivisions * subdivisions));
 }
 
+#if REFERENCE_ORACLE_PASS != 0
+float oracleLuminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+#if REFERENCE_ORACLE_PASS == 2
+// A texel's term of the oracle's variance (see the top of the file); `integral` is texelIntegral's.
+vec3 texelOracleVariance(ivec2 texel, Shading s, int subdivisions, vec3 radiance, vec3 integral, vec3 mean,
+                         float total) {
+  float w = oracleLuminance(radiance * integral);
+  if (!(w > 0.0) || !(total > 0.0)) return vec3(0.0);
+  vec3 c = radiance * (texelSolidAngle(texel) * total / w);
+  vec3 sum = vec3(0.0);
+  float inv = 1.0 / float(subdivisions);
+  for (int cell = 0; cell < subdivisions * subdivisions; ++cell) {
+    vec2 corner = vec2(cell % subdivisions, cell / subdivisions);
+    vec3 d = c * fCos(texel, (corner + vec2(kGaussNode, kGaussNode)) * inv, s) - mean;
+    sum += d * d;
+    d = c * fCos(texel, (corner + vec2(1.0 - kGaussNode, kGaussNode)) * inv, s) - mean;
+    sum += d * d;
+    d = c * fCos(texel, (corner + vec2(kGaussNode, 1.0 - kGaussNode)) * inv, s) - mean;
+    sum += d * d;
+    d = c * fCos(texel, (corner + vec2(1.0 - kGaussNode, 1.0 - kGaussNode)) * inv, s) - mean;
+    sum += d * d;
+  }
+  return sum * (w / total / float(4 * subdivisions * subdivisions));
+}
+#endif
+#endif
+
 void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;
   if (pixel.x >= frame.width || pixel.y >= frame.height) return;
   uint index = pixel.y * frame.width + pixel.x;
   GPixel g = gbuffer[index];
   if (g.normal.w == 0.0) {
+#if REFERENCE_ORACLE_PASS == 2
+    return;  // no variance: pass 1 left the background and a zero variance
+#endif
     vec3 radiance = envRadiance(normalize(worldToEnv(g.view.xyz)));
     accum[index].mean = vec4(radiance, 1.0);
     accum[index].meanSquare = vec4(0.0);
@@ -58,6 +100,15 @@ void main() {
   precise vec3 compensation = accum[index].meanSquare.rgb;
   uint texelBegin = frame.sampleOffset, texelEnd = frame.samplesPerPass;
   if (texelBegin == 0u) sum = compensation = vec3(0.0);
+#if REFERENCE_ORACLE_PASS != 0
+  precise float weights = accum[index].mean.w, weightsCompensation = accum[index].meanSquare.w;
+  if (texelBegin == 0u) weights = weightsCompensation = 0.0;
+#if REFERENCE_ORACLE_PASS == 2
+  vec3 oracleMean = accum[index].mean.rgb;
+  float oracleTotal = accum[index].mean.w;
+  vec3 variance = texelBegin == 0u ? vec3(0.0) : accum[index].meanSquare.rgb;
+#endif
+#endif
   // Per row, only the texels whose centre can pass the horizon test below are visited. For a row's centres,
   // dot(n, d) = n.y cos(theta) + r sin(theta) cos(phi - phiN) with r = |n.xz|, so they lie in one interval of phi
   // around phiN (widened by two texels against rounding); the exact test still runs on each, so the texels
@@ -121,14 +172,31 @@ void main() {
           } else {
             integral = texelIntegral(texel, s, k);
           }
+#if REFERENCE_ORACLE_PASS == 2
+          variance += texelOracleVariance(texel, s, max(k, 1), radiance, integral, oracleMean, oracleTotal);
+#else
           precise vec3 term = radiance * integral - compensation;  // Kahan summation
           precise vec3 next = sum + term;
           compensation = (next - sum) - term;
           sum = next;
+#endif
+#if REFERENCE_ORACLE_PASS == 1
+          precise float weightTerm = oracleLuminance(radiance * integral) - weightsCompensation;
+          precise float nextWeights = weights + weightTerm;
+          weightsCompensation = (nextWeights - weights) - weightTerm;
+          weights = nextWeights;
+#endif
         }
       }
     }
   }
+#if REFERENCE_ORACLE_PASS == 2
+  accum[index].meanSquare = vec4(variance, 0.0);
+#elif REFERENCE_ORACLE_PASS == 1
+  accum[index].mean = vec4(sum, weights);
+  accum[index].meanSquare = vec4(compensation, weightsCompensation);
+#else
   accum[index].mean = vec4(sum, 1.0);
   accum[index].meanSquare = vec4(compensation, 0.0);
+#endif
 }

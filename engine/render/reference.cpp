@@ -1,5 +1,6 @@
 // Reference convolution driver: quadrature choice, row chunking, progress.
 #include "engine/render/reference.h"
+#include "engine/render/reference_sweep.h"
 
 #include "engine/core/cache_dir.h"
 #include "engine/core/error.h"
@@ -23,19 +24,9 @@
 
 namespace iblx {
 
-ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
-                                const ReferenceOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  SceneGpu gpu = uploadScene(context, scene);
-  KernelParts parts = referenceParts(scene, gpu.brdfDataLayout, gpu.chunking());
-  if (options.visitEveryTexel) parts.defines.emplace_back("REFERENCE_VISIT_EVERY_TEXEL", "1");
-  const auto spirv = compileKernel(compiler, parts, "reference " + scene.brdf->name);
-  const auto brdfSet = gpu.brdfSet();
-  ComputeKernel kernel(context, spirv, sceneKernelLayout(0, uint32_t(brdfSet.size() - 1)), "reference");
-  kernel.bindBuffers(0, gpu.frameSet());
-  kernel.bindBuffers(2, std::span<const Buffer* const>());
-  kernel.bindBuffers(3, brdfSet);
-
+ReferenceSweep planReferenceSweep(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                                  const ReferenceOptions& options, double subcellLoopsPerTexel) {
+  ReferenceSweep sweep;
   const int W = scene.env.width, H = scene.env.height;
   const double texelAngle = std::max(kPi / H, 2.0 * kPi / W);  // largest texel side (at the equator)
   const double lobe =
@@ -53,13 +44,15 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
     fine = std::clamp(int(std::ceil(4.0 * texelAngle / lobe)), 1, std::max(1, options.maxFineSubdivisions));
     fineZoneCos = std::cos(std::min(kPi, 4.0 * lobe + 1.5 * texelAngle));
   }
+  sweep.fineSubdivisions = fine;
   // Texels the horizon may cross (centre within half a texel diagonal of it): the max(0, cos) kink costs the
   // Gauss rule its order, so these get 2x2 sub-cells (4x4 when the texels are large).
   const int horizonFine = std::min(coarse == 0 ? 2 : 4 * coarse, std::max(1, options.maxFineSubdivisions));
   const double horizonBand = std::sin(std::min(kPi / 2, 0.75 * texelAngle));
 
   const double rotation = scene.envRotationDeg * kPi / 180.0;
-  gpu::FrameParams params{};
+  gpu::FrameParams& params = sweep.params;
+  params = {};
   params.width = uint32_t(scene.gbuffer.width);
   params.height = uint32_t(scene.gbuffer.height);
   params.envWidth = uint32_t(W);
@@ -94,45 +87,64 @@ ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& co
   // Dispatches over runs of texels (row-major). lavapipe caps the loop iterations one invocation may run
   // (about 65535 back-edges in all; beyond it loops end early and the sum silently misses texels), so each
   // run's worst-case iteration count stays under kIterationBudget: a texel costs one texel-loop iteration
-  // plus its sub-cell loop, k^2 for the largest k any pixel may give it (any texel may lie in some pixel's
-  // fine zone or horizon band; only the bright ones get brightFine), and each row 3 for its own loops. Runs
-  // also bound the work per dispatch
-  // (watchdogs, progress).
+  // plus its sub-cell loops, k^2 each for the largest k any pixel may give it (any texel may lie in some
+  // pixel's fine zone or horizon band; only the bright ones get brightFine), and each row 3 for its own
+  // loops. Runs also bound the work per dispatch (watchdogs, progress).
   constexpr double kIterationBudget = 50000;
   const double workPerIteration = double(scene.gbuffer.objectPixelCount());
   const double kCommon = std::max({double(coarse), double(fine), double(horizonFine)});
-  std::vector<std::pair<uint32_t, uint32_t>> runs;
-  {
-    uint32_t begin = 0;
-    double iterations = 0;
-    const std::size_t texels = std::size_t(W) * std::size_t(H);
-    for (std::size_t i = 0; i < texels; ++i) {
-      const double k = energies[i] >= brightEnergy ? std::max(kCommon, double(brightFine)) : kCommon;
-      // A row started in the run adds its own loop iterations (the row loop and its two column ranges).
-      const double cost = 1.0 + k * k + (i % std::size_t(W) == 0 ? 3.0 : 0.0);
-      if (i > begin && (iterations + cost > kIterationBudget ||
-                        (iterations + cost) * workPerIteration > options.maxWorkPerDispatch)) {
-        runs.emplace_back(begin, uint32_t(i));
-        begin = uint32_t(i);
-        iterations = 0;
-      }
-      iterations += cost;
+  uint32_t begin = 0;
+  double iterations = 0;
+  const std::size_t texels = std::size_t(W) * std::size_t(H);
+  for (std::size_t i = 0; i < texels; ++i) {
+    const double k = energies[i] >= brightEnergy ? std::max(kCommon, double(brightFine)) : kCommon;
+    // A row started in the run adds its own loop iterations (the row loop and its two column ranges).
+    const double cost = 1.0 + subcellLoopsPerTexel * k * k + (i % std::size_t(W) == 0 ? 3.0 : 0.0);
+    if (i > begin && (iterations + cost > kIterationBudget ||
+                      (iterations + cost) * workPerIteration > options.maxWorkPerDispatch)) {
+      sweep.runs.emplace_back(begin, uint32_t(i));
+      begin = uint32_t(i);
+      iterations = 0;
     }
-    runs.emplace_back(begin, uint32_t(texels));
+    iterations += cost;
   }
-  for (std::size_t r = 0; r < runs.size(); ++r) {
-    params.sampleOffset = runs[r].first;
-    params.samplesPerPass = runs[r].second;
+  sweep.runs.emplace_back(begin, uint32_t(texels));
+  return sweep;
+}
+
+void runReferenceSweep(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                       SceneGpu& gpu, KernelParts parts, const std::string& name, ReferenceSweep sweep,
+                       const std::function<void(double)>& progress) {
+  const auto spirv = compileKernel(compiler, parts, name + " " + scene.brdf->name);
+  const auto brdfSet = gpu.brdfSet();
+  ComputeKernel kernel(context, spirv, sceneKernelLayout(0, uint32_t(brdfSet.size() - 1)), name);
+  kernel.bindBuffers(0, gpu.frameSet());
+  kernel.bindBuffers(2, std::span<const Buffer* const>());
+  kernel.bindBuffers(3, brdfSet);
+  gpu::FrameParams& params = sweep.params;
+  for (std::size_t r = 0; r < sweep.runs.size(); ++r) {
+    params.sampleOffset = sweep.runs[r].first;
+    params.samplesPerPass = sweep.runs[r].second;
     context.submitAndWait([&](vk::CommandBuffer cmd) {
       kernel.record(cmd, (params.width + 7) / 8, (params.height + 7) / 8, &params, sizeof params);
       recordShaderWriteBarrier(cmd, true);  // -> the next run and the host
     });
     // After every run: the viewer cancels a ground truth by throwing from here, so this is also how soon it
     // stops.
-    if (options.progress) options.progress(double(runs[r].second) / double(runs.back().second));
+    if (progress) progress(double(sweep.runs[r].second) / double(sweep.runs.back().second));
   }
+}
 
-  ReferenceImage image{scene.gbuffer.width, scene.gbuffer.height, {}, 0.0, fine};
+ReferenceImage computeReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                                const ReferenceOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  SceneGpu gpu = uploadScene(context, scene);
+  KernelParts parts = referenceParts(scene, gpu.brdfDataLayout, gpu.chunking());
+  if (options.visitEveryTexel) parts.defines.emplace_back("REFERENCE_VISIT_EVERY_TEXEL", "1");
+  const ReferenceSweep sweep = planReferenceSweep(context, compiler, scene, options, 1.0);
+  runReferenceSweep(context, compiler, scene, gpu, std::move(parts), "reference", sweep, options.progress);
+
+  ReferenceImage image{scene.gbuffer.width, scene.gbuffer.height, {}, 0.0, sweep.fineSubdivisions};
   const auto accum = gpu.accum.readAll<gpu::AccumPixel>();
   image.rgb.resize(accum.size() * 3);
   for (size_t i = 0; i < accum.size(); ++i) {
