@@ -15,7 +15,6 @@
 namespace iblx {
 namespace {
 
-
 double mean(const std::vector<double>& v) {
   double sum = 0.0;
   for (double x : v) sum += x;
@@ -152,6 +151,7 @@ ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double target
     row.sequence = key.second;
     row.seeds = int(group.size());
     std::vector<double> spp, seconds, setup, mse, relMse, slopeSpp, slopeTime, toTarget, efficiency, rate;
+    std::vector<double> msePerSample, relMsePerSample;
     for (const ConvergenceRun* run : group) {
       const auto& last = run->points.back();
       spp.push_back(double(last.spp));
@@ -167,6 +167,8 @@ ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double target
       efficiency.push_back(last.mse > 0 && last.wallSeconds > 0 ? 1.0 / (last.mse * last.wallSeconds)
                                                                 : std::numeric_limits<double>::infinity());
       rate.push_back(last.wallSeconds > 0 ? double(last.spp) / last.wallSeconds : 0.0);
+      msePerSample.push_back(last.mse * double(last.spp));
+      relMsePerSample.push_back(last.relMse * double(last.spp));
       row.maxAbsZ = std::max(row.maxAbsZ, run->finalMaxAbsZ);
       row.nonFiniteSamples += run->nonFiniteSamples;
       row.finite = row.finite && run->finiteImage;
@@ -184,6 +186,8 @@ ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double target
     if (std::isinf(row.timeToTarget)) row.timeToTarget = kNotReached;
     row.efficiency = mean(efficiency);
     row.samplesPerSecond = median(rate);
+    row.mseTimesSpp = mean(msePerSample);
+    row.relMseTimesSpp = mean(relMsePerSample);
     // The common time is the shortest run's end, so every run has a measurement on both sides of it.
     for (double s : seconds) summary.equalTimeSeconds = std::min(summary.equalTimeSeconds, s);
     summary.rows.push_back(row);
@@ -201,6 +205,16 @@ ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double target
   }
   for (auto& row : summary.rows) row.equalTimeRatio = row.equalTimeMse / best;
   return summary;
+}
+
+void addOracle(ConvergenceSummary& summary, double mseTimesSpp, double relMseTimesSpp) {
+  summary.oracleMseTimesSpp = mseTimesSpp;
+  summary.oracleRelMseTimesSpp = relMseTimesSpp;
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  for (auto& row : summary.rows) {
+    row.mseOverOracle = mseTimesSpp > 0.0 ? row.mseTimesSpp / mseTimesSpp : kNaN;
+    row.relMseOverOracle = relMseTimesSpp > 0.0 ? row.relMseTimesSpp / relMseTimesSpp : kNaN;
+  }
 }
 
 std::string formatMarkdownTable(const TextTable& table) {
@@ -243,47 +257,68 @@ TextTable summaryTable(const ConvergenceSummary& summary) {
                       formatNumber(r.relMse), formatNumber(r.slopeSpp, "%.2f"), formatSeconds(r.timeToTarget),
                       formatNumber(r.equalTimeMse), formatNumber(r.equalTimeRatio, "%.2f"),
                       formatNumber(r.efficiency)});
+  if (summary.oracleMseTimesSpp > 0.0) {
+    t.headers.insert(t.headers.end(), {"MSE·spp ÷ oracle", "relMSE·spp ÷ oracle"});
+    t.rightAligned.insert(t.rightAligned.end(), {true, true});
+    for (std::size_t i = 0; i < summary.rows.size(); ++i)
+      t.rows[i].insert(t.rows[i].end(), {formatNumber(summary.rows[i].mseOverOracle, "%.3g"),
+                                         formatNumber(summary.rows[i].relMseOverOracle, "%.3g")});
+  }
   return t;
 }
 
 std::string formatSummaryTable(const ConvergenceSummary& summary) {
-  const std::string noise =
-      summary.referenceNoiseMse > 0.0
-          ? " Errors are net of the reference's own noise (MSE " + formatNumber(summary.referenceNoiseMse) +
-                ", relMSE " + formatNumber(summary.referenceNoiseRelMse) + "), subtracted."
+  const std::string noise = summary.referenceNoiseMse > 0.0
+                                ? " Errors are net of the reference's own noise (MSE " +
+                                      formatNumber(summary.referenceNoiseMse) + ", relMSE " +
+                                      formatNumber(summary.referenceNoiseRelMse) + "), subtracted."
+                                : "";
+  const std::string oracle =
+      summary.oracleMseTimesSpp > 0.0
+          ? " The oracle (the limit of a luminance pdf over the map's texels): MSE·spp " +
+                formatNumber(summary.oracleMseTimesSpp) + ", relMSE·spp " +
+                formatNumber(summary.oracleRelMseTimesSpp) + "."
           : "";
   return "Equal time: " + formatSeconds(summary.equalTimeSeconds) +
-         " of rendering (the shortest run); target relMSE " + formatNumber(summary.targetRelMse) + "." + noise +
-         "\n\n" + formatMarkdownTable(summaryTable(summary));
+         " of rendering (the shortest run); target relMSE " + formatNumber(summary.targetRelMse) + "." +
+         noise + oracle + "\n\n" + formatMarkdownTable(summaryTable(summary));
 }
 
 std::string formatSummaryJson(const ConvergenceSummary& summary, std::size_t* nonFinite) {
   std::string lines;
-  for (const auto& r : summary.rows)
-    lines += formatJson({{"method", r.method},
-                         {"sequence", r.sequence},
-                         {"seeds", r.seeds},
-                         {"spp", r.spp},
-                         {"wall_s", r.seconds},
-                         {"setup_s", r.setupSeconds},
-                         {"mse", r.mse},
-                         {"mse_min", r.mseLow},
-                         {"mse_max", r.mseHigh},
-                         {"relmse", r.relMse},
-                         {"slope_spp", r.slopeSpp},
-                         {"slope_time", r.slopeTime},
-                         {"target_relmse", summary.targetRelMse},
-                         {"time_to_target_s", r.timeToTarget},
-                         {"equal_time_s", summary.equalTimeSeconds},
-                         {"equal_time_mse", r.equalTimeMse},
-                         {"equal_time_ratio", r.equalTimeRatio},
-                         {"efficiency", r.efficiency},
-                         {"max_abs_z", r.maxAbsZ},
-                         {"reference_noise_mse", summary.referenceNoiseMse},
-                         {"reference_noise_relmse", summary.referenceNoiseRelMse},
-                         {"non_finite", r.nonFiniteSamples}},
-                        nonFinite) +
-             "\n";
+  for (const auto& r : summary.rows) {
+    JsonObject row = {{"method", r.method},
+                      {"sequence", r.sequence},
+                      {"seeds", r.seeds},
+                      {"spp", r.spp},
+                      {"wall_s", r.seconds},
+                      {"setup_s", r.setupSeconds},
+                      {"mse", r.mse},
+                      {"mse_min", r.mseLow},
+                      {"mse_max", r.mseHigh},
+                      {"relmse", r.relMse},
+                      {"slope_spp", r.slopeSpp},
+                      {"slope_time", r.slopeTime},
+                      {"target_relmse", summary.targetRelMse},
+                      {"time_to_target_s", r.timeToTarget},
+                      {"equal_time_s", summary.equalTimeSeconds},
+                      {"equal_time_mse", r.equalTimeMse},
+                      {"equal_time_ratio", r.equalTimeRatio},
+                      {"efficiency", r.efficiency},
+                      {"max_abs_z", r.maxAbsZ},
+                      {"reference_noise_mse", summary.referenceNoiseMse},
+                      {"reference_noise_relmse", summary.referenceNoiseRelMse},
+                      {"non_finite", r.nonFiniteSamples},
+                      {"mse_spp", r.mseTimesSpp},
+                      {"relmse_spp", r.relMseTimesSpp}};
+    if (summary.oracleMseTimesSpp > 0.0) {
+      row["oracle_mse_spp"] = summary.oracleMseTimesSpp;
+      row["oracle_relmse_spp"] = summary.oracleRelMseTimesSpp;
+      row["mse_spp_over_oracle"] = r.mseOverOracle;
+      row["relmse_spp_over_oracle"] = r.relMseOverOracle;
+    }
+    lines += formatJson(row, nonFinite) + "\n";
+  }
   return lines;
 }
 

@@ -1,7 +1,7 @@
-// Speed against error (docs/DESIGN.md §7): the measurements of `iblx converge` (error after each pass of each method,
-// sequence and seed) and what is derived from them: the sample schedule, log-log fits and interpolation, the
-// summary table (time to a target error, equal-time MSE ratio, slope, efficiency, spread over seeds), CSV.
-// Plain CPU code on plain values, so every figure can be unit-tested on synthetic curves.
+// Speed against error (docs/DESIGN.md §7): the measurements of `iblx converge` (error after each pass of each
+// method, sequence and seed) and what is derived from them: the sample schedule, log-log fits and
+// interpolation, the summary table (time to a target error, equal-time MSE ratio, slope, efficiency, spread
+// over seeds), CSV. Plain CPU code on plain values, so every figure can be unit-tested on synthetic curves.
 #pragma once
 
 #include <cstdint>
@@ -71,22 +71,31 @@ struct MethodSummary {
   double equalTimeMse = 0.0;               // mean over seeds of the MSE at the common time
   double equalTimeRatio = 0.0;             // equalTimeMse / the best method's
   double efficiency = 0.0;                 // 1 / (MSE * time) at the end, mean over seeds
-  double samplesPerSecond = 0.0;           // spp per second of wall time (per pixel), median over seeds
-  double maxAbsZ = 0.0;                    // worst final |z| over seeds
-  std::uint32_t nonFiniteSamples = 0;      // summed over seeds
+  // MSE x spp and relMSE x spp at the end, mean over seeds: the variance per sample for i.i.d. samples.
+  double mseTimesSpp = 0.0, relMseTimesSpp = 0.0;
+  // Those over the oracle's (engine/render/oracle.h); NaN when the summary has no oracle.
+  double mseOverOracle = std::numeric_limits<double>::quiet_NaN();
+  double relMseOverOracle = std::numeric_limits<double>::quiet_NaN();
+  double samplesPerSecond = 0.0;       // spp per second of wall time (per pixel), median over seeds
+  double maxAbsZ = 0.0;                // worst final |z| over seeds
+  std::uint32_t nonFiniteSamples = 0;  // summed over seeds
   bool finite = true;
 };
 
 struct ConvergenceSummary {
   double targetRelMse = 0.0;
-  double equalTimeSeconds = 0.0;    // the common time: the end of the shortest run
+  double equalTimeSeconds = 0.0;  // the common time: the end of the shortest run
   // A Monte Carlo reference's own expected MSE and relMSE, already subtracted from every error (0: exact).
   double referenceNoiseMse = 0.0, referenceNoiseRelMse = 0.0;
   std::vector<MethodSummary> rows;  // in the order the runs first appear
+  // The oracle's variance per sample over the object pixels (engine/render/oracle.h); 0: not computed.
+  double oracleMseTimesSpp = 0.0, oracleRelMseTimesSpp = 0.0;
 };
 
 // Groups runs by (method, sequence). Throws iblx::Error when there is no run with a point.
 ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double targetRelMse);
+// Records the oracle's MSE x spp and relMSE x spp in `summary` and each method's as a multiple of them.
+void addOracle(ConvergenceSummary& summary, double mseTimesSpp, double relMseTimesSpp);
 
 // A table of text cells, written as Markdown (terminal, docs) or HTML (report pages) from one definition.
 struct TextTable {

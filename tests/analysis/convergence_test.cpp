@@ -117,6 +117,28 @@ TEST_CASE("summarize: equal-time ratio, slope, efficiency and time to target of 
   CHECK_THROWS_AS(summarize(std::vector<ConvergenceRun>{{"empty", "random", 1}}, 1e-3), Error);
 }
 
+TEST_CASE("summarize: variance per sample, and as a multiple of the oracle's") {
+  const auto schedule = sppSchedule(4, 256, 4);
+  // MSE c / spp: MSE x spp is c (relMSE x spp 2c), mean over the seeds 1.0 and 1.2.
+  const std::vector<ConvergenceRun> runs = {powerLawRun("A", 1, 1.0, 0.001, schedule),
+                                            powerLawRun("A", 2, 1.2, 0.001, schedule)};
+  ConvergenceSummary s = summarize(runs, 1e-3);
+  CHECK(s.rows[0].mseTimesSpp == doctest::Approx(1.1));
+  CHECK(s.rows[0].relMseTimesSpp == doctest::Approx(2.2));
+  CHECK(std::isnan(s.rows[0].mseOverOracle));
+  CHECK(formatSummaryTable(s).find("oracle") == std::string::npos);
+  CHECK(formatSummaryJson(s).find("oracle") == std::string::npos);
+  addOracle(s, 0.55, 0.2);
+  CHECK(s.rows[0].mseOverOracle == doctest::Approx(2.0));
+  CHECK(s.rows[0].relMseOverOracle == doctest::Approx(11.0));
+  const std::string table = formatSummaryTable(s);
+  CHECK(table.find("The oracle (the limit of a luminance pdf over the map's texels): MSE·spp 0.55") !=
+        std::string::npos);
+  CHECK(table.find("| MSE·spp ÷ oracle | relMSE·spp ÷ oracle |") != std::string::npos);
+  CHECK(table.find("| 2 | 11 |") != std::string::npos);
+  CHECK(formatSummaryJson(s).find("\"mse_spp_over_oracle\": 2.0") != std::string::npos);
+}
+
 TEST_CASE("familyZBound: the normal quantiles, Sidak-corrected") {
   CHECK(familyZBound(0.05, 1) == doctest::Approx(1.959964).epsilon(1e-5));
   CHECK(familyZBound(1e-3, 1) == doctest::Approx(3.290527).epsilon(1e-5));

@@ -28,8 +28,8 @@ struct Scratch {
 
 // The JSON lines of `iblx ARGS` (stdout only); the command must succeed.
 std::vector<json> jsonLines(const Scratch& scratch, const std::string& args) {
-  const std::string command = "IBLX_CACHE_DIR=" + (scratch.dir / "cache").string() + " " + IBLX_BINARY + " " +
-                              args + " 2>/dev/null";
+  const std::string command =
+      "IBLX_CACHE_DIR=" + (scratch.dir / "cache").string() + " " + IBLX_BINARY + " " + args + " 2>/dev/null";
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
   REQUIRE(pipe != nullptr);
   std::string out;
@@ -53,7 +53,8 @@ TEST_CASE("--json of every command parses, with its keys") {
   Scratch scratch;
   const std::string out = (scratch.dir / "x").string();
 
-  const json render = jsonLines(scratch, "render --size 12x12 --spp 2 --passes 2 --json --reference --out " + out + ".exr")[0];
+  const json render = jsonLines(
+      scratch, "render --size 12x12 --spp 2 --passes 2 --json --reference --out " + out + ".exr")[0];
   CHECK(render["method"].is_string());
   CHECK(render["spp"] == 4);
   // The 12x12 sphere: the pixel centres inside the unit disc (x^2 + y^2 < 1 on the image plane).
@@ -68,20 +69,35 @@ TEST_CASE("--json of every command parses, with its keys") {
   CHECK(render["relmse"].is_number());
   CHECK(render["out"] == out + ".exr");
 
-  const std::vector<json> bench = jsonLines(scratch, "bench --size 12x12 --spp 2 --passes 1 --method env-cdf --seq sobol --json");
+  const std::vector<json> bench =
+      jsonLines(scratch, "bench --size 12x12 --spp 2 --passes 1 --method env-cdf --seq sobol --json");
   CHECK(bench[0]["method"].get<std::string>().find("env-cdf") != std::string::npos);
   CHECK(bench[0]["gpu_samples_per_s"].is_number());
 
   // A target no run reaches: time_to_target_s is not a number, and must come out as null, not as "nan".
   const std::vector<json> converge = jsonLines(
-      scratch, "converge --brdf lambert --size 12x12 --method env-cdf --method mis:power --seq random --seeds 1 "
-               "--max-spp 8 --target-relmse 1e-12 --no-plots --json --out-dir " + (scratch.dir / "c").string());
+      scratch,
+      "converge --brdf lambert --size 12x12 --method env-cdf --method mis:power --seq random --seeds 1 "
+      "--max-spp 8 --target-relmse 1e-12 --no-plots --json --out-dir " +
+          (scratch.dir / "c").string());
   REQUIRE(converge.size() == 2);
   for (const json& row : converge) {
     CHECK(row["time_to_target_s"].is_null());
     CHECK(row["mse"].is_number());
     CHECK(row["method"].is_string());  // labels hold commas and parentheses: escaped by the library
+    CHECK(!row.contains("mse_spp_over_oracle"));
   }
+  // --oracle: each method's variance per sample against the limit of a luminance pdf, which it cannot beat.
+  const std::vector<json> oracle =
+      jsonLines(scratch,
+                "converge --brdf lambert --size 12x12 --method env-cdf --seq random --seeds 1 --max-spp 64 "
+                "--oracle --no-plots --json --out-dir " +
+                    (scratch.dir / "o").string());
+  REQUIRE(oracle.size() == 1);
+  CHECK(oracle[0]["oracle_mse_spp"].get<double>() > 0.0);
+  CHECK(oracle[0]["mse_spp_over_oracle"].get<double>() > 1.0);
+  CHECK(oracle[0]["mse_spp"].get<double>() == doctest::Approx(oracle[0]["mse_spp_over_oracle"].get<double>() *
+                                                              oracle[0]["oracle_mse_spp"].get<double>()));
 
   const std::vector<json> hard = jsonLines(
       scratch, "hardcases --case zero-half --quick --method env-cdf --seq sobol --max-spp 16 --json");

@@ -12,6 +12,7 @@
 #include "tools/cli/commands.h"
 #include "tools/cli/converge_figures.h"
 #include "tools/cli/converge_scene.h"
+#include "engine/render/oracle.h"
 #include "tools/cli/measurement.h"
 #include "tools/cli/report_html.h"
 
@@ -37,6 +38,7 @@ struct ConvergeOptions {
   std::filesystem::path outDir = "converge";
   double targetRelMse = 1e-3;
   bool plots = true;
+  bool oracle = false;  // --oracle
 };
 
 // Declares the flags and parses `args`; none when --help was answered.
@@ -52,6 +54,11 @@ std::optional<ConvergeOptions> parseConvergeOptions(const Args& args) {
   parser.value("--out-dir", "DIR", "where the CSV, summary and figures go (default ./converge; created)",
                [&](const std::string& v) { options.outDir = v; });
   parser.toggle("--no-plots", "write no PNG figures", [&] { options.plots = false; });
+  parser.toggle(
+      "--oracle",
+      "also compute the oracle's variance (the limit of a luminance pdf over the map's texels; about "
+      "three ground truths) and give each method's MSE·spp and relMSE·spp as a multiple of it",
+      [&] { options.oracle = true; });
   parser.toggle("--json", "print the summary as one JSON object per method instead of the table",
                 [&] { render.json = true; });
   if (parser.parseOrShowHelp(args)) return std::nullopt;
@@ -163,8 +170,8 @@ void writeConvergeHtml(const ConvergeOptions& options, const std::string& sceneT
 // JSON with --json) and a warning per method with non-finite estimates.
 void writeConvergeOutputs(const ConvergeOptions& options, const std::string& deviceName, const Scene& scene,
                           const std::string& sceneTitle, const ObtainedReference& obtained,
-                          const ConvergenceResult& result, const ConvergenceBudget& budget,
-                          std::size_t seedCount) {
+                          const std::optional<OracleVariance>& oracle, const ConvergenceResult& result,
+                          const ConvergenceBudget& budget, std::size_t seedCount) {
   const std::filesystem::path& outDir = options.outDir;
   const std::vector<float>& reference = obtained.rgb;
   writeConvergenceCsv(outDir / "converge.csv", result.runs);
@@ -172,6 +179,7 @@ void writeConvergeOutputs(const ConvergeOptions& options, const std::string& dev
   ConvergenceSummary summary = summarize(result.runs, options.targetRelMse);
   summary.referenceNoiseMse = obtained.noise.mse;
   summary.referenceNoiseRelMse = obtained.noise.relMse;
+  if (oracle) addOracle(summary, oracle->mseTimesSpp, oracle->relMseTimesSpp);
   ConvergeFigures figures;
   if (options.plots) {
     figures.plotFiles = writeConvergencePlots(outDir, sceneTitle, result.runs, obtained.noise);
@@ -205,6 +213,21 @@ void writeConvergeOutputs(const ConvergeOptions& options, const std::string& dev
            nonFiniteEstimatesMessage(row.nonFiniteSamples, render.scene.brdf));
 }
 
+// The oracle's variance with progress; Ctrl-C abandons it between dispatches (exit 130).
+OracleVariance computeOracle(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene) {
+  InterruptGuard interrupt;
+  ReferenceOptions options;
+  options.progress = [&interrupt](double f) {
+    if (interrupt.flag().load())
+      throw Interrupted("the oracle was " + std::to_string(int(100 * f)) + "% done; nothing was written");
+    progressLine("oracle " + std::to_string(int(100 * f)) + "%");
+  };
+  OracleVariance oracle = computeOracleVariance(context, compiler, scene, options);
+  std::fprintf(stderr, "oracle: MSE·spp %.4g, relMSE·spp %.4g, computed in %.2f s\n", oracle.mseTimesSpp,
+               oracle.relMseTimesSpp, oracle.seconds);
+  return oracle;
+}
+
 int runConverge(const ConvergeOptions& options) {
   const ConvergeSceneFlags& flags = options.sceneFlags;
   const RenderSpec& render = flags.render;
@@ -222,6 +245,8 @@ int runConverge(const ConvergeOptions& options) {
   checkOutDir(options.outDir);
   ShaderCompiler compiler;
   const ObtainedReference obtained = obtainReference(context, compiler, scene, hardCase, spec);
+  const std::optional<OracleVariance> oracle =
+      options.oracle ? std::optional(computeOracle(context, compiler, scene)) : std::nullopt;
   // Created once the inputs have been checked (nothing is written for bad input), before the long part.
   const FileLock outDirLock = claimOutDir(options.outDir);
 
@@ -230,7 +255,7 @@ int runConverge(const ConvergeOptions& options) {
                context.deviceName().c_str(), sceneTitle.c_str());
   const ConvergenceResult result =
       measureConvergence(context, compiler, scene, obtained, methods, seeds, budget);
-  writeConvergeOutputs(options, context.deviceName(), scene, sceneTitle, obtained, result, budget,
+  writeConvergeOutputs(options, context.deviceName(), scene, sceneTitle, obtained, oracle, result, budget,
                        seeds.size());
   return result.interrupted ? 130 : 0;
 }
