@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <utility>
 
 namespace iblx {
 namespace {
@@ -138,6 +139,28 @@ void checkMemoryBudget(std::string_view what, std::uint64_t bytes) {
   if (bytes > budget)
     throw Error(std::string(what) + " needs " + formatBytes(bytes) + ", over iblx's memory budget of " +
                 formatBytes(budget) + " (IBLX_MEMORY_BUDGET_GIB raises it)");
+}
+
+namespace {
+std::function<std::uint64_t()>& deviceTableQuery() {
+  static std::function<std::uint64_t()> query;
+  return query;
+}
+}  // namespace
+
+DeviceTableLimit::DeviceTableLimit(std::function<std::uint64_t()> largestBuffer)
+    : previous_(std::exchange(deviceTableQuery(), std::move(largestBuffer))) {}
+
+DeviceTableLimit::~DeviceTableLimit() {
+  deviceTableQuery() = std::move(previous_);
+}
+
+void checkDeviceTable(std::string_view what, std::uint64_t bytes) {
+  if (bytes <= kGuaranteedDeviceBufferBytes || !deviceTableQuery()) return;
+  const std::uint64_t largest = deviceTableQuery()();
+  if (bytes > largest)
+    throw Error(std::string(what) + " needs " + formatBytes(bytes) +
+                ", more than the device's largest storage buffer (" + formatBytes(largest) + ")");
 }
 
 AtomicOutput::AtomicOutput(fs::path path) : path_(std::move(path)) {

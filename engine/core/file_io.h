@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -30,6 +31,26 @@ std::uint64_t memoryBudgetBytes();
 // Throws Error("WHAT needs N GiB, over iblx's memory budget of B GiB ...") when bytes exceeds the budget, so
 // that a size read from a header or a flag is refused before it is allocated.
 void checkMemoryBudget(std::string_view what, std::uint64_t bytes);
+// Vulkan guarantees every device storage buffers of 2^27 bytes (maxStorageBufferRange's required minimum); a
+// table larger than that fits only where the device allows it. A reader calls checkDeviceTable with a table's
+// size before it reads the table's body, so that one no buffer of the device holds is refused at once rather
+// than after a long read. The device's limit comes from the query of the innermost DeviceTableLimit (a
+// command's, for the device it will render on), asked only for tables above 2^27 bytes, since learning it
+// means starting the device; without one, no such check is made here (the upload still refuses the table).
+class DeviceTableLimit {
+ public:
+  explicit DeviceTableLimit(std::function<std::uint64_t()> largestBuffer);
+  ~DeviceTableLimit();
+  DeviceTableLimit(const DeviceTableLimit&) = delete;
+  DeviceTableLimit& operator=(const DeviceTableLimit&) = delete;
+
+ private:
+  std::function<std::uint64_t()> previous_;
+};
+inline constexpr std::uint64_t kGuaranteedDeviceBufferBytes = std::uint64_t(1) << 27;
+// Throws Error("WHAT needs N MiB, more than the device's largest storage buffer (M MiB)") when it does not
+// fit.
+void checkDeviceTable(std::string_view what, std::uint64_t bytes);
 // "1.5 GiB", "12 MiB", "640 bytes": sizes in messages.
 std::string formatBytes(std::uint64_t bytes);
 

@@ -112,6 +112,8 @@ MitBrdf loadMitBrdf(const fs::path& path) {
                 std::to_string(expectedBytes(dims)) + " for its header's " + std::to_string(dims.thetaIn) +
                 " x " + std::to_string(dims.thetaOut) + " x " + std::to_string(dims.phiDiff) + " x " +
                 std::to_string(dims.phiIn) + " bins x 3 channels");
+  checkDeviceTable(name + ": the " + std::to_string(dims.bins()) + "-bin table",
+                   3 * std::uint64_t(dims.bins()) * sizeof(float));
   const std::vector<unsigned char> bytes = readInputFile(path, size);
   MitBrdf brdf;
   brdf.dims = dims;

@@ -30,6 +30,8 @@ void checkImageFitsDevice(const VulkanContext& context, int width, int height) {
 
 Scene loadSceneFor(const VulkanContext& context, const SceneSpec& spec) {
   checkImageFitsDevice(context, spec.width, spec.height);
+  const DeviceTableLimit tableLimit(
+      [&context] { return std::uint64_t(context.limits().maxStorageBufferRange); });
   return loadScene(spec);
 }
 

@@ -176,6 +176,14 @@ expect_error "measured-synth extension" "must end in .bin" measured-synth --out 
 expect_ok "measured-synth mit" measured-synth --format mit --brdf lambert --param albedo=0.5 --out "$tmp/lambert.dat"
 [ "$(stat -c %s "$tmp/lambert.dat" 2>/dev/null)" = 10077760 ] && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: measured-synth mit file size"; }
 expect_ok "mit render" render --brdf "$tmp/lambert.dat" --param scale=2 --size 8x8 --spp 2 --passes 1 --out "$tmp/d.png"
+# A valid table larger than any buffer of the device (151 MB against lavapipe's 128 MiB; a sparse file, so it
+# costs no disk) is refused from its header, before its body is read.
+head -c 64 "$tmp/lambert.dat" > "$tmp/huge.dat"
+printf '\x1c\x02\x00\x00' | dd of="$tmp/huge.dat" bs=1 seek=12 conv=notrunc status=none  # 540 phi_in bins
+truncate -s 151165504 "$tmp/huge.dat"
+IBLX_MAX_BUFFER_MIB=128 expect_error "mit table over the device limit" "huge.dat: the 12597120-bin table needs 144 MiB, more than the device's largest storage buffer (128 MiB)" \
+  render --brdf "$tmp/huge.dat" --size 8x8 --spp 2 --passes 1 --out "$tmp/d.png"
+rm -f "$tmp/huge.dat"
 cp "$tmp/lambert.dat" "$tmp/lambert-mit.measured"
 expect_ok "mit recognised by its header" render --brdf "$tmp/lambert-mit.measured" --size 8x8 --spp 2 --passes 1 --out "$tmp/d.png"
 head -c 100000 "$tmp/lambert.dat" > "$tmp/truncated.dat"

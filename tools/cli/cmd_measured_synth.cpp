@@ -166,6 +166,7 @@ int runMeasuredSynth(const MeasuredSynthOptions& options) {
                                                    : ".func";
   const std::string out = options.out.empty() ? "material" + extension : options.out;
   checkTableOutput(out, extension, format);
+  const DeviceTableLimit tableLimit = deviceTableLimit(options.render.device);
   LoadedBrdf loaded = loadBrdfArgument(options.render.scene.brdf);
   const std::string brdfName = loaded.info->name;
 

@@ -41,6 +41,7 @@ int cmdMerlSynth(const Args& args) {
   if (parser.parseOrShowHelp(args)) return 0;
   if (seedGiven && options.invalidFraction == 0.0) warn("--seed is ignored without --invalid-fraction");
   checkTableOutput(out, ".binary", "MERL");
+  const DeviceTableLimit tableLimit = deviceTableLimit(spec.device);
   LoadedBrdf loaded = loadBrdfArgument(spec.scene.brdf);
   if (loaded.measured)
     throw Error("--brdf " + spec.scene.brdf +

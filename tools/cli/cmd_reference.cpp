@@ -20,6 +20,7 @@ int cmdReference(const Args& args) {
   parser.value("--out", "FILE", "output .exr (default reference.exr)",
                [&](const std::string& v) { spec.out = v; });
   if (parser.parseOrShowHelp(args)) return 0;
+  const DeviceTableLimit tableLimit = deviceTableLimit(spec.device);
   LoadedBrdf brdf = loadBrdfArgument(spec.scene.brdf);
   resolveParams(*brdf.info, spec.scene.params);
   checkImagePath("--out", spec.out, true);

@@ -153,6 +153,7 @@ void printRenderResult(const RenderSpec& spec, const ResolvedMethod& method, con
 
 int runRender(const RenderSpec& spec) {
   // Everything a user can get wrong is checked before the map is loaded and anything is rendered.
+  const DeviceTableLimit tableLimit = deviceTableLimit(spec.device);
   LoadedBrdf brdf = loadBrdfArgument(spec.scene.brdf);
   const ResolvedMethod method = checkRenderInputs(spec, brdf);
 

@@ -155,6 +155,7 @@ int runSamples(const SamplesOptions& options) {
   const auto [pixelX, pixelY] = parsePixel("--pixel", pixelText);
   const bool toStdout = spec.out == "-";
   if (!toStdout) checkCsvOutput(spec.out);
+  const DeviceTableLimit tableLimit = deviceTableLimit(spec.device);
   LoadedBrdf brdf = loadBrdfArgument(spec.scene.brdf);
   resolveParams(*brdf.info, spec.scene.params);
   const ResolvedMethod method = resolveMethodAndWarn(spec.method, *brdf.info);

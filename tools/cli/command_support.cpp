@@ -5,6 +5,7 @@
 #include "engine/core/error.h"
 #include "engine/core/file_names.h"
 #include "engine/io/env_image.h"
+#include "engine/vk/context.h"
 
 #include <cmath>
 #include <cstdio>
@@ -70,6 +71,13 @@ void progressLine(const std::string& text) {
 
 void endProgressLine() {
   if (isatty(STDERR_FILENO)) std::fprintf(stderr, "\r\x1b[K");
+}
+
+DeviceTableLimit deviceTableLimit(const std::string& device) {
+  return DeviceTableLimit([device] {
+    const VulkanContext context({device, Validation::Off});
+    return std::uint64_t(context.limits().maxStorageBufferRange);
+  });
 }
 
 }  // namespace iblx::cli

@@ -2,6 +2,7 @@
 // --reference-file, the warning for non-finite estimates, and progress lines on a terminal.
 #pragma once
 
+#include "engine/core/file_io.h"
 #include "engine/scene/scene.h"
 
 #include <cstdint>
@@ -28,4 +29,9 @@ std::string nonFiniteEstimatesMessage(std::uint64_t count, const std::string& br
 // Progress line on stderr, only when stderr is a terminal.
 void progressLine(const std::string& text);
 void endProgressLine();
+
+// For the files a command reads before it starts its device: a table above what every Vulkan device holds is
+// checked against the largest storage buffer of `device` (the --device selector; the device is started to
+// learn it, only for such a table), so that one the device cannot hold is refused before its body is read.
+DeviceTableLimit deviceTableLimit(const std::string& device);
 }  // namespace iblx::cli

@@ -1,6 +1,8 @@
 // The measured scene of `converge` and `study` (tools/cli/converge_scene.h).
 #include "tools/cli/converge_scene.h"
 
+#include "tools/cli/command_support.h"
+
 #include "engine/render/scene_gpu.h"
 #include "engine/scene/brdf_params.h"
 
@@ -26,6 +28,7 @@ void finishConvergeSceneFlags(ConvergeSceneFlags& flags) {
 LoadedBrdf checkConvergeScene(const ConvergeSceneFlags& flags) {
   const HardCase* hardCase = flags.hardCase();
   flags.spec.finalBudget();  // --spp beyond --max-spp
+  const DeviceTableLimit tableLimit = deviceTableLimit(flags.render.device);
   LoadedBrdf brdf = loadBrdfArgument(hardCase ? hardCase->scene.brdf : flags.render.scene.brdf);
   resolveParams(*brdf.info, hardCase ? hardCase->scene.params : flags.render.scene.params);
   resolveMethods(flags.spec, *brdf.info);  // an asked-for method that does not apply to the BRDF

@@ -3,6 +3,8 @@
 #include "tools/viewer/viewer.h"
 
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
+#include "engine/vk/context.h"
 #include "engine/scene/brdf_params.h"
 #include "engine/vk/shader_compiler.h"
 #include "tools/viewer/compare_view.h"
@@ -71,6 +73,10 @@ void writeScreenshot(const Screenshot& shot, const std::filesystem::path& path) 
 int runViewer(const ViewerOptions& options) {
   // Validate everything a user can get wrong before a window opens.
   {
+    // A table no buffer of the device holds is refused before its body is read (engine/core/file_io.h).
+    const DeviceTableLimit tableLimit([&options] {
+      return std::uint64_t(VulkanContext({options.device, Validation::Off}).limits().maxStorageBufferRange);
+    });
     const LoadedBrdf brdf = loadBrdfArgument(options.scene.brdf);
     (void)resolveParams(*brdf.info, options.scene.params);
     (void)resolveMethod(options.method, *brdf.info);
