@@ -39,7 +39,7 @@ FileLock::FileLock(const std::filesystem::path& path, const std::string& what, L
 }
 
 FileLock::~FileLock() {
-  ::close(fd_);  // releases the lock
+  if (fd_ >= 0) ::close(fd_);  // releases the lock
 }
 
 }  // namespace iblx

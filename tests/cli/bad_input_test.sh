@@ -427,6 +427,9 @@ for _ in $(seq 300); do compgen -G "$tmp/cache-int/references/*.exr" > /dev/null
 IBLX_CACHE_DIR="$tmp/cache-int" expect_error "converge into a directory another converge writes" \
   "--out-dir $tmp/int is being written by another iblx" converge --size 32x32 --method uniform --seq random \
   --seeds 1 --max-spp 8 --out-dir "$tmp/int"
+# So is a hardcases run (it had no lock).
+expect_error "hardcases into a directory a converge writes" "--out-dir $tmp/int is being written by another iblx" \
+  hardcases --case zero-half --quick --method env-cdf --seq sobol --max-spp 16 --out-dir "$tmp/int"
 sleep 2
 kill -TERM $pid
 wait $pid

@@ -75,32 +75,6 @@ std::string budgetText(const ConvergenceBudget& budget) {
   return text;
 }
 
-// Whether the output directory can be made and written, without making it: checked before the ground truth
-// and the runs, which can take long, so that an unusable --out-dir is reported first (and bad input leaves no
-// directory behind).
-void checkOutDir(const std::filesystem::path& outDir) {
-  std::error_code ec;
-  std::filesystem::path existing = std::filesystem::absolute(outDir, ec);
-  while (!existing.empty() && !std::filesystem::exists(existing, ec) && existing != existing.parent_path())
-    existing = existing.parent_path();
-  if (!std::filesystem::is_directory(existing, ec))
-    throw Error("--out-dir " + outDir.string() + ": cannot create it: " + existing.string() +
-                " is not a directory");
-  if (::access(existing.c_str(), W_OK) != 0)
-    throw Error("--out-dir " + outDir.string() + ": cannot write in " + existing.string() + ": " +
-                std::strerror(errno));
-}
-
-// Creates the output directory and holds it for this run: a second converge writing the same directory is
-// refused (their CSV, summary and report would mix).
-FileLock claimOutDir(const std::filesystem::path& outDir) {
-  std::error_code ec;
-  std::filesystem::create_directories(outDir, ec);
-  if (!std::filesystem::is_directory(outDir))
-    throw Error("--out-dir " + outDir.string() + ": cannot create it" + (ec ? ": " + ec.message() : ""));
-  return FileLock(outDir, "--out-dir " + outDir.string(), LockBusy::Refuse);
-}
-
 // Every method with every seed, until the budget or Ctrl-C (which keeps the runs measured so far); warns of
 // what was skipped and throws when nothing was measured.
 ConvergenceResult measureConvergence(const VulkanContext& context, ShaderCompiler& compiler,

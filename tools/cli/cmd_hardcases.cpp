@@ -236,11 +236,10 @@ int runHardCases(const HardCasesOptions& options) {
   const RenderSpec& render = options.render;
   const std::filesystem::path& outDir = options.outDir;
   const ConvergenceBudget budget = options.spec.finalBudget();
+  std::optional<FileLock> outDirLock;
   if (!outDir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(outDir, ec);
-    if (!std::filesystem::is_directory(outDir))
-      throw Error("--out-dir " + outDir.string() + ": cannot create it");
+    checkOutDir(outDir);
+    outDirLock.emplace(claimOutDir(outDir));
   }
   VulkanContext context({render.device, render.validation ? Validation::On : Validation::Auto});
   ShaderCompiler compiler;

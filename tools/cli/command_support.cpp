@@ -3,6 +3,7 @@
 #include "tools/cli/command_support.h"
 
 #include "engine/core/error.h"
+#include "engine/core/file_lock.h"
 #include "engine/core/file_names.h"
 #include "engine/io/env_image.h"
 #include "engine/vk/context.h"
@@ -10,6 +11,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <cstring>
+#include <cerrno>
 #include <unistd.h>
 
 namespace iblx::cli {
@@ -71,6 +74,32 @@ void progressLine(const std::string& text) {
 
 void endProgressLine() {
   if (isatty(STDERR_FILENO)) std::fprintf(stderr, "\r\x1b[K");
+}
+
+// Whether the output directory can be made and written, without making it: checked before the ground truth
+// and the runs, which can take long, so that an unusable --out-dir is reported first (and bad input leaves no
+// directory behind).
+void checkOutDir(const std::filesystem::path& outDir) {
+  std::error_code ec;
+  std::filesystem::path existing = std::filesystem::absolute(outDir, ec);
+  while (!existing.empty() && !std::filesystem::exists(existing, ec) && existing != existing.parent_path())
+    existing = existing.parent_path();
+  if (!std::filesystem::is_directory(existing, ec))
+    throw Error("--out-dir " + outDir.string() + ": cannot create it: " + existing.string() +
+                " is not a directory");
+  if (::access(existing.c_str(), W_OK) != 0)
+    throw Error("--out-dir " + outDir.string() + ": cannot write in " + existing.string() + ": " +
+                std::strerror(errno));
+}
+
+// Creates the output directory and holds it for this run: a second converge or hardcases writing the same
+// directory is refused (their CSV, summary and report would mix).
+FileLock claimOutDir(const std::filesystem::path& outDir) {
+  std::error_code ec;
+  std::filesystem::create_directories(outDir, ec);
+  if (!std::filesystem::is_directory(outDir))
+    throw Error("--out-dir " + outDir.string() + ": cannot create it" + (ec ? ": " + ec.message() : ""));
+  return FileLock(outDir, "--out-dir " + outDir.string(), LockBusy::Refuse);
 }
 
 DeviceTableLimit deviceTableLimit(const std::string& device) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "engine/core/file_io.h"
+#include "engine/core/file_lock.h"
 #include "engine/scene/scene.h"
 
 #include <cstdint>
@@ -29,6 +30,13 @@ std::string nonFiniteEstimatesMessage(std::uint64_t count, const std::string& br
 // Progress line on stderr, only when stderr is a terminal.
 void progressLine(const std::string& text);
 void endProgressLine();
+
+// An --out-dir that can be made and written, checked without making it: before a ground truth and runs that
+// take long, so that an unusable one is reported first and bad input leaves no directory behind.
+void checkOutDir(const std::filesystem::path& outDir);
+// Creates --out-dir and holds it while the command writes it: a second converge or hardcases writing the same
+// directory meanwhile is refused (their files would mix). Throws Error naming the directory.
+FileLock claimOutDir(const std::filesystem::path& outDir);
 
 // For the files a command reads before it starts its device: a table above what every Vulkan device holds is
 // checked against the largest storage buffer of `device` (the --device selector; the device is started to
