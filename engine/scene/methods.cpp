@@ -97,10 +97,10 @@ const EnvTechniqueInfo kEnvTechniques[] = {
      [](const EnvImage& image) { return pdfOf(EnvOtSampler(buildEnvOt(image))); }},
     {"env-ot-inv", "optimal-transport map, tabulated inverse: one bilinear lookup per sample",
      "env_technique/env_ot_inv.glsl", envOtInvTechniqueData,
-     [](const EnvImage& image) { return envOtMapsPdf(image, envOtInvPdf); }},
+     [](const EnvImage& image) { return envOtMapsPdf(image, envOtInvPdf); }, EvaluatedOtMap::Inverse},
     {"env-ot-fwd", "optimal-transport forward quad mesh inverted per sample (quadtree point location)",
      "env_technique/env_ot_fwd.glsl", envOtFwdTechniqueData,
-     [](const EnvImage& image) { return envOtMapsPdf(image, envOtFwdPdf); }},
+     [](const EnvImage& image) { return envOtMapsPdf(image, envOtFwdPdf); }, EvaluatedOtMap::Forward},
 };
 
 bool isBrdf(const BrdfInfo& brdf, const char* name) {

@@ -61,6 +61,10 @@ struct BrdfInfo {
   bool hasSampleHook = false;
 };
 
+// Which optimal-transport map a technique evaluates per sample (engine/ot/): `otmap --diagnose` reports that
+// map's round trip and convexity beside the technique's pdf.
+enum class EvaluatedOtMap { None, Inverse, Forward };
+
 struct EnvTechniqueInfo {
   std::string name;
   std::string description;
@@ -69,6 +73,7 @@ struct EnvTechniqueInfo {
   // The solid-angle pdf of its CPU twin built for a map, for diagnostics that integrate it (`otmap
   // --diagnose`); null for the baselines, whose pdf depends on no table.
   std::function<std::function<double(glm::dvec3)>(const EnvImage&)> cpuPdf;
+  EvaluatedOtMap otMap = EvaluatedOtMap::None;
 };
 
 struct BrdfTechniqueInfo {

@@ -169,9 +169,9 @@ int diagnoseSamplers(const EnvImage& env, const std::filesystem::path& envPath, 
   std::vector<Sampler> samplers;
   for (const EnvTechniqueInfo& technique : envTechniqueRegistry()) {
     if (!technique.cpuPdf) continue;
-    const QuadGridMap* map = technique.name == "env-ot-inv"   ? &ot.inverse
-                             : technique.name == "env-ot-fwd" ? &ot.forward
-                                                              : nullptr;
+    const QuadGridMap* map = technique.otMap == EvaluatedOtMap::Inverse   ? &ot.inverse
+                             : technique.otMap == EvaluatedOtMap::Forward ? &ot.forward
+                                                                          : nullptr;
     samplers.push_back({technique.name, technique.cpuPdf(env), map});
   }
   if (!json) {
