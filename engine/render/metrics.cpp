@@ -8,11 +8,15 @@
 #include <limits>
 
 namespace iblx {
+
+double relativeErrorWeight(double r) {
+  return 1.0 / (r * r + 0.01);
+}
+
 namespace {
-
-// docs/DESIGN.md §7: the squared error relative to the reference, with eps = 0.01 for dark pixels.
-double relativeSquaredError(double x, double r) { return (x - r) * (x - r) / (r * r + 0.01); }
-
+double relativeSquaredError(double x, double r) {
+  return (x - r) * (x - r) * relativeErrorWeight(r);
+}
 }  // namespace
 
 ErrorMetrics compareToReference(const GBuffer& gbuffer, std::span<const float> estimate,

@@ -2,7 +2,7 @@
 #include "engine/render/oracle.h"
 
 #include "engine/render/reference_sweep.h"
-#include "engine/vk/compute_kernel.h"
+#include "engine/render/metrics.h"
 
 #include <chrono>
 
@@ -42,9 +42,9 @@ OracleVariance computeOracleVariance(const VulkanContext& context, ShaderCompile
       oracle.mean[3 * i + std::size_t(c)] = mean[c];
       oracle.variance[3 * i + std::size_t(c)] = object ? variance[c] : 0.0f;
       if (!object) continue;
-      // The metrics' relMSE: (x - r)^2 / (r^2 + 0.01), per channel (engine/render/metrics.h).
+      // One sample's expected (x - r)^2 is its variance, weighed as relMSE weighs it.
       mse += double(variance[c]) / 3.0;
-      relMse += double(variance[c]) / (double(mean[c]) * double(mean[c]) + 0.01) / 3.0;
+      relMse += double(variance[c]) * relativeErrorWeight(double(mean[c])) / 3.0;
     }
     objectPixels += object ? 1 : 0;
   }

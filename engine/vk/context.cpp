@@ -274,4 +274,10 @@ void VulkanContext::submitAndWait(const std::function<void(vk::CommandBuffer)>& 
   buffers.reset();  // freeing touches the pool
 }
 
+DeviceTableLimit deviceTableLimit(const std::string& selector) {
+  return DeviceTableLimit([selector] {
+    return std::uint64_t(VulkanContext({selector, Validation::Off}).limits().maxStorageBufferRange);
+  });
+}
+
 }  // namespace iblx

@@ -4,6 +4,8 @@
 //   ctx.submitAndWait([&](vk::CommandBuffer cmd) { ... });
 #pragma once
 
+#include "engine/core/file_io.h"
+
 #include <vulkan/vulkan_raii.hpp>
 
 #include <atomic>
@@ -67,8 +69,8 @@ class VulkanContext {
   void nameObject(const Handle& handle, const std::string& name) const {
     if (!validationEnabled_ || !handle) return;
     using CType = typename Handle::CType;
-    setObjectName(Handle::objectType, std::uint64_t(reinterpret_cast<std::uintptr_t>(static_cast<CType>(handle))),
-                  name);
+    setObjectName(Handle::objectType,
+                  std::uint64_t(reinterpret_cast<std::uintptr_t>(static_cast<CType>(handle))), name);
   }
 
   // Messages of severity error reported by the validation layers since creation.
@@ -115,5 +117,11 @@ class VulkanContext {
 
 // How long one submission may run: 600 s, or $IBLX_GPU_TIMEOUT_S.
 double gpuTimeoutSeconds();
+
+// For the files a command reads before it starts its device (engine/core/file_io.h, DeviceTableLimit): a
+// table above what every Vulkan device holds is checked against the largest storage buffer of the device
+// `selector` names (ContextOptions::deviceSelector); that device is started to learn it, only for such a
+// table.
+DeviceTableLimit deviceTableLimit(const std::string& selector);
 
 }  // namespace iblx

@@ -191,11 +191,7 @@ void writeConvergeOutputs(const ConvergeOptions& options, const std::string& dev
 OracleVariance computeOracle(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene) {
   InterruptGuard interrupt;
   ReferenceOptions options;
-  options.progress = [&interrupt](double f) {
-    if (interrupt.flag().load())
-      throw Interrupted("the oracle was " + std::to_string(int(100 * f)) + "% done; nothing was written");
-    progressLine("oracle " + std::to_string(int(100 * f)) + "%");
-  };
+  options.progress = interruptibleProgress(interrupt, "oracle", "the oracle");
   OracleVariance oracle = computeOracleVariance(context, compiler, scene, options);
   std::fprintf(stderr, "oracle: MSE·spp %.4g, relMSE·spp %.4g, computed in %.2f s\n", oracle.mseTimesSpp,
                oracle.relMseTimesSpp, oracle.seconds);

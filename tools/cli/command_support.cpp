@@ -102,11 +102,4 @@ FileLock claimOutDir(const std::filesystem::path& outDir) {
   return FileLock(outDir, "--out-dir " + outDir.string(), LockBusy::Refuse);
 }
 
-DeviceTableLimit deviceTableLimit(const std::string& device) {
-  return DeviceTableLimit([device] {
-    const VulkanContext context({device, Validation::Off});
-    return std::uint64_t(context.limits().maxStorageBufferRange);
-  });
-}
-
 }  // namespace iblx::cli

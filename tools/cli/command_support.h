@@ -37,9 +37,4 @@ void checkOutDir(const std::filesystem::path& outDir);
 // Creates --out-dir and holds it while the command writes it: a second converge or hardcases writing the same
 // directory meanwhile is refused (their files would mix). Throws Error naming the directory.
 FileLock claimOutDir(const std::filesystem::path& outDir);
-
-// For the files a command reads before it starts its device: a table above what every Vulkan device holds is
-// checked against the largest storage buffer of `device` (the --device selector; the device is started to
-// learn it, only for such a table), so that one the device cannot hold is refused before its body is read.
-DeviceTableLimit deviceTableLimit(const std::string& device);
 }  // namespace iblx::cli

@@ -115,6 +115,15 @@ void addReferenceFlags(ArgParser& p, MeasurementSpec& s) {
           });
 }
 
+std::function<void(double)> interruptibleProgress(const InterruptGuard& guard, std::string label,
+                                                  std::string subject) {
+  return [&guard, label = std::move(label), subject = std::move(subject)](double f) {
+    const std::string percent = std::to_string(int(100 * f)) + "%";
+    if (guard.flag().load()) throw Interrupted(subject + " was " + percent + " done; nothing was written");
+    progressLine(label + " " + percent);
+  };
+}
+
 ObtainedReference obtainReference(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
                                   const HardCase* hardCase, const MeasurementSpec& spec) {
   if (!spec.referenceFile.empty())
@@ -127,12 +136,7 @@ ObtainedReference obtainReference(const VulkanContext& context, ShaderCompiler& 
   }
   // Ctrl-C abandons the ground truth between dispatches (exit 130); nothing partial is cached or written.
   InterruptGuard interrupt;
-  const auto progress = [&interrupt](double f) {
-    if (interrupt.flag().load())
-      throw Interrupted("the ground truth was " + std::to_string(int(100 * f)) +
-                        "% done; nothing was written");
-    progressLine("reference " + std::to_string(int(100 * f)) + "%");
-  };
+  const auto progress = interruptibleProgress(interrupt, "reference", "the ground truth");
   const std::filesystem::path cacheDir = spec.noCache ? std::filesystem::path() : defaultCacheDir();
   bool fromCache = false;
   ReferenceImage ref;

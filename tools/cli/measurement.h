@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <functional>
 #include <vector>
 
 namespace iblx::cli {
@@ -64,6 +65,12 @@ class InterruptGuard {
   InterruptGuard& operator=(const InterruptGuard&) = delete;
   const std::atomic<bool>& flag() const;
 };
+
+// The progress of a long computation as "LABEL N%" (progressLine); once Ctrl-C or SIGTERM set `guard`'s flag
+// it throws Interrupted ("SUBJECT was N% done; nothing was written"), abandoning the computation between
+// dispatches.
+std::function<void(double)> interruptibleProgress(const InterruptGuard& guard, std::string label,
+                                                  std::string subject);
 
 // The progress line of a measurement (stderr, terminals only).
 void showProgress(const ConvergenceProgress& p);

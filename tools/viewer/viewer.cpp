@@ -73,10 +73,7 @@ void writeScreenshot(const Screenshot& shot, const std::filesystem::path& path) 
 int runViewer(const ViewerOptions& options) {
   // Validate everything a user can get wrong before a window opens.
   {
-    // A table no buffer of the device holds is refused before its body is read (engine/core/file_io.h).
-    const DeviceTableLimit tableLimit([&options] {
-      return std::uint64_t(VulkanContext({options.device, Validation::Off}).limits().maxStorageBufferRange);
-    });
+    const DeviceTableLimit tableLimit = deviceTableLimit(options.device);
     const LoadedBrdf brdf = loadBrdfArgument(options.scene.brdf);
     (void)resolveParams(*brdf.info, options.scene.params);
     (void)resolveMethod(options.method, *brdf.info);

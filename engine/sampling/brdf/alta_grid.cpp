@@ -183,8 +183,6 @@ std::string leaveOneOutText(const AltaGrid& grid) {
   return text;
 }
 
-namespace {}  // namespace
-
 AltaGrid makeAltaGrid(const AltaData& data, const std::string& name) {
   AltaGrid grid;
   grid.param = altaTableParam(data.param);
