@@ -4,6 +4,7 @@
 
 #include "engine/core/environment.h"
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 
 #include <algorithm>
 #include <cstdio>

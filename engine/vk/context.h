@@ -4,8 +4,6 @@
 //   ctx.submitAndWait([&](vk::CommandBuffer cmd) { ... });
 #pragma once
 
-#include "engine/core/file_io.h"
-
 #include <vulkan/vulkan_raii.hpp>
 
 #include <atomic>
@@ -17,6 +15,8 @@
 #include <vector>
 
 namespace iblx {
+
+class DeviceTableLimit;  // engine/core/file_io.h
 
 enum class Validation { Auto, On, Off };  // Auto: on in debug builds or when IBLX_VALIDATION=1, if installed
 

@@ -4,6 +4,7 @@
 // (.func), evaluating its GLSL part on the GPU at the format's grid, so tests and benchmarks have files of
 // every format with known answers (the project ships no foreign measured data).
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/io/merl.h"
 #include "engine/io/mit_brdf.h"
 #include "engine/io/rgl_bsdf.h"

@@ -2,6 +2,7 @@
 // on the GPU at the centre of every bin, so tests and benchmarks have measured-layout materials with known
 // answers (real MERL files are 35 MB each and cannot ship with the project).
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/core/log.h"
 #include "engine/io/merl.h"
 #include "engine/render/brdf_tabulation.h"

@@ -1,4 +1,5 @@
 // `iblx reference`: the ground truth of a scene (docs/DESIGN.md §4) written as a linear EXR.
+#include "engine/core/file_io.h"
 #include "engine/io/image_write.h"
 #include "engine/render/reference.h"
 #include "engine/render/scene_gpu.h"

@@ -1,5 +1,6 @@
 // `iblx render`: progressive render of one scene with one method; writes the image, prints speed (and error).
 #include "engine/core/error.h"
+#include "engine/core/file_io.h"
 #include "engine/core/json_output.h"
 #include "engine/core/log.h"
 #include "engine/io/brdf_file.h"

@@ -3,6 +3,7 @@
 
 #include "tools/cli/command_support.h"
 
+#include "engine/core/file_io.h"
 #include "engine/render/scene_gpu.h"
 #include "engine/scene/brdf_params.h"
 
