@@ -103,17 +103,33 @@ layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 3) buffer ProductTable
 #endif
 // The pixel's place: its chunk and the offset of its table there (set by productPrepare).
 uint gProductTableChunk = 0u, gProductTableAt = 0u;
-float productStoredSum(uint j) {
+// PRODUCT_TABLE_ON_CHUNK(OP) runs OP(the pixel's chunk's array): the one chain over the chunks.
 #if PRODUCT_TABLE_CHUNKS > 1
-  if (gProductTableChunk == 1u) return productTables1[gProductTableAt + j];
+#define PRODUCT_TABLE_CHUNK_1(OP) else if (gProductTableChunk == 1u) { OP(productTables1) }
+#else
+#define PRODUCT_TABLE_CHUNK_1(OP)
 #endif
 #if PRODUCT_TABLE_CHUNKS > 2
-  if (gProductTableChunk == 2u) return productTables2[gProductTableAt + j];
+#define PRODUCT_TABLE_CHUNK_2(OP) else if (gProductTableChunk == 2u) { OP(productTables2) }
+#else
+#define PRODUCT_TABLE_CHUNK_2(OP)
 #endif
 #if PRODUCT_TABLE_CHUNKS > 3
-  if (gProductTableChunk == 3u) return productTables3[gProductTableAt + j];
+#define PRODUCT_TABLE_CHUNK_3(OP) else if (gProductTableChunk == 3u) { OP(productTables3) }
+#else
+#define PRODUCT_TABLE_CHUNK_3(OP)
 #endif
-  return productTables0[gProductTableAt + j];
+#define PRODUCT_TABLE_ON_CHUNK(OP)                                                                      \
+  if (gProductTableChunk == 0u) {                                                                     \
+    OP(productTables0)                                                                                \
+  }                                                                                                   \
+  PRODUCT_TABLE_CHUNK_1(OP) PRODUCT_TABLE_CHUNK_2(OP) PRODUCT_TABLE_CHUNK_3(OP)
+
+#define PRODUCT_TABLE_READ(table) sum = table[gProductTableAt + j];
+float productStoredSum(uint j) {
+  float sum = 0.0;
+  PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_READ)
+  return sum;
 }
 #define PRODUCT_TABLE_STORE(table) \
   [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) table[gProductTableAt + j] = gProductColumnSums[j];
@@ -125,31 +141,12 @@ void productTableLocate(uvec2 pixel) {
   gProductTableAt = (index - gProductTableChunk * PRODUCT_TABLE_PIXELS_PER_CHUNK) * PRODUCT_TABLE_STRIDE;
 }
 // Stores the private table into the pixel's chunk, or loads it back.
-#define PRODUCT_TABLE_COPY(table)  \
-  if (store) {                     \
-    PRODUCT_TABLE_STORE(table)     \
-  } else {                         \
-    PRODUCT_TABLE_LOAD(table)      \
-  }
 void productTableCopy(bool store) {
-  if (gProductTableChunk == 0u) {
-    PRODUCT_TABLE_COPY(productTables0)
+  if (store) {
+    PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_STORE)
+  } else {
+    PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_LOAD)
   }
-#if PRODUCT_TABLE_CHUNKS > 1
-  else if (gProductTableChunk == 1u) {
-    PRODUCT_TABLE_COPY(productTables1)
-  }
-#endif
-#if PRODUCT_TABLE_CHUNKS > 2
-  else if (gProductTableChunk == 2u) {
-    PRODUCT_TABLE_COPY(productTables2)
-  }
-#endif
-#if PRODUCT_TABLE_CHUNKS > 3
-  else if (gProductTableChunk == 3u) {
-    PRODUCT_TABLE_COPY(productTables3)
-  }
-#endif
 }
 // A dispatch of this many samples or more copies the stored table into private memory once and scans it
 // there (branch-free selects that vectorise across invocations); one of fewer reads only the entries its
