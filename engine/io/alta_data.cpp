@@ -146,13 +146,13 @@ std::string altaOutputName(AltaOutput output) {
   return "?";
 }
 
+bool altaParamIsTableParam(AltaParam param) {
+  return param == AltaParam::RusinThTdPd || param == AltaParam::RusinThTd ||
+         param == AltaParam::IsotropicTvTlDphi || param == AltaParam::SphericalTlPlTvPv;
+}
+
 AltaParam altaTableParam(AltaParam file) {
   switch (file) {
-    case AltaParam::RusinThTdPd:
-    case AltaParam::RusinThTd:
-    case AltaParam::IsotropicTvTlDphi:
-    case AltaParam::SphericalTlPlTvPv:
-      return file;
     case AltaParam::Cartesian:
     case AltaParam::RusinThPhTdPd:
     case AltaParam::Stereographic:
@@ -168,15 +168,9 @@ AltaParam altaTableParam(AltaParam file) {
     case AltaParam::Stark3d:
     case AltaParam::Neumann3d:
       return AltaParam::IsotropicTvTlDphi;
-    case AltaParam::RusinVh:  // a vector or one value: no parametrisation above holds these functions
-    case AltaParam::SchlickVk:
-    case AltaParam::CosTk:
-    case AltaParam::CosTlv:
-    case AltaParam::CosTlr:
-    case AltaParam::Neumann2d:
+    default:  // the four table parametrisations themselves, and those whose functions none of them holds
       return file;
   }
-  return file;
 }
 
 bool looksLikeAltaData(const fs::path& path) {

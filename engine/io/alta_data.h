@@ -46,6 +46,9 @@ struct AltaData {
 // RUSIN_VH, SCHLICK_VH, COS_TK, COS_TLV, COS_TLR, NEUMANN_2D, whose functions none of the four holds) the
 // file's own: the GLSL part computes every parametrisation's coordinates (shaders/lib/alta_params.glsl).
 AltaParam altaTableParam(AltaParam file);
+// The four parametrisations above that are tables of their own: RUSIN_TH_TD_PD, RUSIN_TH_TD,
+// ISOTROPIC_TV_TL_DPHI and SPHERICAL_TL_PL_TV_PV.
+bool altaParamIsTableParam(AltaParam param);
 
 // Whether a file starts like an ALTA data file: a '#' header with #DIM and #PARAM_IN, not a function file.
 bool looksLikeAltaData(const std::filesystem::path& path);

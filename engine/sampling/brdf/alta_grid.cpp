@@ -362,8 +362,7 @@ AltaSynthPlan planAltaSynth(AltaParam param, AltaOutput output, std::size_t scat
     plan.data.x.insert(plan.data.x.end(), x.begin(), x.end());
     plan.wi.push_back(wi), plan.wo.push_back(wo);
   };
-  const bool hasGrid = param == AltaParam::RusinThTdPd || param == AltaParam::RusinThTd ||
-                       param == AltaParam::IsotropicTvTlDphi || param == AltaParam::SphericalTlPlTvPv;
+  const bool hasGrid = altaParamIsTableParam(param);
   if (scattered > 0 || !hasGrid) {
     std::uint64_t state = 0x9e3779b97f4a7c15ull;
     const auto uniform = [&] {  // splitmix64
