@@ -192,18 +192,27 @@ ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double target
     for (double s : seconds) summary.equalTimeSeconds = std::min(summary.equalTimeSeconds, s);
     summary.rows.push_back(row);
   }
-  // MSE of every method at the common time, and its ratio to the best there.
-  double best = std::numeric_limits<double>::infinity();
+  // MSE and relMSE of every method at the common time, and their ratios to the best there.
+  double best = std::numeric_limits<double>::infinity(), bestRel = best;
   for (std::size_t r = 0; r < order.size(); ++r) {
-    std::vector<double> atEqualTime;
-    for (const ConvergenceRun* run : groups[order[r]])
-      atEqualTime.push_back(interpolateLogLog(column(*run, &ConvergencePoint::wallSeconds),
-                                              column(*run, &ConvergencePoint::mse),
-                                              summary.equalTimeSeconds));
-    summary.rows[r].equalTimeMse = mean(atEqualTime);
-    if (summary.rows[r].equalTimeMse > 0) best = std::min(best, summary.rows[r].equalTimeMse);
+    std::vector<double> mseAt, relMseAt;
+    for (const ConvergenceRun* run : groups[order[r]]) {
+      const auto seconds = column(*run, &ConvergencePoint::wallSeconds);
+      mseAt.push_back(
+          interpolateLogLog(seconds, column(*run, &ConvergencePoint::mse), summary.equalTimeSeconds));
+      relMseAt.push_back(
+          interpolateLogLog(seconds, column(*run, &ConvergencePoint::relMse), summary.equalTimeSeconds));
+    }
+    MethodSummary& row = summary.rows[r];
+    row.equalTimeMse = mean(mseAt);
+    row.equalTimeRelMse = mean(relMseAt);
+    if (row.equalTimeMse > 0) best = std::min(best, row.equalTimeMse);
+    if (row.equalTimeRelMse > 0) bestRel = std::min(bestRel, row.equalTimeRelMse);
   }
-  for (auto& row : summary.rows) row.equalTimeRatio = row.equalTimeMse / best;
+  for (auto& row : summary.rows) {
+    row.equalTimeRatio = row.equalTimeMse / best;
+    row.equalTimeRelRatio = row.equalTimeRelMse / bestRel;
+  }
   return summary;
 }
 
@@ -247,8 +256,9 @@ TextTable summaryTable(const ConvergenceSummary& summary) {
                "time to target",
                "MSE at equal time",
                "× best",
-               "efficiency 1/(MSE·s)"};
-  t.rightAligned = {false, false, true, true, true, true, false, true, true, true, true, true, true};
+               "efficiency 1/(MSE·s)",
+               "relMSE at equal time × best"};
+  t.rightAligned = {false, false, true, true, true, true, false, true, true, true, true, true, true, true};
   for (const auto& r : summary.rows)
     t.rows.push_back({r.method, r.sequence, std::to_string(r.seeds), std::to_string(r.spp),
                       formatSeconds(r.seconds), formatSeconds(r.setupSeconds),
@@ -256,7 +266,7 @@ TextTable summaryTable(const ConvergenceSummary& summary) {
                           formatNumber(r.mseHigh, "%.2g") + ")",
                       formatNumber(r.relMse), formatNumber(r.slopeSpp, "%.2f"), formatSeconds(r.timeToTarget),
                       formatNumber(r.equalTimeMse), formatNumber(r.equalTimeRatio, "%.2f"),
-                      formatNumber(r.efficiency)});
+                      formatNumber(r.efficiency), formatNumber(r.equalTimeRelRatio, "%.2f")});
   if (summary.oracleMseTimesSpp > 0.0) {
     t.headers.insert(t.headers.end(), {"MSE·spp ÷ oracle", "relMSE·spp ÷ oracle"});
     t.rightAligned.insert(t.rightAligned.end(), {true, true});
@@ -304,6 +314,8 @@ std::string formatSummaryJson(const ConvergenceSummary& summary, std::size_t* no
                       {"equal_time_s", summary.equalTimeSeconds},
                       {"equal_time_mse", r.equalTimeMse},
                       {"equal_time_ratio", r.equalTimeRatio},
+                      {"equal_time_relmse", r.equalTimeRelMse},
+                      {"equal_time_relmse_ratio", r.equalTimeRelRatio},
                       {"efficiency", r.efficiency},
                       {"max_abs_z", r.maxAbsZ},
                       {"reference_noise_mse", summary.referenceNoiseMse},

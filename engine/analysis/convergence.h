@@ -70,6 +70,8 @@ struct MethodSummary {
   double timeToTarget = kNotReached;       // median over seeds (unreached seeds count as infinite)
   double equalTimeMse = 0.0;               // mean over seeds of the MSE at the common time
   double equalTimeRatio = 0.0;             // equalTimeMse / the best method's
+  double equalTimeRelMse = 0.0;            // the same for relMSE
+  double equalTimeRelRatio = 0.0;          // equalTimeRelMse / the best method's (best in relMSE)
   double efficiency = 0.0;                 // 1 / (MSE * time) at the end, mean over seeds
   // MSE x spp and relMSE x spp at the end, mean over seeds: the variance per sample for i.i.d. samples.
   double mseTimesSpp = 0.0, relMseTimesSpp = 0.0;

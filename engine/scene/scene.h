@@ -1,5 +1,5 @@
-// A scene (docs/DESIGN.md §2: object, camera, environment, BRDF) and the method that renders it, as plain values
-// (their GPU copies: engine/render/scene_gpu.h).
+// A scene (docs/DESIGN.md §2: object, camera, environment, BRDF) and the method that renders it, as plain
+// values (their GPU copies: engine/render/scene_gpu.h).
 #pragma once
 
 #include "engine/geometry/gbuffer.h"
@@ -36,7 +36,8 @@ struct MethodSpec {
   std::string method = "mis";
   std::string envSampler;   // mis: default env-cdf
   std::string brdfSampler;  // brdf, mis: default the BRDF's best
-  std::string sequence = "random";
+  std::string sequence =
+      "sobol";  // the default of every command and the viewer: docs/RESULTS.md, "The default"
   // mis: given, one-sample MIS with this fraction of samples drawn by the env technique; unset, two-sample
   // MIS (one direction from each technique per sample).
   std::optional<double> misEnvFraction;

@@ -87,7 +87,10 @@ float gProductColumnSums[kProductNodes];  // per row: inclusive running sums of 
 float gProductRowSums[PRODUCT_NODES_Y];   // inclusive running sums of the row totals
 #ifdef PRODUCT_TABLE_BINDING
 // PRODUCT_TABLE_STRIDE floats per pixel, pixels row-major, PRODUCT_TABLE_PIXELS_PER_CHUNK pixels per buffer:
-// integrate.comp's invocation (x, y) shades pixel (x, y) in the image mode that binds these buffers.
+// integrate.comp's invocation (x, y) shades pixel (x, y) in the image mode that binds these buffers. A pixel's
+// block holds the row totals first (each row's last running sum), then each row's other running sums, so a
+// dispatch of few samples reads the totals of every row from one or two cache lines, not one line per row
+// (docs/BENCHMARKS.md, "Product strategies"); it is a permutation of the nodes' running sums.
 layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING) buffer ProductTableData0 { float productTables0[]; };
 #if PRODUCT_TABLE_CHUNKS > 1
 layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 1) buffer ProductTableData1 { float productTables1[]; };
@@ -101,8 +104,13 @@ layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 3) buffer ProductTable
 #if PRODUCT_TABLE_CHUNKS > 4
 #error "PRODUCT_TABLE_CHUNKS above kProductTableMaxChunks (engine/scene/kernel_prelude.h)"
 #endif
-// The pixel's place: its chunk and the offset of its table there (set by productPrepare).
+// The pixel's place: its chunk and the offset of its block there (set by productPrepare).
 uint gProductTableChunk = 0u, gProductTableAt = 0u;
+// Where node j's running sum lies in the pixel's block: row totals first, then the rows without their last.
+uint productStoredOffset(uint j) {
+  uint y = j / PRODUCT_NODES_X, x = j - y * PRODUCT_NODES_X;
+  return x == PRODUCT_NODES_X - 1u ? y : PRODUCT_NODES_Y + y * (PRODUCT_NODES_X - 1u) + x;
+}
 // PRODUCT_TABLE_ON_CHUNK(OP) runs OP(the pixel's chunk's array): the one chain over the chunks.
 #if PRODUCT_TABLE_CHUNKS > 1
 #define PRODUCT_TABLE_CHUNK_1(OP) else if (gProductTableChunk == 1u) { OP(productTables1) }
@@ -125,16 +133,20 @@ uint gProductTableChunk = 0u, gProductTableAt = 0u;
   }                                                                                                   \
   PRODUCT_TABLE_CHUNK_1(OP) PRODUCT_TABLE_CHUNK_2(OP) PRODUCT_TABLE_CHUNK_3(OP)
 
-#define PRODUCT_TABLE_READ(table) sum = table[gProductTableAt + j];
-float productStoredSum(uint j) {
-  float sum = 0.0;
+#define PRODUCT_TABLE_READ(table) value = table[at];
+// The float at `at` of the pixel's chunk.
+float productStoredFloat(uint at) {
+  float value = 0.0;
   PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_READ)
-  return sum;
+  return value;
 }
-#define PRODUCT_TABLE_STORE(table) \
-  [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) table[gProductTableAt + j] = gProductColumnSums[j];
+float productStoredSum(uint j) { return productStoredFloat(gProductTableAt + productStoredOffset(j)); }
+#define PRODUCT_TABLE_STORE(table)                           \
+  [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) \
+    table[gProductTableAt + productStoredOffset(j)] = gProductColumnSums[j];
 #define PRODUCT_TABLE_LOAD(table) \
-  [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) gProductColumnSums[j] = table[gProductTableAt + j];
+  [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j)         \
+    gProductColumnSums[j] = table[gProductTableAt + productStoredOffset(j)];
 void productTableLocate(uvec2 pixel) {
   uint index = pixel.y * frame.width + pixel.x;
   gProductTableChunk = index / PRODUCT_TABLE_PIXELS_PER_CHUNK;
@@ -161,6 +173,13 @@ float productColumnSum(uint j) {
   if (gProductReadStored) return productStoredSum(j);
 #endif
   return gProductColumnSums[j];
+}
+// Row y's total: its last running sum.
+float productRowTotal(uint y) {
+#ifdef PRODUCT_TABLE_BINDING
+  if (gProductReadStored) return productStoredFloat(gProductTableAt + y);
+#endif
+  return productColumnSum(y * PRODUCT_NODES_X + PRODUCT_NODES_X - 1u);
 }
 
 // How many of the first n - 1 running sums at `first`, first + 1, ... are <= t: the index of the first entry
@@ -239,7 +258,7 @@ void productPrepare(Shading s) {
 #endif
   float rows = 0.0;
   [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {
-    rows += productColumnSum(y * PRODUCT_NODES_X + PRODUCT_NODES_X - 1u);
+    rows += productRowTotal(y);
     gProductRowSums[y] = rows;
   }
 }
@@ -248,7 +267,7 @@ void productPrepare(Shading s) {
 float productNodeProbability(uint x, uint y) {
   float total = gProductRowSums[PRODUCT_NODES_Y - 1u];
   uint base = y * PRODUCT_NODES_X;
-  float rowTotal = productColumnSum(base + PRODUCT_NODES_X - 1u);
+  float rowTotal = productRowTotal(y);
   float rowWidth = gProductRowSums[y] - (y == 0u ? 0.0 : gProductRowSums[y - 1u]);
   float columnWidth = productColumnSum(base + x) - (x == 0u ? 0.0 : productColumnSum(base + x - 1u));
   return total > 0.0 && rowTotal > 0.0 ? (rowWidth / total) * (columnWidth / rowTotal) : 0.0;
@@ -277,7 +296,7 @@ vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
   for (uint k = 0u; k + 1u < PRODUCT_NODES_Y; ++k) y += gProductRowSums[k] <= ty ? 1u : 0u;
   float rowStart = y == 0u ? 0.0 : gProductRowSums[y - 1u], rowWidth = gProductRowSums[y] - rowStart;
   uint base = y * PRODUCT_NODES_X;
-  float rowTotal = productColumnSum(base + PRODUCT_NODES_X - 1u);
+  float rowTotal = productRowTotal(y);
   float tx = u.x * rowTotal;
   uint x = 0u;
   if (gProductReadStored) {

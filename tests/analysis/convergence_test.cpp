@@ -66,6 +66,24 @@ TEST_CASE("timeToReach interpolates the crossing in log-log") {
   CHECK(std::isnan(timeToReach(run, 0.01)));
 }
 
+TEST_CASE("summarize: relMSE at equal time has its own best method") {
+  const auto schedule = sppSchedule(4, 1024, 4);
+  // As below, B has 2x A's MSE at equal time; its relMSE is 0.1 of its MSE against A's 2, so in relMSE B is
+  // best and A is 2 / (0.1 * 2) = 10x behind.
+  ConvergenceRun a = powerLawRun("A", 1, 1.0, 0.001, schedule);
+  ConvergenceRun b = powerLawRun("B", 1, 0.5, 0.004, schedule);
+  for (auto& p : b.points) p.relMse = 0.1 * p.mse;
+  const ConvergenceSummary s = summarize(std::vector<ConvergenceRun>{a, b}, 1e-3);
+  REQUIRE(s.rows.size() == 2);
+  CHECK(s.rows[0].equalTimeRatio == doctest::Approx(1.0));
+  CHECK(s.rows[1].equalTimeRatio == doctest::Approx(2.0));
+  CHECK(s.rows[0].equalTimeRelMse == doctest::Approx(2.0 / 1024));
+  CHECK(s.rows[0].equalTimeRelRatio == doctest::Approx(10.0));
+  CHECK(s.rows[1].equalTimeRelRatio == doctest::Approx(1.0));
+  CHECK(formatSummaryJson(s).find("\"equal_time_relmse_ratio\": 10") != std::string::npos);
+  CHECK(formatSummaryTable(s).find("| 10.00 |") != std::string::npos);
+}
+
 TEST_CASE("summarize: equal-time ratio, slope, efficiency and time to target of two power laws") {
   const auto schedule = sppSchedule(4, 1024, 4);
   std::vector<ConvergenceRun> runs;

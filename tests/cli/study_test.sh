@@ -34,6 +34,11 @@ for f in tables.md study.json report.html lambert/summary.md ggx/converge.csv gg
   [ -s "one/$f" ] && pass || fail "merge wrote no $f"
 done
 grep -q '^## MSE at equal time over the best method' one/tables.md && pass || fail "tables.md has no equal-time matrix"
+# Across the two scenes: both methods, each scene's best counted once per measure.
+across=$(sed -n '/^## Across the scenes/,/^## Log-log/p' one/tables.md)
+[ "$(echo "$across" | grep -c '^| \(env-cdf\|mis\) | sobol | 2 |')" -eq 2 ] &&
+  [ "$(echo "$across" | awk -F'|' '/\| sobol \| 2 \|/ { split($5, b, "/"); m += b[1]; r += b[2] } END { print m, r }')" = "2 2" ] &&
+  pass || fail "tables.md's table across the scenes: $across"
 # A rerun has nothing to do.
 out=$("$iblx" study run one.toml 2>&1)  # captured whole: `grep -q` in a pipe would cut the command off
 echo "$out" | grep -q '8 runs, 8 already recorded, 0 to measure' && pass || fail "a rerun of a complete study measured again"

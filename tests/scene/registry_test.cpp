@@ -113,7 +113,10 @@ TEST_CASE(
   oneSample.method = "mis";
   oneSample.misEnvFraction = 0.3;
   CHECK(resolveMethod(oneSample, ggx).drawsPerSample() == 1);
-  CHECK(resolveMethod(oneSample, ggx).label() == "mis(env-cdf+ggx-vndf, balance, one-sample 0.3)/random");
+  CHECK(resolveMethod(oneSample, ggx).label() == "mis(env-cdf+ggx-vndf, balance, one-sample 0.3)/sobol");
+  // The default of every command and the viewer is mis/sobol (docs/RESULTS.md, "The default").
+  CHECK(MethodSpec{}.method == "mis");
+  CHECK(MethodSpec{}.sequence == "sobol");
 }
 
 TEST_CASE("an unknown --brdf lists every material file format of the registry") {

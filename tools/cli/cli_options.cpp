@@ -151,7 +151,7 @@ void addMethodFlags(ArgParser& p, RenderSpec& s) {
           [&](const std::string& v) { s.method.envSampler = v; });
   p.value("--brdf-sampler", "NAME", "BRDF technique used by brdf and mis (default: the BRDF's best)",
           [&](const std::string& v) { s.method.brdfSampler = v; });
-  p.value("--seq", "NAME", "random | sobol (default random)",
+  p.value("--seq", "NAME", "random | sobol | cp-shared (default sobol)",
           [&](const std::string& v) { s.method.sequence = v; });
   p.value("--mis-heuristic", "NAME", "balance | power (default balance)",
           [&](const std::string& v) { s.method.misHeuristic = v; });

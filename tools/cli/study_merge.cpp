@@ -167,6 +167,61 @@ std::string format(const char* pattern, double value) {
   return text;
 }
 
+// The image size a scene is rendered at: its last --size flag, "" for converge's default.
+std::string sceneSize(const StudyScene& scene) {
+  std::string size;
+  for (std::size_t i = 0; i + 1 < scene.flags.size(); ++i)
+    if (scene.flags[i] == "--size") size = scene.flags[i + 1];
+  return size;
+}
+
+// Across the scenes that `include` accepts: per plan method and sequence, its MSE and relMSE at equal time
+// over each scene's best, as a geometric mean and the worst scene, and on how many scenes it is the best. A
+// method that is never far behind is the one to default to, not only the one that wins most often.
+TextTable acrossScenes(const std::vector<RowKey>& rows, const std::vector<SceneResult>& scenes,
+                       const std::function<bool(const SceneResult&)>& include) {
+  TextTable t;
+  t.headers = {"method",
+               "seq",
+               "scenes",
+               "best (MSE / relMSE)",
+               "MSE × best: geometric mean",
+               "worst",
+               "relMSE × best: geometric mean",
+               "worst"};
+  t.rightAligned = {false, false, true, true, true, false, true, false};
+  for (const auto& row : rows) {
+    int count = 0, bestMse = 0, bestRel = 0;
+    double logMse = 0.0, logRel = 0.0, worstMse = 0.0, worstRel = 0.0;
+    std::string worstMseScene, worstRelScene;
+    for (const auto& s : scenes) {
+      if (!s.summary || !include(s)) continue;
+      for (const auto& r : s.summary->rows) {
+        const auto it = s.planMethodOfLabel.find(r.method);
+        if (it == s.planMethodOfLabel.end() || it->second != row.method || r.sequence != row.sequence)
+          continue;
+        if (!(r.equalTimeRatio > 0.0) || !(r.equalTimeRelRatio > 0.0) || !std::isfinite(r.equalTimeRatio) ||
+            !std::isfinite(r.equalTimeRelRatio))
+          continue;
+        ++count;
+        bestMse += r.equalTimeRatio <= 1.0 ? 1 : 0;
+        bestRel += r.equalTimeRelRatio <= 1.0 ? 1 : 0;
+        logMse += std::log(r.equalTimeRatio);
+        logRel += std::log(r.equalTimeRelRatio);
+        if (r.equalTimeRatio > worstMse) worstMse = r.equalTimeRatio, worstMseScene = s.scene->name;
+        if (r.equalTimeRelRatio > worstRel) worstRel = r.equalTimeRelRatio, worstRelScene = s.scene->name;
+      }
+    }
+    if (count == 0) continue;
+    t.rows.push_back(
+        {row.method, row.sequence, std::to_string(count),
+         std::to_string(bestMse) + " / " + std::to_string(bestRel), format("%.3g", std::exp(logMse / count)),
+         format("%.3g", worstMse) + " (" + worstMseScene + ")", format("%.3g", std::exp(logRel / count)),
+         format("%.3g", worstRel) + " (" + worstRelScene + ")"});
+  }
+  return t;
+}
+
 // One scene's decomposition against `baseline` (engine/analysis/loss_decomposition.h): a table and the
 // attribution of each method's R, or a line saying why there is none.
 std::string decompositionSection(const std::string& baseline, const SceneResult& scene,
@@ -380,6 +435,8 @@ MergeOutcome mergeStudy(const StudyPlan& plan, const std::vector<StudyRun>& runs
       row["time_to_target_s"] = r.timeToTarget;
       row["equal_time_mse"] = r.equalTimeMse;
       row["equal_time_ratio"] = r.equalTimeRatio;
+      row["equal_time_relmse"] = r.equalTimeRelMse;
+      row["equal_time_relmse_ratio"] = r.equalTimeRelRatio;
       row["samples_per_second"] = r.samplesPerSecond;
       summaryRows.push_back(std::move(row));
     }
@@ -413,6 +470,19 @@ MergeOutcome mergeStudy(const StudyPlan& plan, const std::vector<StudyRun>& runs
   const TextTable speeds = matrix(rows, scenes, [](const SceneResult& s, std::size_t i) {
     return format("%.3g", s.summary->rows[i].samplesPerSecond);
   });
+  // Over every scene, and over each image size's scenes when the plan has several.
+  std::vector<std::pair<std::string, TextTable>> across = {
+      {"Every scene", acrossScenes(rows, scenes, [](const SceneResult&) { return true; })}};
+  std::set<std::string> sizes;
+  for (const auto& s : scenes)
+    if (s.summary) sizes.insert(sceneSize(*s.scene));
+  if (sizes.size() > 1)
+    for (const auto& size : sizes)
+      across.emplace_back(
+          "The " + (size.empty() ? std::string("default size's") : size) + " scenes",
+          acrossScenes(rows, scenes, [size](const SceneResult& s) { return sceneSize(*s.scene) == size; }));
+  std::string acrossText;
+  for (const auto& [title, table] : across) acrossText += title + ":\n\n" + formatMarkdownTable(table) + "\n";
   char target[32];
   std::snprintf(target, sizeof target, "%g", plan.targetRelMse);
   std::string problemText;
@@ -425,6 +495,8 @@ MergeOutcome mergeStudy(const StudyPlan& plan, const std::vector<StudyRun>& runs
                              " missing). Columns of the scene tables: docs/RESULTS.md.";
   std::string tables = "# " + plan.title + "\n\n" + header + "\n\n";
   tables += "## MSE at equal time over the best method's, per scene\n\n" + formatMarkdownTable(ratios) + "\n";
+  tables +=
+      "## Across the scenes: MSE and relMSE at equal time over each scene's best\n\n" + acrossText + "\n";
   tables += "## Log-log slope of MSE against spp\n\n" + formatMarkdownTable(slopes) + "\n";
   tables += std::string("## Time to relMSE ") + target + "\n\n" + formatMarkdownTable(times) + "\n";
   tables +=
@@ -454,6 +526,11 @@ MergeOutcome mergeStudy(const StudyPlan& plan, const std::vector<StudyRun>& runs
   report.paragraph(header);
   report.heading("MSE at equal time over the best method's");
   report.table(ratios);
+  report.heading("Across the scenes: MSE and relMSE at equal time over each scene's best");
+  for (const auto& [title, table] : across) {
+    report.paragraph(title + ":");
+    report.table(table);
+  }
   report.heading("Log-log slope of MSE against spp");
   report.table(slopes);
   report.heading(std::string("Time to relMSE ") + target);
