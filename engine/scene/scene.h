@@ -36,8 +36,8 @@ struct MethodSpec {
   std::string method = "mis";
   std::string envSampler;   // mis: default env-cdf
   std::string brdfSampler;  // brdf, mis: default the BRDF's best
-  std::string sequence =
-      "sobol";  // the default of every command and the viewer: docs/RESULTS.md, "The default"
+  // The default of render, view and samples, measured: docs/RESULTS.md, "The default".
+  std::string sequence = "sobol";
   // mis: given, one-sample MIS with this fraction of samples drawn by the env technique; unset, two-sample
   // MIS (one direction from each technique per sample).
   std::optional<double> misEnvFraction;
