@@ -216,9 +216,10 @@ ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double target
   return summary;
 }
 
-void addOracle(ConvergenceSummary& summary, double mseTimesSpp, double relMseTimesSpp) {
+void addOracle(ConvergenceSummary& summary, double mseTimesSpp, double relMseTimesSpp, int pixelStride) {
   summary.oracleMseTimesSpp = mseTimesSpp;
   summary.oracleRelMseTimesSpp = relMseTimesSpp;
+  summary.oraclePixelStride = pixelStride;
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   for (auto& row : summary.rows) {
     row.mseOverOracle = mseTimesSpp > 0.0 ? row.mseTimesSpp / mseTimesSpp : kNaN;
@@ -287,7 +288,13 @@ std::string formatSummaryTable(const ConvergenceSummary& summary) {
       summary.oracleMseTimesSpp > 0.0
           ? " The oracle (the limit of a luminance pdf over the map's texels): MSE·spp " +
                 formatNumber(summary.oracleMseTimesSpp) + ", relMSE·spp " +
-                formatNumber(summary.oracleRelMseTimesSpp) + "."
+                formatNumber(summary.oracleRelMseTimesSpp) +
+                (summary.oraclePixelStride > 1
+                     ? ", estimated on the centre pixel of every " +
+                           std::to_string(summary.oraclePixelStride) + "×" +
+                           std::to_string(summary.oraclePixelStride) +
+                           " block, where each method's is its first seed's final image's."
+                     : ".")
           : "";
   return "Equal time: " + formatSeconds(summary.equalTimeSeconds) +
          " of rendering (the shortest run); target relMSE " + formatNumber(summary.targetRelMse) + "." +

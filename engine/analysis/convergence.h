@@ -92,12 +92,13 @@ struct ConvergenceSummary {
   std::vector<MethodSummary> rows;  // in the order the runs first appear
   // The oracle's variance per sample over the object pixels (engine/render/oracle.h); 0: not computed.
   double oracleMseTimesSpp = 0.0, oracleRelMseTimesSpp = 0.0;
+  int oraclePixelStride = 1;  // > 1: estimated on the centre pixel of every stride x stride block
 };
 
 // Groups runs by (method, sequence). Throws iblx::Error when there is no run with a point.
 ConvergenceSummary summarize(std::span<const ConvergenceRun> runs, double targetRelMse);
 // Records the oracle's MSE x spp and relMSE x spp in `summary` and each method's as a multiple of them.
-void addOracle(ConvergenceSummary& summary, double mseTimesSpp, double relMseTimesSpp);
+void addOracle(ConvergenceSummary& summary, double mseTimesSpp, double relMseTimesSpp, int pixelStride = 1);
 
 // A table of text cells, written as Markdown (terminal, docs) or HTML (report pages) from one definition.
 struct TextTable {

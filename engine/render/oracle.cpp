@@ -4,14 +4,71 @@
 #include "engine/render/reference_sweep.h"
 #include "engine/render/metrics.h"
 
+#include "engine/core/error.h"
+
+#include <algorithm>
 #include <chrono>
 
 namespace iblx {
 
+namespace {
+// The image pixel that pixel (i, j) of the strided grid stands for: its block's centre, inside the image.
+std::size_t stridePixel(const GBuffer& image, int pixelStride, int i, int j) {
+  const int x = std::min(i * pixelStride + pixelStride / 2, image.width - 1);
+  const int y = std::min(j * pixelStride + pixelStride / 2, image.height - 1);
+  return std::size_t(y) * std::size_t(image.width) + std::size_t(x);
+}
+}  // namespace
+
+GBuffer oracleStridePixels(const GBuffer& image, int pixelStride) {
+  if (pixelStride < 1) throw Error("oracle: the pixel stride must be at least 1");
+  if (pixelStride == 1) return image;
+  GBuffer picked;
+  picked.width = (image.width + pixelStride - 1) / pixelStride;
+  picked.height = (image.height + pixelStride - 1) / pixelStride;
+  for (int j = 0; j < picked.height; ++j)
+    for (int i = 0; i < picked.width; ++i)
+      picked.pixels.push_back(image.pixels[stridePixel(image, pixelStride, i, j)]);
+  return picked;
+}
+
+OraclePixelsError errorOnOraclePixels(const OracleVariance& oracle, const GBuffer& image,
+                                      std::span<const float> rgb, std::uint64_t spp) {
+  if (rgb.size() != image.pixels.size() * 3)
+    throw Error("oracle: the image is not the oracle's image's size");
+  const GBuffer picked = oracleStridePixels(image, oracle.pixelStride);
+  if (picked.pixels.size() * 3 != oracle.mean.size()) throw Error("oracle: computed for another image");
+  double mse = 0.0, relMse = 0.0;
+  std::size_t objectPixels = 0;
+  for (int j = 0; j < picked.height; ++j)
+    for (int i = 0; i < picked.width; ++i) {
+      const std::size_t at = std::size_t(j) * std::size_t(picked.width) + std::size_t(i);
+      if (picked.pixels[at].normal.w == 0.0f) continue;
+      const std::size_t source = stridePixel(image, oracle.pixelStride, i, j);
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double exact = oracle.mean[3 * at + c], error = double(rgb[3 * source + c]) - exact;
+        mse += error * error / 3.0;
+        relMse += error * error * relativeErrorWeight(exact) / 3.0;
+      }
+      ++objectPixels;
+    }
+  if (objectPixels == 0) return {};
+  return {mse / double(objectPixels) * double(spp), relMse / double(objectPixels) * double(spp)};
+}
+
 OracleVariance computeOracleVariance(const VulkanContext& context, ShaderCompiler& compiler,
-                                     const Scene& scene, ReferenceOptions options) {
+                                     const Scene& image, ReferenceOptions options, int pixelStride) {
   const auto start = std::chrono::steady_clock::now();
   options.allowMidpoint = false;
+  Scene strided;
+  if (pixelStride != 1) {
+    strided = image;
+    strided.gbuffer = oracleStridePixels(image.gbuffer, pixelStride);
+    if (strided.gbuffer.objectPixelCount() == 0)
+      throw Error("oracle: every " + std::to_string(pixelStride) +
+                  "th pixel misses the object; use a smaller --oracle-stride");
+  }
+  const Scene& scene = pixelStride != 1 ? strided : image;
   SceneGpu gpu = uploadScene(context, scene);
   const auto fraction = [&](double from, double to) {
     return std::function<void(double)>([&options, from, to](double f) {
@@ -27,6 +84,7 @@ OracleVariance computeOracleVariance(const VulkanContext& context, ShaderCompile
                       sweep, pass == 1 ? fraction(0.0, 1.0 / 3.0) : fraction(1.0 / 3.0, 1.0));
   }
   OracleVariance oracle;
+  oracle.pixelStride = pixelStride;
   oracle.width = scene.gbuffer.width;
   oracle.height = scene.gbuffer.height;
   const auto accum = gpu.accum.readAll<gpu::AccumPixel>();

@@ -10,12 +10,15 @@
 
 #include "engine/render/reference.h"
 
+#include <cstdint>
+#include <span>
 #include <vector>
 
 namespace iblx {
 
 struct OracleVariance {
-  int width = 0, height = 0;
+  int pixelStride = 1;          // the pixels computed: the centre of every stride x stride block of the image
+  int width = 0, height = 0;    // of the pixels computed: the image's size over the stride, rounded up
   std::vector<float> variance;  // width*height*3: the variance of one sample per pixel and channel
   std::vector<float> mean;      // width*height*3: the integral the oracle estimates (the ground truth)
   // Over the object pixels, in the units of ErrorMetrics (engine/render/metrics.h) times the samples per
@@ -26,8 +29,24 @@ struct OracleVariance {
 };
 
 // Both sweeps use the Gauss rule in every texel (options.allowMidpoint is ignored: one point per texel would
-// hide the variation of f cos inside it, and with it the oracle's variance).
+// hide the variation of f cos inside it, and with it the oracle's variance). With pixelStride s > 1 only the
+// centre pixel of every s x s block is computed (s^2 times cheaper; a stratified sample of the image, so the
+// MSE·spp and relMSE·spp over its object pixels estimate the image's). Throws iblx::Error for s < 1 or a
+// stride that leaves no object pixel.
 OracleVariance computeOracleVariance(const VulkanContext& context, ShaderCompiler& compiler,
-                                     const Scene& scene, ReferenceOptions options = {});
+                                     const Scene& scene, ReferenceOptions options = {}, int pixelStride = 1);
+// The pixels computeOracleVariance computes with that stride, as a G-buffer of their own.
+GBuffer oracleStridePixels(const GBuffer& image, int pixelStride);
+
+// An image's MSE and relMSE times its spp on the oracle's pixels, against the oracle's integral there (the
+// exact answer at those pixels): with a pixel stride, a method's variance per sample on the pixels the
+// oracle's was computed on. A sun's highlight holds most of an image's MSE, so the oracle's MSE over a
+// sample of pixels is only comparable with a method's over the same pixels. Throws iblx::Error when `rgb` is
+// not the image's size.
+struct OraclePixelsError {
+  double mseTimesSpp = 0.0, relMseTimesSpp = 0.0;
+};
+OraclePixelsError errorOnOraclePixels(const OracleVariance& oracle, const GBuffer& image,
+                                      std::span<const float> rgb, std::uint64_t spp);
 
 }  // namespace iblx

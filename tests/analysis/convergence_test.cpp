@@ -155,6 +155,10 @@ TEST_CASE("summarize: variance per sample, and as a multiple of the oracle's") {
   CHECK(table.find("| MSE·spp ÷ oracle | relMSE·spp ÷ oracle |") != std::string::npos);
   CHECK(table.find("| 2 | 11 |") != std::string::npos);
   CHECK(formatSummaryJson(s).find("\"mse_spp_over_oracle\": 2.0") != std::string::npos);
+  CHECK(table.find("estimated on") == std::string::npos);
+  addOracle(s, 0.55, 0.2, 4);
+  CHECK(formatSummaryTable(s).find("relMSE·spp 0.2, estimated on the centre pixel of every 4×4 block, where "
+                                   "each method's is its first seed's final image's.") != std::string::npos);
 }
 
 TEST_CASE("familyZBound: the normal quantiles, Sidak-corrected") {

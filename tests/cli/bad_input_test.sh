@@ -398,6 +398,8 @@ expect_error "converge bad method word" "--method mis:bogus: unknown option 'bog
 expect_error "converge bad M" "M must be 1-64" converge --method ris:M=99
 expect_error "converge method for another BRDF" "merl-table" converge --brdf lambert --method brdf:merl-table --size 8x8 --out-dir "$tmp/c0"
 expect_error "converge spp above budget" "--spp 64 exceeds --max-spp 16" converge --spp 64 --max-spp 16
+expect_error "converge oracle stride alone" "--oracle-stride: needs --oracle" converge --oracle-stride 4
+expect_error "converge oracle stride 0" "--oracle-stride" converge --oracle --oracle-stride 0
 expect_error "hardcases unknown case" "unknown hard case" hardcases --case nope
 "$iblx" reference --size 8x8 --out "$tmp/ref8.exr" > /dev/null 2>&1
 expect_error "converge reference size" "does not match the scene's 16x16" converge --size 16x16 --reference-file "$tmp/ref8.exr" --out-dir "$tmp/c1"

@@ -146,6 +146,59 @@ TEST_CASE("oracle: the GPU's variance per pixel is its CPU twin's, and the twin 
   checkNoNewValidationErrors();
 }
 
+TEST_CASE("oracle: with a pixel stride, each block's centre pixel gets the full image's figures") {
+  // 13 x 13 with stride 3: blocks' centres at 1, 4, 7, 10 and the last block's (12, 13) clamped to 12.
+  const Scene scene = sceneWith(smoothSky(32, 16), "ggx", {{"roughness", "0.3"}}, 13);
+  const OracleVariance full = computeOracleVariance(gpuContext(), gpuCompiler(), scene);
+  const OracleVariance strided = computeOracleVariance(gpuContext(), gpuCompiler(), scene, {}, 3);
+  REQUIRE(strided.width == 5);
+  REQUIRE(strided.height == 5);
+  CHECK(strided.pixelStride == 3);
+  REQUIRE(strided.variance.size() == 3 * 25);
+  double mse = 0.0;
+  int objectPixels = 0;
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 5; ++i) {
+      const int x = std::min(3 * i + 1, 12), y = std::min(3 * j + 1, 12);
+      const std::size_t at = std::size_t(j * 5 + i), source = std::size_t(y * 13 + x);
+      CAPTURE(x);
+      CAPTURE(y);
+      for (int c = 0; c < 3; ++c) {
+        CHECK(strided.mean[3 * at + std::size_t(c)] ==
+              doctest::Approx(full.mean[3 * source + std::size_t(c)]).epsilon(1e-5));
+        CHECK(strided.variance[3 * at + std::size_t(c)] ==
+              doctest::Approx(full.variance[3 * source + std::size_t(c)]).epsilon(1e-4));
+      }
+      if (scene.gbuffer.pixels[source].normal.w == 0.0f) continue;
+      for (int c = 0; c < 3; ++c) mse += double(full.variance[3 * source + std::size_t(c)]) / 3.0;
+      ++objectPixels;
+    }
+  REQUIRE(objectPixels > 5);
+  CHECK(strided.mseTimesSpp == doctest::Approx(mse / objectPixels).epsilon(1e-4));
+  // The figures over the picked pixels estimate the image's: a smooth sky and a wide lobe vary slowly.
+  CHECK(strided.mseTimesSpp == doctest::Approx(full.mseTimesSpp).epsilon(0.5));
+  // A method's error on the same pixels, against the oracle's integral there: the full image's exact answer
+  // has none; 0.1 added to every channel of every pixel gives MSE 0.01 and relMSE 0.01 w(r), times the spp.
+  std::vector<float> image = full.mean;
+  const OraclePixelsError exact = errorOnOraclePixels(strided, scene.gbuffer, image, 10);
+  CHECK(exact.mseTimesSpp < 1e-9);
+  double relMse = 0.0;
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 5; ++i) {
+      const std::size_t source = std::size_t(std::min(3 * j + 1, 12) * 13 + std::min(3 * i + 1, 12));
+      if (scene.gbuffer.pixels[source].normal.w == 0.0f) continue;
+      for (int c = 0; c < 3; ++c)
+        relMse += 0.01 * relativeErrorWeight(strided.mean[3 * std::size_t(j * 5 + i) + std::size_t(c)]) / 3.0;
+    }
+  for (float& v : image) v += 0.1f;
+  const OraclePixelsError off = errorOnOraclePixels(strided, scene.gbuffer, image, 10);
+  CHECK(off.mseTimesSpp == doctest::Approx(0.1).epsilon(1e-4));
+  CHECK(off.relMseTimesSpp == doctest::Approx(10.0 * relMse / objectPixels).epsilon(1e-3));
+  CHECK_THROWS_AS(errorOnOraclePixels(strided, scene.gbuffer, std::vector<float>(3), 10), Error);
+  CHECK_THROWS_AS(computeOracleVariance(gpuContext(), gpuCompiler(), scene, {}, 0), Error);
+  checkNoNewValidationErrors();
+}
+
 TEST_CASE("oracle: below the variance per sample every method measures, on a sun and a narrow lobe") {
   // A luminance pdf at texel resolution: no method that draws one direction per sample from such a pdf does
   // better, and the methods here draw from coarser ones. Measured with `random` (i.i.d. samples: MSE x spp is

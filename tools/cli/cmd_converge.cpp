@@ -38,7 +38,8 @@ struct ConvergeOptions {
   std::filesystem::path outDir = "converge";
   double targetRelMse = 1e-3;
   bool plots = true;
-  bool oracle = false;  // --oracle
+  bool oracle = false;   // --oracle
+  int oracleStride = 1;  // --oracle-stride
 };
 
 // Declares the flags and parses `args`; none when --help was answered.
@@ -59,9 +60,15 @@ std::optional<ConvergeOptions> parseConvergeOptions(const Args& args) {
       "also compute the oracle's variance (the limit of a luminance pdf over the map's texels; about "
       "three ground truths) and give each method's MSE·spp and relMSE·spp as a multiple of it",
       [&] { options.oracle = true; });
+  parser.value(
+      "--oracle-stride", "K",
+      "with --oracle: compute it on the centre pixel of every K x K block only (K^2 times cheaper; "
+      "its figures are then estimates over those pixels; default 1, every pixel)",
+      [&](const std::string& v) { options.oracleStride = int(parseUint("--oracle-stride", v, 1, 64)); });
   parser.toggle("--json", "print the summary as one JSON object per method instead of the table",
                 [&] { render.json = true; });
   if (parser.parseOrShowHelp(args)) return std::nullopt;
+  if (options.oracleStride != 1 && !options.oracle) throw Error("--oracle-stride: needs --oracle");
   finishConvergeSceneFlags(options.sceneFlags);
   return options;
 }
@@ -153,7 +160,19 @@ void writeConvergeOutputs(const ConvergeOptions& options, const std::string& dev
   ConvergenceSummary summary = summarize(result.runs, options.targetRelMse);
   summary.referenceNoiseMse = obtained.noise.mse;
   summary.referenceNoiseRelMse = obtained.noise.relMse;
-  if (oracle) addOracle(summary, oracle->mseTimesSpp, oracle->relMseTimesSpp);
+  if (oracle) {
+    addOracle(summary, oracle->mseTimesSpp, oracle->relMseTimesSpp, oracle->pixelStride);
+    // On a sample of pixels, each method is measured on the same pixels: its first seed's final image.
+    if (oracle->pixelStride > 1)
+      for (auto& row : summary.rows)
+        for (const auto& image : result.images)
+          if (image.method == row.method && image.sequence == row.sequence) {
+            const OraclePixelsError e =
+                errorOnOraclePixels(*oracle, scene.gbuffer, image.rgb, image.point.spp);
+            row.mseOverOracle = e.mseTimesSpp / oracle->mseTimesSpp;
+            row.relMseOverOracle = e.relMseTimesSpp / oracle->relMseTimesSpp;
+          }
+  }
   ConvergeFigures figures;
   if (options.plots) {
     figures.plotFiles = writeConvergencePlots(outDir, sceneTitle, result.runs, obtained.noise);
@@ -188,13 +207,17 @@ void writeConvergeOutputs(const ConvergeOptions& options, const std::string& dev
 }
 
 // The oracle's variance with progress; Ctrl-C abandons it between dispatches (exit 130).
-OracleVariance computeOracle(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene) {
+OracleVariance computeOracle(const VulkanContext& context, ShaderCompiler& compiler, const Scene& scene,
+                             int pixelStride) {
   InterruptGuard interrupt;
   ReferenceOptions options;
   options.progress = interruptibleProgress(interrupt, "oracle", "the oracle");
-  OracleVariance oracle = computeOracleVariance(context, compiler, scene, options);
-  std::fprintf(stderr, "oracle: MSE·spp %.4g, relMSE·spp %.4g, computed in %.2f s\n", oracle.mseTimesSpp,
-               oracle.relMseTimesSpp, oracle.seconds);
+  OracleVariance oracle = computeOracleVariance(context, compiler, scene, options, pixelStride);
+  const std::string pixels = pixelStride > 1 ? " (the centre pixel of every " + std::to_string(pixelStride) +
+                                                   "x" + std::to_string(pixelStride) + " block)"
+                                             : "";
+  std::fprintf(stderr, "oracle: MSE·spp %.4g, relMSE·spp %.4g%s, computed in %.2f s\n", oracle.mseTimesSpp,
+               oracle.relMseTimesSpp, pixels.c_str(), oracle.seconds);
   return oracle;
 }
 
@@ -216,7 +239,8 @@ int runConverge(const ConvergeOptions& options) {
   ShaderCompiler compiler;
   const ObtainedReference obtained = obtainReference(context, compiler, scene, hardCase, spec);
   const std::optional<OracleVariance> oracle =
-      options.oracle ? std::optional(computeOracle(context, compiler, scene)) : std::nullopt;
+      options.oracle ? std::optional(computeOracle(context, compiler, scene, options.oracleStride))
+                     : std::nullopt;
   // Created once the inputs have been checked (nothing is written for bad input), before the long part.
   const FileLock outDirLock = claimOutDir(options.outDir);
 
