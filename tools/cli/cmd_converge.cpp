@@ -163,7 +163,7 @@ void writeConvergeOutputs(const ConvergeOptions& options, const std::string& dev
   if (oracle) {
     addOracle(summary, oracle->mseTimesSpp, oracle->relMseTimesSpp, oracle->pixelStride);
     // On a sample of pixels, each method is measured on the same pixels: its first seed's final image.
-    if (oracle->pixelStride > 1)
+    if (oracle->pixelStride > 1 && oracle->mseTimesSpp > 0.0 && oracle->relMseTimesSpp > 0.0)
       for (auto& row : summary.rows)
         for (const auto& image : result.images)
           if (image.method == row.method && image.sequence == row.sequence) {
