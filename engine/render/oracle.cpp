@@ -36,15 +36,18 @@ OraclePixelsError errorOnOraclePixels(const OracleVariance& oracle, const GBuffe
                                       std::span<const float> rgb, std::uint64_t spp) {
   if (rgb.size() != image.pixels.size() * 3)
     throw Error("oracle: the image is not the oracle's image's size");
-  const GBuffer picked = oracleStridePixels(image, oracle.pixelStride);
-  if (picked.pixels.size() * 3 != oracle.mean.size()) throw Error("oracle: computed for another image");
+  const int stride = oracle.pixelStride;
+  if (oracle.width != (image.width + stride - 1) / stride ||
+      oracle.height != (image.height + stride - 1) / stride ||
+      oracle.mean.size() != std::size_t(oracle.width) * std::size_t(oracle.height) * 3)
+    throw Error("oracle: computed for another image");
   double mse = 0.0, relMse = 0.0;
   std::size_t objectPixels = 0;
-  for (int j = 0; j < picked.height; ++j)
-    for (int i = 0; i < picked.width; ++i) {
-      const std::size_t at = std::size_t(j) * std::size_t(picked.width) + std::size_t(i);
-      if (picked.pixels[at].normal.w == 0.0f) continue;
-      const std::size_t source = stridePixel(image, oracle.pixelStride, i, j);
+  for (int j = 0; j < oracle.height; ++j)
+    for (int i = 0; i < oracle.width; ++i) {
+      const std::size_t at = std::size_t(j) * std::size_t(oracle.width) + std::size_t(i);
+      const std::size_t source = stridePixel(image, stride, i, j);
+      if (image.pixels[source].normal.w == 0.0f) continue;
       for (std::size_t c = 0; c < 3; ++c) {
         const double exact = oracle.mean[3 * at + c], error = double(rgb[3 * source + c]) - exact;
         mse += error * error / 3.0;

@@ -122,6 +122,20 @@ std::vector<std::string> keepPlots(const fs::path& dir, const std::vector<std::s
   return kept;
 }
 
+// The scene's summary row for a plan method and sequence; null when it has none.
+const MethodSummary* summaryRow(const SceneResult& s, const RowKey& row, std::size_t* index = nullptr) {
+  if (!s.summary) return nullptr;
+  for (std::size_t i = 0; i < s.summary->rows.size(); ++i) {
+    const MethodSummary& r = s.summary->rows[i];
+    const auto it = s.planMethodOfLabel.find(r.method);
+    if (it != s.planMethodOfLabel.end() && it->second == row.method && r.sequence == row.sequence) {
+      if (index) *index = i;
+      return &r;
+    }
+  }
+  return nullptr;
+}
+
 // A matrix over scenes: one row per plan method and sequence, one column per scene, each cell cell(scene, i)
 // of the scene's summary row i for that method and sequence, "—" where it has none.
 TextTable matrix(const std::vector<RowKey>& rows, const std::vector<SceneResult>& scenes,
@@ -136,15 +150,8 @@ TextTable matrix(const std::vector<RowKey>& rows, const std::vector<SceneResult>
   for (const auto& row : rows) {
     std::vector<std::string> cells = {row.method, row.sequence};
     for (const auto& s : scenes) {
-      std::string text = "—";
-      if (s.summary)
-        for (std::size_t i = 0; i < s.summary->rows.size(); ++i) {
-          const auto& r = s.summary->rows[i];
-          const auto it = s.planMethodOfLabel.find(r.method);
-          if (it != s.planMethodOfLabel.end() && it->second == row.method && r.sequence == row.sequence)
-            text = cell(s, i);
-        }
-      cells.push_back(text);
+      std::size_t i = 0;
+      cells.push_back(summaryRow(s, row, &i) ? cell(s, i) : "—");
     }
     t.rows.push_back(std::move(cells));
   }
@@ -195,22 +202,19 @@ TextTable acrossScenes(const std::vector<RowKey>& rows, const std::vector<SceneR
     double logMse = 0.0, logRel = 0.0, worstMse = 0.0, worstRel = 0.0;
     std::string worstMseScene, worstRelScene;
     for (const auto& s : scenes) {
-      if (!s.summary || !include(s)) continue;
-      for (const auto& r : s.summary->rows) {
-        const auto it = s.planMethodOfLabel.find(r.method);
-        if (it == s.planMethodOfLabel.end() || it->second != row.method || r.sequence != row.sequence)
-          continue;
-        if (!(r.equalTimeRatio > 0.0) || !(r.equalTimeRelRatio > 0.0) || !std::isfinite(r.equalTimeRatio) ||
-            !std::isfinite(r.equalTimeRelRatio))
-          continue;
-        ++count;
-        bestMse += r.equalTimeRatio <= 1.0 ? 1 : 0;
-        bestRel += r.equalTimeRelRatio <= 1.0 ? 1 : 0;
-        logMse += std::log(r.equalTimeRatio);
-        logRel += std::log(r.equalTimeRelRatio);
-        if (r.equalTimeRatio > worstMse) worstMse = r.equalTimeRatio, worstMseScene = s.scene->name;
-        if (r.equalTimeRelRatio > worstRel) worstRel = r.equalTimeRelRatio, worstRelScene = s.scene->name;
-      }
+      const MethodSummary* found = include(s) ? summaryRow(s, row) : nullptr;
+      if (!found) continue;
+      const MethodSummary& r = *found;
+      if (!(r.equalTimeRatio > 0.0) || !(r.equalTimeRelRatio > 0.0) || !std::isfinite(r.equalTimeRatio) ||
+          !std::isfinite(r.equalTimeRelRatio))
+        continue;
+      ++count;
+      bestMse += r.equalTimeRatio <= 1.0 ? 1 : 0;
+      bestRel += r.equalTimeRelRatio <= 1.0 ? 1 : 0;
+      logMse += std::log(r.equalTimeRatio);
+      logRel += std::log(r.equalTimeRelRatio);
+      if (r.equalTimeRatio > worstMse) worstMse = r.equalTimeRatio, worstMseScene = s.scene->name;
+      if (r.equalTimeRelRatio > worstRel) worstRel = r.equalTimeRelRatio, worstRelScene = s.scene->name;
     }
     if (count == 0) continue;
     t.rows.push_back(
