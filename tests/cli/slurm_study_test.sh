@@ -2,10 +2,12 @@
 # `iblx study` on a real Slurm: a one-node cluster from Debian's packages (munged, slurmctld, slurmd, all on
 # loopback ports of their own, state in a temporary folder) with four GPU slots (GRES on /dev/null: the
 # tasks render on the machine's Vulkan device). tools/slurm/submit.sh submits a small plan as an array of
-# three tasks plus the dependent merge. Shard 2's iblx is killed with SIGKILL after its first recorded run
-# and the task is requeued, as an operator or a node failure would; the study must end complete, the
-# requeued task must not measure again what was recorded, and the merged errors (deterministic at a fixed
-# spp budget) must equal those of the same plan run in one process. Every daemon started is stopped.
+# three tasks plus the dependent merge. Shard 2's iblx is killed with SIGKILL after its first recorded run and
+# the task fails, as on a lost node; the merge must then name the missing runs. Then the recovery submit.sh
+# documents: the failed task is requeued and merged again. The study must end complete, the requeued task
+# must not measure again what was recorded, and the merged errors (deterministic at a fixed spp budget) must
+# equal those of the same plan run in one process. Every daemon started is stopped. (Requeueing the task
+# while it ran raced with its end: under load Slurm could end it FAILED instead of pending again.)
 # Usage: slurm_study_test.sh path/to/iblx
 iblx=$(realpath "$1")
 source "$(dirname "$0")/common.sh"
@@ -105,8 +107,7 @@ plan_text() { study_plan "$1" 24 512 '"random", "sobol"' '"env-cdf", "mis"'; }
 plan_text "$tmp/work/cluster-study" > "$tmp/work/plan.toml"
 plan_text "$tmp/work/one-process" > "$tmp/work/one.toml"
 
-# Shard 2's first attempt is killed after its first recorded run; the wrapper then waits for the requeue
-# (so the merge, which waits for every task, never sees the array end in between).
+# Shard 2's first attempt is killed after its first recorded run and fails.
 cat > "$tmp/work/iblx-wrapper.sh" << EOF
 #!/usr/bin/env bash
 if [[ "\$*" == *"--shard 2/3"* && ! -e "$tmp/work/killed" ]]; then
@@ -116,7 +117,7 @@ if [[ "\$*" == *"--shard 2/3"* && ! -e "$tmp/work/killed" ]]; then
   kill -KILL \$pid
   wait \$pid
   echo \$? > "$tmp/work/killed"
-  sleep 600
+  exit 1
 fi
 exec "$iblx" "\$@"
 EOF
@@ -132,8 +133,27 @@ merge=$(echo "$submitted" | sed -nE 's/.*merge ([0-9]+)$/\1/p')
 "$iblx" study run one.toml > /dev/null 2>&1 && "$iblx" study merge one.toml > /dev/null 2>&1 && pass ||
   fail "the plan did not run in one process"
 
-for _ in $(seq 600); do [ -e killed ] && break; sleep 0.1; done
+# An empty queue, from an squeue that answered (a busy controller's failed call prints nothing too).
+wait_for_empty_queue() {
+  local jobs
+  for _ in $(seq 1800); do
+    jobs=$(squeue -h 2> /dev/null) && [ -z "$jobs" ] && break
+    sleep 0.1
+  done
+  jobs=$(squeue -h 2>&1) && [ -z "$jobs" ] && pass || fail "jobs still queued after 3 min: $jobs"
+}
+state() { scontrol show job "$1" 2> /dev/null | sed -nE 's/.*JobState=([A-Z_]+).*/\1/p' | head -1; }
+wait_for_empty_queue
 [ "$(cat killed 2> /dev/null)" = 137 ] && pass || fail "shard 2 was not killed mid-run ($(cat killed 2> /dev/null))"
+for task in 1 3; do
+  [ "$(state "${array}_$task")" = COMPLETED ] && pass || fail "task $task ended $(state "${array}_$task")"
+done
+[ "$(state "${array}_2")" = FAILED ] && pass || fail "the killed task 2 ended $(state "${array}_2")"
+# The merge ran once the array had ended, and names what the failed task left unmeasured.
+[ "$(state "$merge")" = FAILED ] && grep -q "runs missing" "iblx-study-merge-$merge.out" && pass ||
+  fail "the merge over a failed task ended $(state "$merge"): $(cat "iblx-study-merge-$merge.out")"
+
+# The recovery: requeue the failed task, and merge again once it has ended.
 scontrol requeue "${array}_2" && pass || fail "scontrol requeue ${array}_2"
 for _ in $(seq 100); do
   squeue -h -j "${array}_2" -o %T 2> /dev/null | grep -q PENDING && break
@@ -141,22 +161,21 @@ for _ in $(seq 100); do
 done
 # A requeued job waits before it may start again; now.
 scontrol update jobid="${array}_2" StartTime=now > /dev/null 2>&1
-for _ in $(seq 1800); do
-  [ -z "$(squeue -h 2> /dev/null)" ] && break
-  sleep 0.1
-done
-[ -z "$(squeue -h)" ] && pass || fail "jobs still queued after 3 min: $(squeue)"
-
-state() { scontrol show job "$1" 2> /dev/null | sed -nE 's/.*JobState=([A-Z_]+).*/\1/p' | head -1; }
-for task in 1 2 3; do
-  [ "$(state "${array}_$task")" = COMPLETED ] && pass || fail "task $task ended $(state "${array}_$task")"
-done
-[ "$(state "$merge")" = COMPLETED ] && pass || fail "the merge job ended $(state "$merge"): $(cat iblx-study-merge-*.out)"
+remerge=$(IBLX_PLAN="$tmp/work/plan.toml" IBLX_BINARY="$iblx" sbatch --parsable --export=ALL --dependency="afterany:${array}_2" \
+  --gres=none --job-name=iblx-study-merge --output="iblx-study-merge-%j.out" "$root/tools/slurm/study.sbatch" \
+  merge 2>&1)
+remerge=${remerge%%;*}
+[[ "$remerge" =~ ^[0-9]+$ ]] && pass || fail "sbatch of the second merge: $remerge"
+wait_for_empty_queue
+[ "$(state "${array}_2")" = COMPLETED ] && pass || fail "the requeued task 2 ended $(state "${array}_2")"
+[ "$(state "$remerge")" = COMPLETED ] && pass ||
+  fail "the second merge ended $(state "$remerge"): $(cat "iblx-study-merge-$remerge.out")"
 # The requeued task measured only what the killed attempt had not recorded.
 recorded=$(sed -nE 's/.*: ([0-9]+) runs, ([0-9]+) already recorded.*/\2/p' "iblx-study-${array}_2.out" | tail -1)
 [ -n "$recorded" ] && [ "$recorded" -ge 1 ] && pass ||
   fail "the requeued task did not keep the killed attempt's runs: $(cat "iblx-study-${array}_2.out")"
-grep -q "attempt 2" "iblx-study-${array}_2.out" && pass || fail "task 2 did not run a second time"
+grep -q "attempt 2" "iblx-study-${array}_2.out" && pass ||
+  fail "task 2 did not run a second time: $(cat "iblx-study-${array}_2.out")"
 
 # Nothing lost: every run merged, with the errors of the one-process run at every recorded spp.
 grep -q '"missing": 0' cluster-study/study.json && grep -q '"failed": 0' cluster-study/study.json && pass ||
