@@ -400,6 +400,19 @@ expect_error "converge method for another BRDF" "merl-table" converge --brdf lam
 expect_error "converge spp above budget" "--spp 64 exceeds --max-spp 16" converge --spp 64 --max-spp 16
 expect_error "converge oracle stride alone" "--oracle-stride: needs --oracle" converge --oracle-stride 4
 expect_error "converge oracle stride 0" "--oracle-stride" converge --oracle --oracle-stride 0
+# tools/oracle_grid.sh refuses a bad size or stride before it measures anything.
+oracle_grid=$(dirname "$0")/../../tools/oracle_grid.sh
+for args in "--size x" "--size 0" "--stride -1" "--size 64 --stride 0" "--sizes 64"; do
+  # shellcheck disable=SC2086 # the flags are words
+  out=$(bash "$oracle_grid" $args "$(dirname "$iblx")" "$tmp/oracle-grid" 2>&1)
+  status=$?
+  if [ $status -eq 2 ] && [ "$(printf '%s\n' "$out" | grep -c .)" -eq 1 ] && [ ! -e "$tmp/oracle-grid" ]; then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    echo "FAIL: oracle_grid.sh $args: exit $status, output: $out"
+  fi
+done
 expect_error "hardcases unknown case" "unknown hard case" hardcases --case nope
 "$iblx" reference --size 8x8 --out "$tmp/ref8.exr" > /dev/null 2>&1
 expect_error "converge reference size" "does not match the scene's 16x16" converge --size 16x16 --reference-file "$tmp/ref8.exr" --out-dir "$tmp/c1"
