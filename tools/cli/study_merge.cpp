@@ -176,10 +176,7 @@ std::string format(const char* pattern, double value) {
 
 // The image size a scene is rendered at: its last --size flag, "" for converge's default.
 std::string sceneSize(const StudyScene& scene) {
-  std::string size;
-  for (std::size_t i = 0; i + 1 < scene.flags.size(); ++i)
-    if (scene.flags[i] == "--size") size = scene.flags[i + 1];
-  return size;
+  return sceneFlag(scene, "--size").value_or("");
 }
 
 // Across the scenes that `include` accepts: per plan method and sequence, its MSE and relMSE at equal time

@@ -389,17 +389,21 @@ std::vector<StudyRun> listStudyRuns(const StudyPlan& plan) {
   return runs;
 }
 
-std::optional<double> sceneTimeBudget(const StudyScene& scene) {
-  std::optional<double> seconds;  // the last --time wins, as in the parser
+std::optional<std::string> sceneFlag(const StudyScene& scene, std::string_view flag) {
+  std::optional<std::string> value;
   for (std::size_t i = 0; i + 1 < scene.flags.size(); ++i)
-    if (scene.flags[i] == "--time") {
-      try {
-        seconds = parseDouble("--time", scene.flags[i + 1], 1e-3, 1e6);
-      } catch (const Error&) {
-        seconds.reset();  // reported where the flags are parsed
-      }
-    }
-  return seconds;
+    if (scene.flags[i] == flag) value = scene.flags[i + 1];
+  return value;
+}
+
+std::optional<double> sceneTimeBudget(const StudyScene& scene) {
+  const std::optional<std::string> time = sceneFlag(scene, "--time");
+  if (!time) return std::nullopt;
+  try {
+    return parseDouble("--time", *time, 1e-3, 1e6);
+  } catch (const Error&) {
+    return std::nullopt;  // reported where the flags are parsed
+  }
 }
 
 StudyShard parseStudyShard(const std::string& text) {

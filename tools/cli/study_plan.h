@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace iblx::cli {
@@ -68,7 +69,9 @@ void prepareStudyInputs(const StudyPlan& plan);
 // inputs.
 std::vector<StudyRun> listStudyRuns(const StudyPlan& plan);
 
-// The scene's time budget per run (its --time), if it has one.
+// The value of the scene's last `flag` (the last wins, as in the parser), if it has one.
+std::optional<std::string> sceneFlag(const StudyScene& scene, std::string_view flag);
+// The scene's time budget per run (its --time), if it has a valid one.
 std::optional<double> sceneTimeBudget(const StudyScene& scene);
 
 // A task's share: --shard I/N takes the I-th of N contiguous blocks of runs (1-based; contiguous keeps each
