@@ -32,15 +32,47 @@ GBuffer oracleStridePixels(const GBuffer& image, int pixelStride) {
   return picked;
 }
 
-OraclePixelsError errorOnOraclePixels(const OracleVariance& oracle, const GBuffer& image,
-                                      std::span<const float> rgb, std::uint64_t spp) {
+namespace {
+void checkOracleImage(const OracleVariance& oracle, const GBuffer& image, std::span<const float> rgb) {
   if (rgb.size() != image.pixels.size() * 3)
     throw Error("oracle: the image is not the oracle's image's size");
   const int stride = oracle.pixelStride;
   if (oracle.width != (image.width + stride - 1) / stride ||
       oracle.height != (image.height + stride - 1) / stride ||
-      oracle.mean.size() != std::size_t(oracle.width) * std::size_t(oracle.height) * 3)
+      oracle.mean.size() != std::size_t(oracle.width) * std::size_t(oracle.height) * 3 ||
+      oracle.variance.size() != oracle.mean.size())
     throw Error("oracle: computed for another image");
+}
+}  // namespace
+
+std::vector<OraclePixelError> oraclePixelErrors(const OracleVariance& oracle, const GBuffer& image,
+                                                std::span<const float> rgb, std::uint64_t spp) {
+  checkOracleImage(oracle, image, rgb);
+  const int stride = oracle.pixelStride;
+  std::vector<OraclePixelError> pixels;
+  for (int j = 0; j < oracle.height; ++j)
+    for (int i = 0; i < oracle.width; ++i) {
+      const std::size_t at = std::size_t(j) * std::size_t(oracle.width) + std::size_t(i);
+      const std::size_t source = stridePixel(image, stride, i, j);
+      if (image.pixels[source].normal.w == 0.0f) continue;
+      OraclePixelError p;
+      p.x = int(source % std::size_t(image.width));
+      p.y = int(source / std::size_t(image.width));
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double exact = oracle.mean[3 * at + c], error = double(rgb[3 * source + c]) - exact;
+        p.mean += exact / 3.0;
+        p.variance += double(oracle.variance[3 * at + c]) / 3.0;
+        p.squaredErrorTimesSpp += error * error / 3.0 * double(spp);
+      }
+      pixels.push_back(p);
+    }
+  return pixels;
+}
+
+OraclePixelsError errorOnOraclePixels(const OracleVariance& oracle, const GBuffer& image,
+                                      std::span<const float> rgb, std::uint64_t spp) {
+  checkOracleImage(oracle, image, rgb);
+  const int stride = oracle.pixelStride;
   double mse = 0.0, relMse = 0.0;
   std::size_t objectPixels = 0;
   for (int j = 0; j < oracle.height; ++j)

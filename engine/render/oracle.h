@@ -49,4 +49,16 @@ struct OraclePixelsError {
 OraclePixelsError errorOnOraclePixels(const OracleVariance& oracle, const GBuffer& image,
                                       std::span<const float> rgb, std::uint64_t spp);
 
+// Per object pixel of the oracle: where the image's MSE·spp against the oracle's lies. Its place in the
+// image, the oracle's integral and variance per sample there, and the image's squared error times spp, each a
+// mean over the channels (the units of errorOnOraclePixels' MSE, which is their mean over the pixels). A few
+// pixels can hold most of an image's MSE (a highlight the sampler misses); this says which. Throws
+// iblx::Error as errorOnOraclePixels.
+struct OraclePixelError {
+  int x = 0, y = 0;
+  double mean = 0.0, variance = 0.0, squaredErrorTimesSpp = 0.0;
+};
+std::vector<OraclePixelError> oraclePixelErrors(const OracleVariance& oracle, const GBuffer& image,
+                                                std::span<const float> rgb, std::uint64_t spp);
+
 }  // namespace iblx

@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -98,6 +99,31 @@ TEST_CASE("--json of every command parses, with its keys") {
   CHECK(oracle[0]["mse_spp_over_oracle"].get<double>() > 1.0);
   CHECK(oracle[0]["mse_spp"].get<double>() == doctest::Approx(oracle[0]["mse_spp_over_oracle"].get<double>() *
                                                               oracle[0]["oracle_mse_spp"].get<double>()));
+  // oracle_pixels.csv: one row per object pixel, inside the sphere, whose squared errors average to the MSE.
+  std::ifstream pixelsCsv(scratch.dir / "o" / "oracle_pixels.csv");
+  std::string line;
+  REQUIRE(std::getline(pixelsCsv, line));
+  CHECK(line == "method,sequence,x,y,oracle_mean,oracle_variance,squared_error_spp");
+  int rows = 0;
+  double meanSquaredError = 0.0;
+  while (std::getline(pixelsCsv, line)) {
+    CAPTURE(line);
+    const std::size_t afterMethod = line.find("\",random,");
+    REQUIRE(afterMethod != std::string::npos);
+    int x = -1, y = -1;
+    double mean = 0.0, variance = 0.0, squaredError = -1.0;
+    REQUIRE(std::sscanf(line.c_str() + afterMethod, "\",random,%d,%d,%lf,%lf,%lf", &x, &y, &mean, &variance,
+                        &squaredError) == 5);
+    const double px = 2.0 * (x + 0.5) / 12 - 1.0, py = 1.0 - 2.0 * (y + 0.5) / 12;
+    CHECK(px * px + py * py < 1.0);
+    CHECK(mean > 0.0);
+    CHECK(variance > 0.0);
+    CHECK(squaredError >= 0.0);
+    meanSquaredError += squaredError;
+    ++rows;
+  }
+  CHECK(rows == inside);
+  CHECK(meanSquaredError / rows == doctest::Approx(oracle[0]["mse_spp"].get<double>()).epsilon(0.01));
 
   const std::vector<json> hard = jsonLines(
       scratch, "hardcases --case zero-half --quick --method env-cdf --seq sobol --max-spp 16 --json");

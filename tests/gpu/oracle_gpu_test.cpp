@@ -194,6 +194,26 @@ TEST_CASE("oracle: with a pixel stride, each block's centre pixel gets the full 
   const OraclePixelsError off = errorOnOraclePixels(strided, scene.gbuffer, image, 10);
   CHECK(off.mseTimesSpp == doctest::Approx(0.1).epsilon(1e-4));
   CHECK(off.relMseTimesSpp == doctest::Approx(10.0 * relMse / objectPixels).epsilon(1e-3));
+  // Per pixel: the same pixels and figures, whose mean is the MSE·spp above.
+  const std::vector<OraclePixelError> pixels = oraclePixelErrors(strided, scene.gbuffer, image, 10);
+  REQUIRE(pixels.size() == std::size_t(objectPixels));
+  double meanSquaredError = 0.0;
+  for (const OraclePixelError& p : pixels) {
+    CAPTURE(p.x);
+    CAPTURE(p.y);
+    CHECK((p.x % 3 == 1 || p.x == 12));
+    CHECK((p.y % 3 == 1 || p.y == 12));
+    const std::size_t at = std::size_t((p.y == 12 ? 4 : p.y / 3) * 5 + (p.x == 12 ? 4 : p.x / 3));
+    CHECK(p.mean == doctest::Approx(
+                        (strided.mean[3 * at] + strided.mean[3 * at + 1] + strided.mean[3 * at + 2]) / 3.0));
+    CHECK(p.variance == doctest::Approx((strided.variance[3 * at] + strided.variance[3 * at + 1] +
+                                         strided.variance[3 * at + 2]) /
+                                        3.0));
+    CHECK(p.squaredErrorTimesSpp == doctest::Approx(0.1).epsilon(1e-4));
+    meanSquaredError += p.squaredErrorTimesSpp / double(pixels.size());
+  }
+  CHECK(meanSquaredError == doctest::Approx(off.mseTimesSpp).epsilon(1e-9));
+  CHECK_THROWS_AS(oraclePixelErrors(strided, scene.gbuffer, std::vector<float>(3), 10), Error);
   CHECK_THROWS_AS(errorOnOraclePixels(strided, scene.gbuffer, std::vector<float>(3), 10), Error);
   CHECK_THROWS_AS(computeOracleVariance(gpuContext(), gpuCompiler(), scene, {}, 0), Error);
   checkNoNewValidationErrors();

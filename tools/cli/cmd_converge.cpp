@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -147,6 +148,24 @@ void writeConvergeHtml(const ConvergeOptions& options, const std::string& sceneT
   report.write(outDir / "report.html");
 }
 
+// oracle_pixels.csv: per method and object pixel of the oracle, where the method's MSE·spp lies
+// (oraclePixelErrors, engine/render/oracle.h), from its first seed's final image.
+void writeOraclePixelsCsv(const std::filesystem::path& path, const OracleVariance& oracle,
+                          const GBuffer& gbuffer, const ConvergenceResult& result) {
+  AtomicOutput output(path);
+  std::ofstream& out = output.stream();
+  out << "method,sequence,x,y,oracle_mean,oracle_variance,squared_error_spp\n";
+  char line[192];
+  for (const auto& image : result.images)
+    for (const OraclePixelError& p : oraclePixelErrors(oracle, gbuffer, image.rgb, image.point.spp)) {
+      // Method labels contain commas: quoted as CSV requires.
+      std::snprintf(line, sizeof line, ",%s,%d,%d,%.9g,%.9g,%.9g\n", image.sequence.c_str(), p.x, p.y, p.mean,
+                    p.variance, p.squaredErrorTimesSpp);
+      out << '"' << image.method << '"' << line;
+    }
+  output.commit();
+}
+
 // The CSV, reference.exr, the figures, summary.md and report.html, then the summary on stdout (a table, or
 // JSON with --json) and a warning per method with non-finite estimates.
 void writeConvergeOutputs(const ConvergeOptions& options, const std::string& deviceName, const Scene& scene,
@@ -161,6 +180,7 @@ void writeConvergeOutputs(const ConvergeOptions& options, const std::string& dev
   summary.referenceNoiseMse = obtained.noise.mse;
   summary.referenceNoiseRelMse = obtained.noise.relMse;
   if (oracle) {
+    writeOraclePixelsCsv(outDir / "oracle_pixels.csv", *oracle, scene.gbuffer, result);
     addOracle(summary, oracle->mseTimesSpp, oracle->relMseTimesSpp, oracle->pixelStride);
     // On a sample of pixels, each method is measured on the same pixels: its first seed's final image.
     if (oracle->pixelStride > 1 && oracle->mseTimesSpp > 0.0 && oracle->relMseTimesSpp > 0.0)
