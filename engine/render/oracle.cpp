@@ -33,7 +33,11 @@ GBuffer oracleStridePixels(const GBuffer& image, int pixelStride) {
 }
 
 namespace {
-void checkOracleImage(const OracleVariance& oracle, const GBuffer& image, std::span<const float> rgb) {
+// Calls visit(at, source) for each object pixel of the oracle: `at` its index among the oracle's pixels,
+// `source` the image pixel it stands for. Throws when the image or the oracle does not fit.
+template <typename Visit>
+void forEachOraclePixel(const OracleVariance& oracle, const GBuffer& image, std::span<const float> rgb,
+                        Visit&& visit) {
   if (rgb.size() != image.pixels.size() * 3)
     throw Error("oracle: the image is not the oracle's image's size");
   const int stride = oracle.pixelStride;
@@ -42,51 +46,45 @@ void checkOracleImage(const OracleVariance& oracle, const GBuffer& image, std::s
       oracle.mean.size() != std::size_t(oracle.width) * std::size_t(oracle.height) * 3 ||
       oracle.variance.size() != oracle.mean.size())
     throw Error("oracle: computed for another image");
+  for (int j = 0; j < oracle.height; ++j)
+    for (int i = 0; i < oracle.width; ++i) {
+      const std::size_t source = stridePixel(image, stride, i, j);
+      if (image.pixels[source].normal.w != 0.0f)
+        visit(std::size_t(j) * std::size_t(oracle.width) + std::size_t(i), source);
+    }
 }
 }  // namespace
 
 std::vector<OraclePixelError> oraclePixelErrors(const OracleVariance& oracle, const GBuffer& image,
                                                 std::span<const float> rgb, std::uint64_t spp) {
-  checkOracleImage(oracle, image, rgb);
-  const int stride = oracle.pixelStride;
   std::vector<OraclePixelError> pixels;
-  for (int j = 0; j < oracle.height; ++j)
-    for (int i = 0; i < oracle.width; ++i) {
-      const std::size_t at = std::size_t(j) * std::size_t(oracle.width) + std::size_t(i);
-      const std::size_t source = stridePixel(image, stride, i, j);
-      if (image.pixels[source].normal.w == 0.0f) continue;
-      OraclePixelError p;
-      p.x = int(source % std::size_t(image.width));
-      p.y = int(source / std::size_t(image.width));
-      for (std::size_t c = 0; c < 3; ++c) {
-        const double exact = oracle.mean[3 * at + c], error = double(rgb[3 * source + c]) - exact;
-        p.mean += exact / 3.0;
-        p.variance += double(oracle.variance[3 * at + c]) / 3.0;
-        p.squaredErrorTimesSpp += error * error / 3.0 * double(spp);
-      }
-      pixels.push_back(p);
+  forEachOraclePixel(oracle, image, rgb, [&](std::size_t at, std::size_t source) {
+    OraclePixelError p;
+    p.x = int(source % std::size_t(image.width));
+    p.y = int(source / std::size_t(image.width));
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double exact = oracle.mean[3 * at + c], error = double(rgb[3 * source + c]) - exact;
+      p.mean += exact / 3.0;
+      p.variance += double(oracle.variance[3 * at + c]) / 3.0;
+      p.squaredErrorTimesSpp += error * error / 3.0 * double(spp);
     }
+    pixels.push_back(p);
+  });
   return pixels;
 }
 
 OraclePixelsError errorOnOraclePixels(const OracleVariance& oracle, const GBuffer& image,
                                       std::span<const float> rgb, std::uint64_t spp) {
-  checkOracleImage(oracle, image, rgb);
-  const int stride = oracle.pixelStride;
   double mse = 0.0, relMse = 0.0;
   std::size_t objectPixels = 0;
-  for (int j = 0; j < oracle.height; ++j)
-    for (int i = 0; i < oracle.width; ++i) {
-      const std::size_t at = std::size_t(j) * std::size_t(oracle.width) + std::size_t(i);
-      const std::size_t source = stridePixel(image, stride, i, j);
-      if (image.pixels[source].normal.w == 0.0f) continue;
-      for (std::size_t c = 0; c < 3; ++c) {
-        const double exact = oracle.mean[3 * at + c], error = double(rgb[3 * source + c]) - exact;
-        mse += error * error / 3.0;
-        relMse += error * error * relativeErrorWeight(exact) / 3.0;
-      }
-      ++objectPixels;
+  forEachOraclePixel(oracle, image, rgb, [&](std::size_t at, std::size_t source) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double exact = oracle.mean[3 * at + c], error = double(rgb[3 * source + c]) - exact;
+      mse += error * error / 3.0;
+      relMse += error * error * relativeErrorWeight(exact) / 3.0;
     }
+    ++objectPixels;
+  });
   if (objectPixels == 0) return {};
   return {mse / double(objectPixels) * double(spp), relMse / double(objectPixels) * double(spp)};
 }
