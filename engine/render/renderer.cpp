@@ -51,7 +51,7 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   // rebuilds them in private memory.
   const ProductTableChunks productTables = [&] {
     const vk::DeviceSize pixels = vk::DeviceSize(scene.gbuffer.width) * vk::DeviceSize(scene.gbuffer.height);
-    const vk::DeviceSize pixelBytes = vk::DeviceSize(kProductTableStride) * sizeof(float);
+    const vk::DeviceSize pixelBytes = vk::DeviceSize(kProductTableStride) * sizeof(uint32_t);
     const vk::DeviceSize perChunk = context.limits().maxStorageBufferRange / pixelBytes;
     if (recording || !method.method->strategyInfo().buildsProductTable || perChunk == 0 ||
         pixels * pixelBytes > kProductTableBudget)
@@ -66,7 +66,7 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
     const vk::DeviceSize first = vk::DeviceSize(c) * productTables.pixelsPerChunk;
     const vk::DeviceSize pixels = std::min<vk::DeviceSize>(
         productTables.pixelsPerChunk, vk::DeviceSize(scene.gbuffer.width) * scene.gbuffer.height - first);
-    productTables_.emplace_back(context, pixels * kProductTableStride * sizeof(float),
+    productTables_.emplace_back(context, pixels * kProductTableStride * sizeof(uint32_t),
                                 "product tables " + std::to_string(c));
   }
   const std::string name = (recording ? "record samples " : "integrate ") + method.label();

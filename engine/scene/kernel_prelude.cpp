@@ -124,7 +124,7 @@ std::vector<std::pair<std::string, std::string>> EnvChunking::defines() const {
           {"ENV_TEXELS_PER_CHUNK", std::to_string(texelsPerChunk) + "u"}};
 }
 
-static_assert(kEnvProductGridWidth * kEnvProductGridRows <= kProductTableStride,
+static_assert(productTableWords(kEnvProductGridWidth, kEnvProductGridRows) <= kProductTableStride,
               "a pixel's product table holds every layout's nodes");
 
 KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, const EnvChunking& chunking,

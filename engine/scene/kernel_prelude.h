@@ -69,12 +69,12 @@ KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf, const Tech
 enum class IntegratorMode { Image, RecordPixel };
 inline constexpr uint32_t kSampleRecordBinding = 8;
 // Image mode of a product strategy, when the image's tables fit kProductTableMaxChunks buffers
-// (engine/render/renderer.cpp): the per-pixel product tables, kProductTableStride floats per pixel, kept
-// across the dispatches of an accumulation in set-0 buffers from this binding on, each holding the tables of
-// pixelsPerChunk consecutive pixels (row-major), as the radiance is chunked (RecordPixel mode puts its
-// records at this binding and rebuilds its one pixel's table in private memory).
+// (engine/render/renderer.cpp): the per-pixel product tables, kProductTableStride 32-bit words per pixel,
+// kept across the dispatches of an accumulation in set-0 buffers from this binding on, each holding the
+// tables of pixelsPerChunk consecutive pixels (row-major), as the radiance is chunked (RecordPixel mode puts
+// its records at this binding and rebuilds its one pixel's table in private memory).
 inline constexpr uint32_t kProductTableBinding = 8;
-inline constexpr uint32_t kProductTableStride = kEnvProductMaxNodes;  // every product layout's node count
+inline constexpr uint32_t kProductTableStride = kEnvProductMaxTableWords;  // every product layout's table
 inline constexpr uint32_t kProductTableMaxChunks = 4;
 struct ProductTableChunks {
   uint32_t chunks = 0;  // 0: no buffers, each dispatch rebuilds the tables in private memory

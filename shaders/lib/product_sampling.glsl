@@ -83,34 +83,45 @@ vec4 productNodeMapUv(uint j) {
 #endif
 
 const uint kProductNodes = PRODUCT_NODES_X * PRODUCT_NODES_Y;
-float gProductColumnSums[kProductNodes];  // per row: inclusive running sums of the weights
-float gProductRowSums[PRODUCT_NODES_Y];   // inclusive running sums of the row totals
+// The table's running sums, over the rows' totals and within each row, are kept as 16-bit integers: for
+// weights w_1..w_n with float running sums r_i and total W, of which m are positive,
+//   q_i = min(round(r_i / W (65535 - m)), 65535 - m) + (the positive weights among w_1..w_i),
+// so every positive weight keeps at least one step, q_n = 65535 when W > 0 (all 0 when W = 0), and
+// P(row y) P(node x | y) = (q_y - q_{y-1}) / 65535 * (q_x - q_{x-1}) / 65535. Sampling and productPdf read
+// the same integers, so the pdf stays exact; the quantization halves the stored table, whose loads are what
+// a sample of the stored table costs (docs/BENCHMARKS.md, "Product strategies").
+const float kProductFullScale = 65535.0;
+float gProductColumnSums[kProductNodes];  // per row: its nodes' quantized running sums, as floats
+float gProductRowSums[PRODUCT_NODES_Y];   // the rows' quantized running sums, as floats
+// The quantized running sum of a weight whose float running sum is `running` (see kProductFullScale);
+// `steps` = 65535 - m, `counted` the positive weights so far.
+float productQuantized(float running, float total, float steps, uint counted) {
+  return total > 0.0 ? min(round(running / total * steps), steps) + float(counted) : 0.0;
+}
 #ifdef PRODUCT_TABLE_BINDING
-// PRODUCT_TABLE_STRIDE floats per pixel, pixels row-major, PRODUCT_TABLE_PIXELS_PER_CHUNK pixels per buffer:
+// PRODUCT_TABLE_STRIDE words per pixel, pixels row-major, PRODUCT_TABLE_PIXELS_PER_CHUNK pixels per buffer:
 // integrate.comp's invocation (x, y) shades pixel (x, y) in the image mode that binds these buffers. A pixel's
-// block holds the row totals first (each row's last running sum), then each row's other running sums, so a
-// dispatch of few samples reads the totals of every row from one or two cache lines, not one line per row
-// (docs/BENCHMARKS.md, "Product strategies"); it is a permutation of the nodes' running sums.
-layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING) buffer ProductTableData0 { float productTables0[]; };
+// block holds the rows' running sums first, so a dispatch of few samples reads them from one cache line, then
+// each row's, two per word (the even one in the low half; an odd count's padding half is 0xffff).
+layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING) buffer ProductTableData0 { uint productTables0[]; };
 #if PRODUCT_TABLE_CHUNKS > 1
-layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 1) buffer ProductTableData1 { float productTables1[]; };
+layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 1) buffer ProductTableData1 { uint productTables1[]; };
 #endif
 #if PRODUCT_TABLE_CHUNKS > 2
-layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 2) buffer ProductTableData2 { float productTables2[]; };
+layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 2) buffer ProductTableData2 { uint productTables2[]; };
 #endif
 #if PRODUCT_TABLE_CHUNKS > 3
-layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 3) buffer ProductTableData3 { float productTables3[]; };
+layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 3) buffer ProductTableData3 { uint productTables3[]; };
 #endif
 #if PRODUCT_TABLE_CHUNKS > 4
 #error "PRODUCT_TABLE_CHUNKS above kProductTableMaxChunks (engine/scene/kernel_prelude.h)"
 #endif
+// Words of the rows' sums and of one row's; the builders check that a pixel's block fits
+// PRODUCT_TABLE_STRIDE (productTableWords, engine/sampling/product/env_hier_product.h).
+const uint kProductRowSumWords = (PRODUCT_NODES_Y + 1u) / 2u;
+const uint kProductRowWords = (PRODUCT_NODES_X + 1u) / 2u;
 // The pixel's place: its chunk and the offset of its block there (set by productPrepare).
 uint gProductTableChunk = 0u, gProductTableAt = 0u;
-// Where node j's running sum lies in the pixel's block: row totals first, then the rows without their last.
-uint productStoredOffset(uint j) {
-  uint y = j / PRODUCT_NODES_X, x = j - y * PRODUCT_NODES_X;
-  return x == PRODUCT_NODES_X - 1u ? y : PRODUCT_NODES_Y + y * (PRODUCT_NODES_X - 1u) + x;
-}
 // PRODUCT_TABLE_ON_CHUNK(OP) runs OP(the pixel's chunk's array): the one chain over the chunks.
 #if PRODUCT_TABLE_CHUNKS > 1
 #define PRODUCT_TABLE_CHUNK_1(OP) else if (gProductTableChunk == 1u) { OP(productTables1) }
@@ -133,32 +144,89 @@ uint productStoredOffset(uint j) {
   }                                                                                                   \
   PRODUCT_TABLE_CHUNK_1(OP) PRODUCT_TABLE_CHUNK_2(OP) PRODUCT_TABLE_CHUNK_3(OP)
 
-#define PRODUCT_TABLE_READ(table) value = table[at];
-// The float at `at` of the pixel's chunk.
-float productStoredFloat(uint at) {
-  float value = 0.0;
+#define PRODUCT_TABLE_READ(table) word = table[at];
+// The word at `at` of the pixel's block.
+uint productStoredWord(uint at) {
+  uint word = 0u;
+  at += gProductTableAt;
   PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_READ)
-  return value;
+  return word;
 }
-float productStoredSum(uint j) { return productStoredFloat(gProductTableAt + productStoredOffset(j)); }
-#define PRODUCT_TABLE_STORE(table)                           \
-  [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) \
-    table[gProductTableAt + productStoredOffset(j)] = gProductColumnSums[j];
-#define PRODUCT_TABLE_LOAD(table) \
-  [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j)         \
-    gProductColumnSums[j] = table[gProductTableAt + productStoredOffset(j)];
+// Row y's quantized running sum up to node j.
+float productStoredSum(uint j) {
+  uint y = j / PRODUCT_NODES_X, x = j - y * PRODUCT_NODES_X;
+  uint word = productStoredWord(kProductRowSumWords + y * kProductRowWords + (x >> 1u));
+  return float(bitfieldExtract(word, int((x & 1u) * 16u), 16));
+}
+// PRODUCT_STORE_PAIRS(table, at, sums, first, count, words): `count` private sums from sums[first] on, packed
+// into `words` words of the pixel's block from `at` on.
+#define PRODUCT_STORE_PAIRS(table, at, sums, first, count, words)                               \
+  [[dont_unroll]] for (uint w = 0u; w < words; ++w) {                                          \
+    uint high = 2u * w + 1u < count ? uint(sums[first + 2u * w + 1u]) : 0xffffu;               \
+    table[gProductTableAt + at + w] = uint(sums[first + 2u * w]) | (high << 16u);              \
+  }
+#define PRODUCT_LOAD_PAIRS(table, at, sums, first, count, words)                                \
+  [[dont_unroll]] for (uint w = 0u; w < words; ++w) {                                          \
+    uint word = table[gProductTableAt + at + w];                                               \
+    sums[first + 2u * w] = float(word & 0xffffu);                                              \
+    if (2u * w + 1u < count) sums[first + 2u * w + 1u] = float(word >> 16u);                   \
+  }
+#define PRODUCT_TABLE_STORE(table)                                                                          \
+  PRODUCT_STORE_PAIRS(table, 0u, gProductRowSums, 0u, PRODUCT_NODES_Y, kProductRowSumWords)                 \
+  [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {                                             \
+    PRODUCT_STORE_PAIRS(table, kProductRowSumWords + y * kProductRowWords, gProductColumnSums,              \
+                        y * PRODUCT_NODES_X, PRODUCT_NODES_X, kProductRowWords)                             \
+  }
+#define PRODUCT_TABLE_LOAD(table)                                                                           \
+  [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {                                             \
+    PRODUCT_LOAD_PAIRS(table, kProductRowSumWords + y * kProductRowWords, gProductColumnSums,               \
+                       y * PRODUCT_NODES_X, PRODUCT_NODES_X, kProductRowWords)                              \
+  }
+#define PRODUCT_TABLE_LOAD_ROW_SUMS(table) \
+  PRODUCT_LOAD_PAIRS(table, 0u, gProductRowSums, 0u, PRODUCT_NODES_Y, kProductRowSumWords)
 void productTableLocate(uvec2 pixel) {
   uint index = pixel.y * frame.width + pixel.x;
   gProductTableChunk = index / PRODUCT_TABLE_PIXELS_PER_CHUNK;
   gProductTableAt = (index - gProductTableChunk * PRODUCT_TABLE_PIXELS_PER_CHUNK) * PRODUCT_TABLE_STRIDE;
 }
-// Stores the private table into the pixel's chunk, or loads it back.
-void productTableCopy(bool store) {
-  if (store) {
-    PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_STORE)
-  } else {
+// Stores the private table into the pixel's chunk, or loads its rows' sums and, with `rows`, every row's.
+void productTableStore() { PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_STORE) }
+void productTableLoad(bool rows) {
+  PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_LOAD_ROW_SUMS)
+  if (rows) {
     PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_LOAD)
   }
+}
+// The node of row y whose quantized interval [start, end) holds t in [0, kProductFullScale), from the
+// stored row: a binary search over the row's words by their high halves (the last word's is above every
+// target: the row's last running sum 65535, or an odd row's padding), then the word's low half decides.
+// Each step is one load, and the interval's ends come from the words it loaded: the high half of the last
+// word found below t, and the word the search ends on.
+uint productStoredChoice(uint y, float t, out float start, out float end) {
+  uint first = kProductRowSumWords + y * kProductRowWords;
+  uint lower = 0u, len = kProductRowWords - 1u, upperWord = 0u;
+  bool haveUpper = false;
+  start = 0.0;
+  while (len > 0u) {
+    uint step = len >> 1u;
+    uint word = productStoredWord(first + lower + step);
+    float high = float(word >> 16u);
+    if (high <= t) {
+      start = high;
+      lower += step + 1u;
+      len -= step + 1u;
+    } else {
+      upperWord = word;
+      haveUpper = true;
+      len = step;
+    }
+  }
+  if (!haveUpper) upperWord = productStoredWord(first + lower);
+  float low = float(upperWord & 0xffffu);
+  bool lowBelow = low <= t;
+  if (lowBelow) start = low;
+  end = lowBelow ? float(upperWord >> 16u) : low;
+  return 2u * lower + (lowBelow ? 1u : 0u);
 }
 // A dispatch of this many samples or more copies the stored table into private memory once and scans it
 // there (branch-free selects that vectorise across invocations); one of fewer reads only the entries its
@@ -167,35 +235,12 @@ const uint kProductCopyMinSamples = 32u;
 #endif
 
 bool gProductReadStored = false;  // this dispatch samples from the stored table, not a private copy
-// A row's running sum up to node j, from the stored or the private table.
+// A row's quantized running sum up to node j, from the stored or the private table.
 float productColumnSum(uint j) {
 #ifdef PRODUCT_TABLE_BINDING
   if (gProductReadStored) return productStoredSum(j);
 #endif
   return gProductColumnSums[j];
-}
-// Row y's total: its last running sum.
-float productRowTotal(uint y) {
-#ifdef PRODUCT_TABLE_BINDING
-  if (gProductReadStored) return productStoredFloat(gProductTableAt + y);
-#endif
-  return productColumnSum(y * PRODUCT_NODES_X + PRODUCT_NODES_X - 1u);
-}
-
-// How many of the first n - 1 running sums at `first`, first + 1, ... are <= t: the index of the first entry
-// whose sum exceeds t, the last when none does (sums never decrease, so a binary search finds it).
-uint productSearchRow(uint first, uint n, float t) {
-  uint lower = 0u, len = n - 1u;
-  while (len > 0u) {
-    uint step = len >> 1u;
-    if (productColumnSum(first + lower + step) <= t) {
-      lower += step + 1u;
-      len -= step + 1u;
-    } else {
-      len = step;
-    }
-  }
-  return lower;
 }
 
 float productNodeArea(uint j) {
@@ -231,13 +276,40 @@ void productBuildTable(Shading s) {
   }
   float envShare = sumEF > 0.0 && !isinf(sumEF) ? PRODUCT_DEFENSIVE : 1.0;
   float productScale = envShare < 1.0 ? (1.0 - envShare) / sumEF : 0.0;
+  // Per row: the weights, their total and count of positive ones, then the row's quantized running sums;
+  // the row totals go through the same quantization in gProductRowSums.
+  float rowsTotal = 0.0;
+  uint positiveRows = 0u;
   [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {
-    float running = 0.0;
+    float total = 0.0;
+    uint positive = 0u;
     [[dont_unroll]] for (uint x = 0u; x < PRODUCT_NODES_X; ++x) {
       uint j = y * PRODUCT_NODES_X + x;
-      running += productScale * gProductColumnSums[j] + envShare * productNodeArea(j);
-      gProductColumnSums[j] = running;
+      float weight = productScale * gProductColumnSums[j] + envShare * productNodeArea(j);
+      gProductColumnSums[j] = weight;
+      total += weight;
+      positive += weight > 0.0 ? 1u : 0u;
     }
+    float steps = kProductFullScale - float(positive), running = 0.0;
+    uint counted = 0u;
+    [[dont_unroll]] for (uint x = 0u; x < PRODUCT_NODES_X; ++x) {
+      uint j = y * PRODUCT_NODES_X + x;
+      float weight = gProductColumnSums[j];
+      running += weight;
+      counted += weight > 0.0 ? 1u : 0u;
+      gProductColumnSums[j] = productQuantized(running, total, steps, counted);
+    }
+    gProductRowSums[y] = total;
+    rowsTotal += total;
+    positiveRows += total > 0.0 ? 1u : 0u;
+  }
+  float steps = kProductFullScale - float(positiveRows), running = 0.0;
+  uint counted = 0u;
+  [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {
+    float total = gProductRowSums[y];
+    running += total;
+    counted += total > 0.0 ? 1u : 0u;
+    gProductRowSums[y] = productQuantized(running, rowsTotal, steps, counted);
   }
 }
 
@@ -247,30 +319,23 @@ void productPrepare(Shading s) {
   gProductReadStored = false;
   if (frame.sampleOffset == 0u) {
     productBuildTable(s);
-    productTableCopy(true);
-  } else if (frame.samplesPerPass >= kProductCopyMinSamples) {
-    productTableCopy(false);
+    productTableStore();
   } else {
-    gProductReadStored = true;
+    gProductReadStored = frame.samplesPerPass < kProductCopyMinSamples;
+    productTableLoad(!gProductReadStored);
   }
 #else
   productBuildTable(s);
 #endif
-  float rows = 0.0;
-  [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {
-    rows += productRowTotal(y);
-    gProductRowSums[y] = rows;
-  }
 }
 
 // P(node (x, y)) from the running sums, as sampling chooses it; 0 for an empty node, row or table.
 float productNodeProbability(uint x, uint y) {
   float total = gProductRowSums[PRODUCT_NODES_Y - 1u];
   uint base = y * PRODUCT_NODES_X;
-  float rowTotal = productRowTotal(y);
   float rowWidth = gProductRowSums[y] - (y == 0u ? 0.0 : gProductRowSums[y - 1u]);
   float columnWidth = productColumnSum(base + x) - (x == 0u ? 0.0 : productColumnSum(base + x - 1u));
-  return total > 0.0 && rowTotal > 0.0 ? (rowWidth / total) * (columnWidth / rowTotal) : 0.0;
+  return total > 0.0 ? (rowWidth / total) * (columnWidth / kProductFullScale) : 0.0;
 }
 
 #ifdef PRODUCT_UNIFORM_GRID
@@ -296,16 +361,21 @@ vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
   for (uint k = 0u; k + 1u < PRODUCT_NODES_Y; ++k) y += gProductRowSums[k] <= ty ? 1u : 0u;
   float rowStart = y == 0u ? 0.0 : gProductRowSums[y - 1u], rowWidth = gProductRowSums[y] - rowStart;
   uint base = y * PRODUCT_NODES_X;
-  float rowTotal = productRowTotal(y);
-  float tx = u.x * rowTotal;
+  float tx = u.x * kProductFullScale;
   uint x = 0u;
+  float columnStart, columnWidth;
+#ifdef PRODUCT_TABLE_BINDING
   if (gProductReadStored) {
-    x = productSearchRow(base, PRODUCT_NODES_X, tx);
-  } else {
+    float columnEnd;
+    x = productStoredChoice(y, tx, columnStart, columnEnd);
+    columnWidth = columnEnd - columnStart;
+  } else
+#endif
+  {
     for (uint k = 0u; k + 1u < PRODUCT_NODES_X; ++k) x += gProductColumnSums[base + k] <= tx ? 1u : 0u;
+    columnStart = x == 0u ? 0.0 : gProductColumnSums[base + x - 1u];
+    columnWidth = gProductColumnSums[base + x] - columnStart;
   }
-  float columnStart = x == 0u ? 0.0 : productColumnSum(base + x - 1u);
-  float columnWidth = productColumnSum(base + x) - columnStart;
   if (!(rowWidth > 0.0) || !(columnWidth > 0.0)) return vec3(0.0, 1.0, 0.0);  // u on a float edge
   vec2 v = clamp(vec2((tx - columnStart) / columnWidth, (ty - rowStart) / rowWidth), vec2(0.0),
                  vec2(kOneMinusEpsilon));
@@ -318,7 +388,7 @@ vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
   vec3 wi = envSample(inNode, s.n, envDensity, radiance);
   float area = (r.z - r.x) * (r.w - r.y);
   // P(j) as productNodeProbability computes it, from the widths found above.
-  float probability = (rowWidth / total) * (columnWidth / rowTotal);
+  float probability = (rowWidth / total) * (columnWidth / kProductFullScale);
   pdf = envDensity > 0.0 && area > 0.0 ? probability / area * envDensity : 0.0;
 #ifdef IBLX_RECORD_SAMPLES
   gProductChosen = ProductChoice(j, PRODUCT_NODES_X, PRODUCT_NODES_Y, probability, productNodeMapUv(j));

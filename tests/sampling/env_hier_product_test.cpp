@@ -69,6 +69,14 @@ TEST_CASE("env product level: the finest level within the node budget, rectangle
   const EnvHierSampler hier(buildEnvHier(smoothSky(64, 32)));
   CHECK(buildEnvProductLevel(hier, 4).nodes() <= 4);
   CHECK(buildEnvProductLevel(hier, 1).nodes() == 1);  // the root
+  // Every map's level fits a pixel's stored table (kEnvProductMaxTableWords): wide, square, tall and tiny.
+  for (const auto& [w, h] : {std::pair{64, 32}, {256, 16}, {32, 32}, {16, 64}, {3, 200}, {1, 1}, {1000, 7}}) {
+    CAPTURE(w);
+    CAPTURE(h);
+    const EnvProductLevel l = buildEnvProductLevel(EnvHierSampler(buildEnvHier(smoothSky(w, h))));
+    CHECK(l.nodes() <= kEnvProductMaxNodes);
+    CHECK(productTableWords(l.width, l.rows) <= kEnvProductMaxTableWords);
+  }
   CHECK_THROWS_AS(buildEnvProductLevel(hier, 0), Error);
 }
 
@@ -85,24 +93,96 @@ TEST_CASE("env product sampler: node probabilities mix the product with env-hier
     total += sampler.nodeProbability(j);
   }
   CHECK(total == doctest::Approx(1.0).epsilon(1e-9));
-  for (std::size_t j = 0; j < level.nodes(); ++j) {
+  const double normalize = 1.0 - kEnvProductDefensive + kEnvProductDefensive * sumE;
+  const auto area = [&](std::size_t j) {
     const glm::vec4& r = level.rects[j];
-    const double e = double((r.z - r.x) * (r.w - r.y));
-    const double expected = ((1.0 - kEnvProductDefensive) * e * f[j] / sumEF + kEnvProductDefensive * e) /
-                            (1.0 - kEnvProductDefensive + kEnvProductDefensive * sumE);
-    CHECK(sampler.nodeProbability(j) == doctest::Approx(expected).epsilon(1e-9).scale(1e-12));
-    if (e > 0.0)
-      CHECK(sampler.nodeProbability(j) >= kEnvProductDefensive * e * (1.0 - 1e-12));  // reachable
-    else
-      CHECK(sampler.nodeProbability(j) == 0.0);  // a black node is never chosen
-  }
-  // With no lobe anywhere (a shading point facing away from every centre), the sampler is env-hier itself.
+    return double((r.z - r.x) * (r.w - r.y));
+  };
+  // P(j) of `sampler` against `expected` (normalized): the 16-bit table moves a row's share by at most
+  // (0.5 + rows) steps plus its rescaling by at most rows / 65535, and a node's share within its row likewise
+  // (quantizedRunningSums); a node of positive area stays reachable however small its share.
+  const auto checkProbabilities = [&](const EnvProductSampler& tested, const auto& expected) {
+    for (uint32_t y = 0; y < level.rows; ++y) {
+      double row = 0.0;
+      for (uint32_t x = 0; x < level.width; ++x) row += expected(y * level.width + x);
+      for (uint32_t x = 0; x < level.width; ++x) {
+        const std::size_t j = y * level.width + x;
+        const double conditional = row > 0.0 ? expected(j) / row : 0.0;
+        const double tolerance = (0.5 + 2.0 * level.rows) / kProductFullScale * conditional +
+                                 (0.5 + 2.0 * level.width) / kProductFullScale * row + 1e-12;
+        CHECK(std::abs(tested.nodeProbability(j) - expected(j)) <= tolerance);
+        if (area(j) > 0.0)
+          CHECK(tested.nodeProbability(j) > 0.0);
+        else
+          CHECK(tested.nodeProbability(j) == 0.0);  // a black node is never chosen
+      }
+    }
+  };
+  checkProbabilities(sampler, [&](std::size_t j) {
+    return ((1.0 - kEnvProductDefensive) * area(j) * f[j] / sumEF + kEnvProductDefensive * area(j)) /
+           normalize;
+  });
+  // With no lobe anywhere (a shading point facing away from every centre), the nodes follow env-hier's
+  // masses, and the pdf is env-hier's times the quantized over the exact node probability.
   const EnvProductSampler flat(hier, level, std::vector<double>(level.nodes(), 0.0));
+  checkProbabilities(flat, [&](std::size_t j) { return area(j) / sumE; });
   for (const glm::dvec2 u : test::uniformPoints(500, 4)) {
     const glm::dvec3 w = latLongToDirection(u);
-    CHECK(flat.pdf(w) == doctest::Approx(hier.pdf(w)).epsilon(1e-5));
+    const std::size_t j = flat.nodeOf(w);
+    if (!(area(j) > 0.0)) continue;
+    CHECK(flat.pdf(w) == doctest::Approx(hier.pdf(w) * flat.nodeProbability(j) / area(j)).epsilon(1e-5));
   }
   CHECK_THROWS_AS(EnvProductSampler(hier, level, std::vector<double>(3, 1.0)), Error);
+}
+
+TEST_CASE("product table: 16-bit running sums keep every positive weight reachable and end at the scale") {
+  // A weight far below a float's step of the running sum (1 + 1e-12 == 1 in float): it keeps one step.
+  const std::vector<double> weights{1.0, 1e-12, 0.0, 2.0, 0.0, 1.0};
+  const std::vector<uint32_t> q = quantizedRunningSums(weights);
+  REQUIRE(q.size() == weights.size());
+  CHECK(q.back() == kProductFullScale);
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    const uint32_t step = q[i] - (i == 0 ? 0 : q[i - 1]);
+    CAPTURE(i);
+    CHECK(q[i] >= (i == 0 ? 0 : q[i - 1]));
+    if (weights[i] > 0.0) {
+      CHECK(step >= 1);
+      // Within a step or two of its share of the 65535 - 4 steps left after one per positive weight.
+      CHECK(std::abs(double(step) - 1.0 - weights[i] / 4.0 * (kProductFullScale - 4)) <= 1.0);
+    } else {
+      CHECK(step == 0);  // a zero weight is never chosen
+    }
+  }
+  CHECK(quantizedRunningSums(std::vector<double>(5, 0.0)) == std::vector<uint32_t>(5, 0));
+  CHECK(quantizedRunningSums(std::vector<double>{3.0}) == std::vector<uint32_t>{kProductFullScale});
+  CHECK_THROWS_AS(quantizedRunningSums(std::vector<double>{1.0, -1.0}), Error);
+  CHECK_THROWS_AS(quantizedRunningSums(std::vector<double>{std::nan("")}), Error);
+
+  // Over a level: P(node) is the row's step times the node's step in its row, over 65535 each; they sum to 1.
+  const EnvHierSampler hier(buildEnvHier(smoothSky(64, 32)));
+  const EnvProductLevel level = buildEnvProductLevel(hier);
+  std::vector<double> w(level.nodes());
+  for (std::size_t j = 0; j < w.size(); ++j) w[j] = j % 7 == 0 ? 1e-9 : double(j % 5);
+  const std::vector<double> p = quantizedNodeProbabilities(level, w);
+  double sum = 0.0;
+  for (std::size_t j = 0; j < p.size(); ++j) {
+    sum += p[j];
+    CHECK((p[j] > 0.0) == (w[j] > 0.0));
+  }
+  CHECK(sum == doctest::Approx(1.0).epsilon(1e-12));
+  for (uint32_t y = 0; y < level.rows; ++y) {
+    double row = 0.0;
+    for (uint32_t x = 0; x < level.width; ++x) row += p[y * level.width + x];
+    const double rowSteps = row * kProductFullScale;
+    CHECK(std::abs(rowSteps - std::round(rowSteps)) < 1e-6);
+    for (uint32_t x = 0; x < level.width && row > 0.0; ++x) {
+      const double steps = p[y * level.width + x] / row * kProductFullScale;
+      CHECK(std::abs(steps - std::round(steps)) < 1e-6);
+    }
+  }
+  CHECK(quantizedNodeProbabilities(level, std::vector<double>(level.nodes(), 0.0)) ==
+        std::vector<double>(level.nodes(), 0.0));
+  CHECK_THROWS_AS(quantizedNodeProbabilities(level, std::vector<double>(3, 1.0)), Error);
 }
 
 TEST_CASE("env product sampler: chi2 against its own pdf on hard maps, the pdf integrating to 1") {

@@ -122,6 +122,48 @@ std::vector<double> envProductWeights(const EnvProductLevel& level, std::span<co
   return weight;
 }
 
+std::vector<uint32_t> quantizedRunningSums(std::span<const double> weights) {
+  double total = 0.0;
+  uint32_t positive = 0;
+  for (double w : weights) {
+    if (!(w >= 0.0) || !std::isfinite(w))
+      throw Error("product table: the weights must be finite and >= 0, got " + std::to_string(w));
+    total += w;
+    positive += w > 0.0 ? 1 : 0;
+  }
+  if (positive > kProductFullScale)
+    throw Error("product table: more than " + std::to_string(kProductFullScale) + " positive weights");
+  std::vector<uint32_t> sums(weights.size(), 0);
+  if (!(total > 0.0)) return sums;
+  const double steps = double(kProductFullScale - positive);
+  double running = 0.0;
+  uint32_t counted = 0;
+  for (std::size_t i = 0; i < weights.size(); ++i) {
+    running += weights[i];
+    counted += weights[i] > 0.0 ? 1 : 0;
+    sums[i] = uint32_t(std::min(std::round(running / total * steps), steps)) + counted;
+  }
+  sums.back() = kProductFullScale;  // the running sum's rounding cannot leave the last below the scale
+  return sums;
+}
+
+std::vector<double> quantizedNodeProbabilities(const EnvProductLevel& level,
+                                               std::span<const double> weights) {
+  if (weights.size() != level.nodes()) throw Error("product table: one weight per node is needed");
+  std::vector<double> rowTotals(level.rows, 0.0), probability(weights.size(), 0.0);
+  for (std::size_t j = 0; j < weights.size(); ++j) rowTotals[j / level.width] += weights[j];
+  const std::vector<uint32_t> rows = quantizedRunningSums(rowTotals);
+  const double scale = double(kProductFullScale);
+  for (uint32_t y = 0; y < level.rows; ++y) {
+    const uint32_t rowStep = rows[y] - (y == 0 ? 0 : rows[y - 1]);
+    const std::vector<uint32_t> columns = quantizedRunningSums(weights.subspan(y * level.width, level.width));
+    for (uint32_t x = 0; x < level.width; ++x)
+      probability[y * level.width + x] =
+          double(rowStep) / scale * double(columns[x] - (x == 0 ? 0 : columns[x - 1])) / scale;
+  }
+  return probability;
+}
+
 EnvProductSampler::EnvProductSampler(const EnvHierSampler& env, const EnvProductLevel& level,
                                      std::span<const double> fCos)
     : EnvProductSampler(FromWeights{}, env, level, envProductWeights(level, fCos)) {}
@@ -130,12 +172,8 @@ EnvProductSampler::EnvProductSampler(FromWeights, const EnvHierSampler& env, con
                                      std::vector<double> weights)
     : env_(env),
       level_(level),
-      probability_(std::move(weights)),
-      nodes_(probability_, int(level.width), int(level.rows)) {
-  double total = 0.0;
-  for (double w : probability_) total += w;
-  for (double& p : probability_) p = total > 0.0 ? p / total : 0.0;
-}
+      probability_(quantizedNodeProbabilities(level, weights)),
+      nodes_(probability_, int(level.width), int(level.rows)) {}
 
 std::size_t EnvProductSampler::nodeOf(glm::dvec3 wi) const {
   if (level_.uniformGrid) {
@@ -182,6 +220,11 @@ TechniqueData envHierProductTechniqueData(const EnvImage& image) {
   TechniqueData data = envHierTechniqueData(sampler);
   const EnvProductLevel product = buildEnvProductLevel(sampler);
   const EnvProductLevel grid = buildEnvProductGrid(sampler);
+  for (const EnvProductLevel* level : {&product, &grid})
+    if (productTableWords(level->width, level->rows) > kEnvProductMaxTableWords)
+      throw Error("env-hier product: a " + std::to_string(level->width) + "x" + std::to_string(level->rows) +
+                  " node table does not fit a pixel's stored table of " +
+                  std::to_string(kEnvProductMaxTableWords) + " words");
   data.add("productNodeRects", product.rects);
   data.add("productNodeCenters", product.centers);
   data.add("productGridCenters", grid.centers);

@@ -31,8 +31,17 @@
 
 namespace iblx {
 
-inline constexpr uint32_t kEnvProductMaxNodes = 512;  // per-pixel tables: 512 floats per pixel
-inline constexpr double kEnvProductDefensive = 0.1;   // d: the env-hier share of every node's probability
+inline constexpr uint32_t kEnvProductMaxNodes = 512;
+// 32-bit words of a pixel's stored table for a layout of width x rows nodes
+// (shaders/lib/product_sampling.glsl): the rows' running sums, then each row's, quantized to 16 bits, two per
+// word.
+constexpr uint32_t productTableWords(uint32_t width, uint32_t rows) {
+  return (rows + 1) / 2 + rows * ((width + 1) / 2);
+}
+// The largest over the layouts: a pyramid level has no more rows than nodes across (env-hier's square
+// pyramid), so at most kEnvProductMaxNodes nodes give at most 32 x 16, as the uniform grid has.
+inline constexpr uint32_t kEnvProductMaxTableWords = productTableWords(32, 16);
+inline constexpr double kEnvProductDefensive = 0.1;  // d: the env-hier share of every node's probability
 
 // The nodes a product strategy chooses among, a partition of env-hier's unit square u into rectangles, in one
 // of two layouts:
@@ -75,6 +84,17 @@ EnvProductLevel buildEnvProductGrid(const std::function<glm::dvec3(glm::dvec2)>&
 // E_j the area of node j's rectangle, F_j = fCos[j] clamped at 0. Throws iblx::Error when fCos has not one
 // value per node.
 std::vector<double> envProductWeights(const EnvProductLevel& level, std::span<const double> fCos);
+// The table's 16-bit running sums, as the GPU stores them (shaders/lib/product_sampling.glsl): for weights
+// w_1..w_n with running sums r_i and total W, of which m are positive,
+//   q_i = min(round(r_i / W (65535 - m)), 65535 - m) + (the positive weights among w_1..w_i),
+// so every positive weight keeps at least one of the 65535 steps and q_n = 65535 (all 0 when W = 0).
+// Throws iblx::Error for a negative or non-finite weight.
+inline constexpr uint32_t kProductFullScale = 65535;
+std::vector<uint32_t> quantizedRunningSums(std::span<const double> weights);
+// P(j) of the quantized table over the level's nodes: (the row's step) / 65535 * (the node's step in its row)
+// / 65535, from the rows' totals and each row's weights; all 0 when every weight is. The sampler's choice and
+// its pdf both read these, as the GPU's do.
+std::vector<double> quantizedNodeProbabilities(const EnvProductLevel& level, std::span<const double> weights);
 // The point of node j's rectangle in u where the head table's choice `chosen` (a sample of the level's
 // width x rows table) puts u: its place in the table's cell, mapped into the rectangle (a float set: one
 // float step below its upper edges at most), as the GPU computes it.
@@ -94,6 +114,7 @@ class EnvProductSampler {
   // with it and lets env-hier's descent finish.
   EnvSample sample(glm::dvec2 u) const;
   double pdf(glm::dvec3 wi) const;
+  // P(j) of the quantized table (quantizedNodeProbabilities), which the choice follows exactly.
   double nodeProbability(std::size_t node) const { return probability_[node]; }
   // The node holding direction wi: by its texel (pyramid level) or by env-hier's inverse (uniform grid).
   std::size_t nodeOf(glm::dvec3 wi) const;

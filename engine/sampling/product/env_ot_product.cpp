@@ -112,12 +112,9 @@ EnvOtProductSampler::EnvOtProductSampler(const EnvOtSampler& env, const EnvOtInv
     : env_(env),
       inverse_(inverse),
       grid_(grid),
-      probability_(envProductWeights(grid, fCos)),
+      probability_(quantizedNodeProbabilities(grid, envProductWeights(grid, fCos))),
       cells_(probability_, int(grid.width), int(grid.rows)) {
   if (!grid.uniformGrid) throw Error("env-ot product sampler: the head is a uniform grid over u");
-  double total = 0.0;
-  for (double w : probability_) total += w;
-  for (double& p : probability_) p = total > 0.0 ? p / total : 0.0;
 }
 
 std::size_t EnvOtProductSampler::cellOf(glm::dvec2 u) const {
