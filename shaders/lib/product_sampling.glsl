@@ -93,11 +93,20 @@ const uint kProductNodes = PRODUCT_NODES_X * PRODUCT_NODES_Y;
 const float kProductFullScale = 65535.0;
 float gProductColumnSums[kProductNodes];  // per row: its nodes' quantized running sums, as floats
 float gProductRowSums[PRODUCT_NODES_Y];   // the rows' quantized running sums, as floats
-// The quantized running sum of a weight whose float running sum is `running` (see kProductFullScale);
-// `steps` = 65535 - m, `counted` the positive weights so far.
-float productQuantized(float running, float total, float steps, uint counted) {
-  return total > 0.0 ? min(round(running / total * steps), steps) + float(counted) : 0.0;
-}
+// Replaces sums[first], ..., sums[first + count - 1], weights of total `total` of which `positive` are > 0,
+// by their quantized running sums (see kProductFullScale; the float running sum is summed as `total` was, so
+// running / total <= 1).
+#define PRODUCT_QUANTIZE(sums, first, count, total, positive)                                      \
+  {                                                                                                \
+    float steps = kProductFullScale - float(positive), running = 0.0;                              \
+    uint counted = 0u;                                                                             \
+    [[dont_unroll]] for (uint i = 0u; i < count; ++i) {                                            \
+      float weight = sums[first + i];                                                              \
+      running += weight;                                                                           \
+      counted += weight > 0.0 ? 1u : 0u;                                                           \
+      sums[first + i] = total > 0.0 ? min(round(running / total * steps), steps) + float(counted) : 0.0; \
+    }                                                                                              \
+  }
 #ifdef PRODUCT_TABLE_BINDING
 // PRODUCT_TABLE_STRIDE words per pixel, pixels row-major, PRODUCT_TABLE_PIXELS_PER_CHUNK pixels per buffer:
 // integrate.comp's invocation (x, y) shades pixel (x, y) in the image mode that binds these buffers. A pixel's
@@ -290,27 +299,12 @@ void productBuildTable(Shading s) {
       total += weight;
       positive += weight > 0.0 ? 1u : 0u;
     }
-    float steps = kProductFullScale - float(positive), running = 0.0;
-    uint counted = 0u;
-    [[dont_unroll]] for (uint x = 0u; x < PRODUCT_NODES_X; ++x) {
-      uint j = y * PRODUCT_NODES_X + x;
-      float weight = gProductColumnSums[j];
-      running += weight;
-      counted += weight > 0.0 ? 1u : 0u;
-      gProductColumnSums[j] = productQuantized(running, total, steps, counted);
-    }
+    PRODUCT_QUANTIZE(gProductColumnSums, y * PRODUCT_NODES_X, PRODUCT_NODES_X, total, positive)
     gProductRowSums[y] = total;
     rowsTotal += total;
     positiveRows += total > 0.0 ? 1u : 0u;
   }
-  float steps = kProductFullScale - float(positiveRows), running = 0.0;
-  uint counted = 0u;
-  [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {
-    float total = gProductRowSums[y];
-    running += total;
-    counted += total > 0.0 ? 1u : 0u;
-    gProductRowSums[y] = productQuantized(running, rowsTotal, steps, counted);
-  }
+  PRODUCT_QUANTIZE(gProductRowSums, 0u, PRODUCT_NODES_Y, rowsTotal, positiveRows)
 }
 
 void productPrepare(Shading s) {
