@@ -9,13 +9,14 @@
 // productPrepare(s), once per shading point: weights w_j = (1 - d) E_j F_j / sum_k E_k F_k + d E_j over the
 // level's nodes (E_j the node's env-hier probability, F_j = mean_rgb(f) cos at the node's direction closest to
 // the mirror direction of wo, d = PRODUCT_DEFENSIVE),
-// kept as running sums per row (gProductColumnSums) and over rows (gProductRowSums). With PRODUCT_TABLE_BINDING
-// (the host's choice when the image's tables fit PRODUCT_TABLE_CHUNKS buffers: engine/render/renderer.cpp) the
-// first dispatch after a restart (frame.sampleOffset 0) also stores a pixel's running sums per row in its
-// chunk, and every later dispatch of the accumulation samples from the stored sums instead of evaluating the
-// BRDF at every node again (once per accumulation, not once per dispatch of at most 256 samples): a dispatch
-// of many samples copies them into private memory and scans them, one of few samples reads the row totals and
-// then binary-searches the chosen row in the buffer. productSample chooses a row
+// kept as 16-bit running sums per row (gProductColumnSums) and over rows (gProductRowSums; kProductFullScale
+// gives the rule). With PRODUCT_TABLE_BINDING (the host's choice when the image's tables fit
+// PRODUCT_TABLE_CHUNKS buffers: engine/render/renderer.cpp) the first dispatch after a restart
+// (frame.sampleOffset 0) also stores a pixel's sums in its chunk, two per word, and every later dispatch of the
+// accumulation samples from the stored sums instead of evaluating the BRDF at every node again (once per
+// accumulation, not once per dispatch of at most 256 samples): a dispatch of many samples copies them into
+// private memory and scans them, one of few samples reads the rows' sums and then binary-searches the chosen
+// row's words in the buffer. productSample chooses a row
 // by u.y and a node in it by u.x, rescales u inside the choice, fills the node's rectangle in u with it and lets
 // env-hier's descent (envSample) finish, so pdf = P(j) / E_j * p_env-hier, with P(j) computed from the same
 // sums in sampling and in productPdf.

@@ -10,7 +10,8 @@
 // a marginal (rows) / conditional (columns) table over w, and the direction is finished inside the node by
 // env-hier's own descent: the chosen node's rectangle R_j in u is filled by the remaining uniform, and
 // env-hier's exact texel tables pick the texel. So
-//   pdf(wi) = P(j) / E_j * p_env-hier(wi),   P(j) = w_j / sum_k w_k,
+//   pdf(wi) = P(j) / E_j * p_env-hier(wi),   P(j) = w_j / sum_k w_k
+// up to the table's 16-bit running sums (quantizedNodeProbabilities: the probabilities sampling follows),
 // exact and evaluable at any direction (hierarchical product sampling, Clarberg, Jarosz, Akenine-Möller &
 // Jensen 2005, "Wavelet Importance Sampling", with one product level; the conditional finish is the
 // environment's exact warp, as in Clarberg & Akenine-Möller 2008 §4). The defensive share d keeps every node
