@@ -1,25 +1,32 @@
 // Product sampling of environment x BRDF over env-hier's unit square, for the `product` strategies
-// (engine/sampling/product/env_hier_product.h documents the method and holds the CPU twin, EnvProductSampler). Needs the
-// env technique env-hier, whose builder also provides the nodes' tables and PRODUCT_* defines. The nodes are a
-// pyramid level (default) or, with PRODUCT_UNIFORM_GRID defined by the strategy part before including this
-// file, a uniform grid over u (warp composition, `product-warp`). With PRODUCT_TAIL_ENV_OT (defined by
-// envOtProductTechniqueData, engine/sampling/product/env_ot_product.h) the grid is over env-ot's unit square instead
+// (engine/sampling/product/env_hier_product.h documents the method and holds the CPU twin,
+// EnvProductSampler). Needs the env technique env-hier, whose builder also provides the nodes' tables and
+// PRODUCT_* defines. The nodes are a pyramid level (default) or, with PRODUCT_UNIFORM_GRID defined by the
+// strategy part before including this file, a uniform grid over u (warp composition, `product-warp`). With
+// PRODUCT_TAIL_ENV_OT (defined by envOtProductTechniqueData, engine/sampling/product/env_ot_product.h) the
+// grid is over env-ot's unit square instead
 // (`product-warp-ot`), whose warp reaches a split sun's texels twice: the pdf sums over both preimages.
 //
 // productPrepare(s), once per shading point: weights w_j = (1 - d) E_j F_j / sum_k E_k F_k + d E_j over the
-// level's nodes (E_j the node's env-hier probability, F_j = mean_rgb(f) cos at the node's direction closest to
-// the mirror direction of wo, d = PRODUCT_DEFENSIVE),
-// kept as 16-bit running sums per row (gProductColumnSums) and over rows (gProductRowSums; kProductFullScale
-// gives the rule). With PRODUCT_TABLE_BINDING (the host's choice when the image's tables fit
-// PRODUCT_TABLE_CHUNKS buffers: engine/render/renderer.cpp) the first dispatch after a restart
-// (frame.sampleOffset 0) also stores a pixel's sums in its chunk, two per word, and every later dispatch of the
-// accumulation samples from the stored sums instead of evaluating the BRDF at every node again (once per
-// accumulation, not once per dispatch of at most 256 samples): a dispatch of many samples copies them into
-// private memory and scans them, one of few samples reads the rows' sums and then binary-searches the chosen
-// row's words in the buffer. productSample chooses a row
-// by u.y and a node in it by u.x, rescales u inside the choice, fills the node's rectangle in u with it and lets
-// env-hier's descent (envSample) finish, so pdf = P(j) / E_j * p_env-hier, with P(j) computed from the same
-// sums in sampling and in productPdf.
+// level's nodes (E_j the node's env-hier probability, F_j = mean_rgb(f) cos at the node's direction closest
+// to the mirror direction of wo, d = PRODUCT_DEFENSIVE), kept as 16-bit running sums per row
+// (gProductColumnSums) and over rows (gProductRowSums; kProductFullScale gives the rule). With
+// PRODUCT_TABLE_BINDING (the host's choice when the image's tables fit PRODUCT_TABLE_CHUNKS buffers:
+// engine/render/renderer.cpp) the first dispatch after a restart (frame.sampleOffset 0) also stores a pixel's
+// sums in its chunk, two per word, and every later dispatch of the accumulation samples from the stored sums
+// instead of evaluating the BRDF at every node again (once per accumulation, not once per dispatch of at most
+// 256 samples): a dispatch of many samples copies them into private memory and scans them, one of few samples
+// reads the rows' sums and then binary-searches the chosen row's words in the buffer. productSample chooses a
+// row by u.y and a node in it by u.x, rescales u inside the choice, fills the node's rectangle in u with it
+// and lets env-hier's descent (envSample) finish, so pdf = P(j) / E_j * p_env-hier, with P(j) computed from
+// the same sums in sampling and in productPdf.
+//
+// On a pyramid level with PRODUCT_REFINE_DEPTH > 0, the table also splits the nodes of largest E_j F_j into
+// their children on the next level, and the largest of those children once more (the refinement:
+// engine/sampling/product/env_hier_product.h, whose EnvProductSampler is its CPU twin). A split node's E F
+// becomes the sum of its children's, and its record (gProductRefine, stored after the table) keeps the
+// children's 16-bit running sums; productSample descends the records below the chosen node, and productPdf
+// multiplies P(j) by each record's P(child), over the deepest node's area.
 #ifndef IBLX_LIB_PRODUCT_SAMPLING
 #define IBLX_LIB_PRODUCT_SAMPLING
 #extension GL_EXT_control_flow_attributes : require
@@ -32,10 +39,13 @@
 // Per cell (row-major): the direction at the centre of its image under env-hier, with the cosine of the
 // image's angular radius.
 IBLX_TABLE(productGridCenters, 4);
-vec4 productNodeCenter(uint j) { return tableVec4(productGridCenters, j); }
+vec4 productNodeCenter(uint j) {
+  return tableVec4(productGridCenters, j);
+}
 vec4 productNodeRect(uint j) {
   uvec2 c = uvec2(j % PRODUCT_NODES_X, j / PRODUCT_NODES_X);
-  return vec4(vec2(c), vec2(c + 1u)) / vec4(PRODUCT_NODES_X, PRODUCT_NODES_Y, PRODUCT_NODES_X, PRODUCT_NODES_Y);
+  return vec4(vec2(c), vec2(c + 1u)) /
+         vec4(PRODUCT_NODES_X, PRODUCT_NODES_Y, PRODUCT_NODES_X, PRODUCT_NODES_Y);
 }
 uvec2 productCellOf(vec2 u) {
   return min(uvec2(max(u, vec2(0.0)) * vec2(PRODUCT_NODES_X, PRODUCT_NODES_Y)),
@@ -58,9 +68,26 @@ uvec2 productNodeOf(vec3 wi) {
 // (environment frame) with the cosine of its angular radius.
 IBLX_TABLE(productNodeRects, 4);
 IBLX_TABLE(productNodeCenters, 4);
-vec4 productNodeRect(uint j) { return tableVec4(productNodeRects, j); }
-vec4 productNodeCenter(uint j) { return tableVec4(productNodeCenters, j); }
-uvec2 productNodeOf(vec3 wi) { return uvec2(directionToTexel(wi)) / PRODUCT_TEXELS_PER_NODE; }
+vec4 productNodeRect(uint j) {
+  return tableVec4(productNodeRects, j);
+}
+vec4 productNodeCenter(uint j) {
+  return tableVec4(productNodeCenters, j);
+}
+uvec2 productNodeOf(vec3 wi) {
+  return uvec2(directionToTexel(wi)) / PRODUCT_TEXELS_PER_NODE;
+}
+#if PRODUCT_REFINE_DEPTH > 0
+#define PRODUCT_REFINED
+// The finer levels by parent: child c = a + 2 b (cell (2x + a, 2y + b)) of index p at 4 p + c, p the node's
+// own index at the table's level.
+IBLX_TABLE(productChildRects, 4);
+IBLX_TABLE(productChildCenters, 4);
+#if PRODUCT_REFINE_DEPTH > 1
+IBLX_TABLE(productGrandRects, 4);
+IBLX_TABLE(productGrandCenters, 4);
+#endif
+#endif
 #endif
 
 #ifdef IBLX_RECORD_SAMPLES
@@ -73,12 +100,15 @@ struct ProductChoice {
 };
 ProductChoice gProductChosen;
 #ifdef PRODUCT_UNIFORM_GRID
-vec4 productNodeMapUv(uint j) { return vec4(0.0); }  // a cell of the tail's square: no map rectangle
+vec4 productNodeMapUv(uvec2 cell, uint texels) {
+  return vec4(0.0);
+}  // a cell of the tail's square
 #else
-vec4 productNodeMapUv(uint j) {
+// The block of texels x texels texels of `cell` on the map.
+vec4 productNodeMapUv(uvec2 cell, uint texels) {
   uvec2 size = uvec2(envSize());
-  uvec2 first = uvec2(j % PRODUCT_NODES_X, j / PRODUCT_NODES_X) * PRODUCT_TEXELS_PER_NODE;
-  return vec4(vec2(min(first, size)), vec2(min(first + PRODUCT_TEXELS_PER_NODE, size))) / vec4(size, size);
+  uvec2 first = cell * texels;
+  return vec4(vec2(min(first, size)), vec2(min(first + texels, size))) / vec4(size, size);
 }
 #endif
 #endif
@@ -97,31 +127,51 @@ float gProductRowSums[PRODUCT_NODES_Y];   // the rows' quantized running sums, a
 // Replaces sums[first], ..., sums[first + count - 1], weights of total `total` of which `positive` are > 0,
 // by their quantized running sums (see kProductFullScale; the float running sum is summed as `total` was, so
 // running / total <= 1).
-#define PRODUCT_QUANTIZE(sums, first, count, total, positive)                                      \
-  {                                                                                                \
-    float steps = kProductFullScale - float(positive), running = 0.0;                              \
-    uint counted = 0u;                                                                             \
-    [[dont_unroll]] for (uint i = 0u; i < count; ++i) {                                            \
-      float weight = sums[first + i];                                                              \
-      running += weight;                                                                           \
-      counted += weight > 0.0 ? 1u : 0u;                                                           \
+#define PRODUCT_QUANTIZE(sums, first, count, total, positive)                                            \
+  {                                                                                                      \
+    float steps = kProductFullScale - float(positive), running = 0.0;                                    \
+    uint counted = 0u;                                                                                   \
+    [[dont_unroll]] for (uint i = 0u; i < count; ++i) {                                                  \
+      float weight = sums[first + i];                                                                    \
+      running += weight;                                                                                 \
+      counted += weight > 0.0 ? 1u : 0u;                                                                 \
       sums[first + i] = total > 0.0 ? min(round(running / total * steps), steps) + float(counted) : 0.0; \
-    }                                                                                              \
+    }                                                                                                    \
   }
+#ifdef PRODUCT_REFINED
+// The refinement's block (productRefineWords, engine/sampling/product/env_hier_product.h): per node a 4-bit
+// field, its record + 1 (0: not split), eight to a word; then two words per record: the children's running
+// sums q_1 | q_2 << 16, and q_3 | (the mask of children split again) << 16 | (the first one's record) << 20
+// (q_4 = kProductFullScale). Records 0 .. kProductRefinedNodes - 1 are the split nodes', the rest their
+// children's, by parent and child.
+const uint kProductRefinedNodes = 15u, kProductRefinedChildren = 16u;
+const uint kProductSlotWords = (kProductNodes + 7u) / 8u;
+const uint kProductRecords = kProductRefinedNodes + (PRODUCT_REFINE_DEPTH > 1 ? kProductRefinedChildren : 0u);
+const uint kProductRefineWords = kProductSlotWords + 2u * kProductRecords;
+uint gProductRefine[kProductRefineWords];
+#endif
 #ifdef PRODUCT_TABLE_BINDING
 // PRODUCT_TABLE_STRIDE words per pixel, pixels row-major, PRODUCT_TABLE_PIXELS_PER_CHUNK pixels per buffer:
-// integrate.comp's invocation (x, y) shades pixel (x, y) in the image mode that binds these buffers. A pixel's
-// block holds the rows' running sums first, so a dispatch of few samples reads them from one cache line, then
-// each row's, two per word (the even one in the low half; an odd count's padding half is 0xffff).
-layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING) buffer ProductTableData0 { uint productTables0[]; };
+// integrate.comp's invocation (x, y) shades pixel (x, y) in the image mode that binds these buffers. A
+// pixel's block holds the rows' running sums first, so a dispatch of few samples reads them from one cache
+// line, then each row's, two per word (the even one in the low half; an odd count's padding half is 0xffff).
+layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING) buffer ProductTableData0 {
+  uint productTables0[];
+};
 #if PRODUCT_TABLE_CHUNKS > 1
-layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 1) buffer ProductTableData1 { uint productTables1[]; };
+layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 1) buffer ProductTableData1 {
+  uint productTables1[];
+};
 #endif
 #if PRODUCT_TABLE_CHUNKS > 2
-layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 2) buffer ProductTableData2 { uint productTables2[]; };
+layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 2) buffer ProductTableData2 {
+  uint productTables2[];
+};
 #endif
 #if PRODUCT_TABLE_CHUNKS > 3
-layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 3) buffer ProductTableData3 { uint productTables3[]; };
+layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 3) buffer ProductTableData3 {
+  uint productTables3[];
+};
 #endif
 #if PRODUCT_TABLE_CHUNKS > 4
 #error "PRODUCT_TABLE_CHUNKS above kProductTableMaxChunks (engine/scene/kernel_prelude.h)"
@@ -130,28 +180,39 @@ layout(std430, set = 0, binding = PRODUCT_TABLE_BINDING + 3) buffer ProductTable
 // PRODUCT_TABLE_STRIDE (productTableWords, engine/sampling/product/env_hier_product.h).
 const uint kProductRowSumWords = (PRODUCT_NODES_Y + 1u) / 2u;
 const uint kProductRowWords = (PRODUCT_NODES_X + 1u) / 2u;
+const uint kProductTableWords =
+    kProductRowSumWords + PRODUCT_NODES_Y * kProductRowWords;  // then the refinement
 // The pixel's place: its chunk and the offset of its block there (set by productPrepare).
 uint gProductTableChunk = 0u, gProductTableAt = 0u;
 // PRODUCT_TABLE_ON_CHUNK(OP) runs OP(the pixel's chunk's array): the one chain over the chunks.
 #if PRODUCT_TABLE_CHUNKS > 1
-#define PRODUCT_TABLE_CHUNK_1(OP) else if (gProductTableChunk == 1u) { OP(productTables1) }
+#define PRODUCT_TABLE_CHUNK_1(OP)      \
+  else if (gProductTableChunk == 1u) { \
+    OP(productTables1)                 \
+  }
 #else
 #define PRODUCT_TABLE_CHUNK_1(OP)
 #endif
 #if PRODUCT_TABLE_CHUNKS > 2
-#define PRODUCT_TABLE_CHUNK_2(OP) else if (gProductTableChunk == 2u) { OP(productTables2) }
+#define PRODUCT_TABLE_CHUNK_2(OP)      \
+  else if (gProductTableChunk == 2u) { \
+    OP(productTables2)                 \
+  }
 #else
 #define PRODUCT_TABLE_CHUNK_2(OP)
 #endif
 #if PRODUCT_TABLE_CHUNKS > 3
-#define PRODUCT_TABLE_CHUNK_3(OP) else if (gProductTableChunk == 3u) { OP(productTables3) }
+#define PRODUCT_TABLE_CHUNK_3(OP)      \
+  else if (gProductTableChunk == 3u) { \
+    OP(productTables3)                 \
+  }
 #else
 #define PRODUCT_TABLE_CHUNK_3(OP)
 #endif
-#define PRODUCT_TABLE_ON_CHUNK(OP)                                                                      \
-  if (gProductTableChunk == 0u) {                                                                     \
-    OP(productTables0)                                                                                \
-  }                                                                                                   \
+#define PRODUCT_TABLE_ON_CHUNK(OP) \
+  if (gProductTableChunk == 0u) {  \
+    OP(productTables0)             \
+  }                                \
   PRODUCT_TABLE_CHUNK_1(OP) PRODUCT_TABLE_CHUNK_2(OP) PRODUCT_TABLE_CHUNK_3(OP)
 
 #define PRODUCT_TABLE_READ(table) word = table[at];
@@ -170,41 +231,58 @@ float productStoredSum(uint j) {
 }
 // PRODUCT_STORE_PAIRS(table, at, sums, first, count, words): `count` private sums from sums[first] on, packed
 // into `words` words of the pixel's block from `at` on.
-#define PRODUCT_STORE_PAIRS(table, at, sums, first, count, words)                               \
-  [[dont_unroll]] for (uint w = 0u; w < words; ++w) {                                          \
-    uint high = 2u * w + 1u < count ? uint(sums[first + 2u * w + 1u]) : 0xffffu;               \
-    table[gProductTableAt + at + w] = uint(sums[first + 2u * w]) | (high << 16u);              \
+#define PRODUCT_STORE_PAIRS(table, at, sums, first, count, words)                 \
+  [[dont_unroll]] for (uint w = 0u; w < words; ++w) {                             \
+    uint high = 2u * w + 1u < count ? uint(sums[first + 2u * w + 1u]) : 0xffffu;  \
+    table[gProductTableAt + at + w] = uint(sums[first + 2u * w]) | (high << 16u); \
   }
-#define PRODUCT_LOAD_PAIRS(table, at, sums, first, count, words)                                \
-  [[dont_unroll]] for (uint w = 0u; w < words; ++w) {                                          \
-    uint word = table[gProductTableAt + at + w];                                               \
-    sums[first + 2u * w] = float(word & 0xffffu);                                              \
-    if (2u * w + 1u < count) sums[first + 2u * w + 1u] = float(word >> 16u);                   \
+#define PRODUCT_LOAD_PAIRS(table, at, sums, first, count, words)             \
+  [[dont_unroll]] for (uint w = 0u; w < words; ++w) {                        \
+    uint word = table[gProductTableAt + at + w];                             \
+    sums[first + 2u * w] = float(word & 0xffffu);                            \
+    if (2u * w + 1u < count) sums[first + 2u * w + 1u] = float(word >> 16u); \
   }
-#define PRODUCT_TABLE_STORE(table)                                                                          \
-  PRODUCT_STORE_PAIRS(table, 0u, gProductRowSums, 0u, PRODUCT_NODES_Y, kProductRowSumWords)                 \
-  [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {                                             \
-    PRODUCT_STORE_PAIRS(table, kProductRowSumWords + y * kProductRowWords, gProductColumnSums,              \
-                        y * PRODUCT_NODES_X, PRODUCT_NODES_X, kProductRowWords)                             \
+#define PRODUCT_TABLE_STORE(table)                                                             \
+  PRODUCT_STORE_PAIRS(table, 0u, gProductRowSums, 0u, PRODUCT_NODES_Y, kProductRowSumWords)    \
+  [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {                                \
+    PRODUCT_STORE_PAIRS(table, kProductRowSumWords + y * kProductRowWords, gProductColumnSums, \
+                        y * PRODUCT_NODES_X, PRODUCT_NODES_X, kProductRowWords)                \
   }
-#define PRODUCT_TABLE_LOAD(table)                                                                           \
-  [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {                                             \
-    PRODUCT_LOAD_PAIRS(table, kProductRowSumWords + y * kProductRowWords, gProductColumnSums,               \
-                       y * PRODUCT_NODES_X, PRODUCT_NODES_X, kProductRowWords)                              \
+#define PRODUCT_TABLE_LOAD(table)                                                             \
+  [[dont_unroll]] for (uint y = 0u; y < PRODUCT_NODES_Y; ++y) {                               \
+    PRODUCT_LOAD_PAIRS(table, kProductRowSumWords + y * kProductRowWords, gProductColumnSums, \
+                       y * PRODUCT_NODES_X, PRODUCT_NODES_X, kProductRowWords)                \
   }
 #define PRODUCT_TABLE_LOAD_ROW_SUMS(table) \
   PRODUCT_LOAD_PAIRS(table, 0u, gProductRowSums, 0u, PRODUCT_NODES_Y, kProductRowSumWords)
+#ifdef PRODUCT_REFINED
+#define PRODUCT_REFINE_STORE(table)                                      \
+  [[dont_unroll]] for (uint w = 0u; w < kProductRefineWords; ++w) {      \
+    table[gProductTableAt + kProductTableWords + w] = gProductRefine[w]; \
+  }
+#define PRODUCT_REFINE_LOAD(table)                                       \
+  [[dont_unroll]] for (uint w = 0u; w < kProductRefineWords; ++w) {      \
+    gProductRefine[w] = table[gProductTableAt + kProductTableWords + w]; \
+  }
+#else
+#define PRODUCT_REFINE_STORE(table)
+#define PRODUCT_REFINE_LOAD(table)
+#endif
 void productTableLocate(uvec2 pixel) {
   uint index = pixel.y * frame.width + pixel.x;
   gProductTableChunk = index / PRODUCT_TABLE_PIXELS_PER_CHUNK;
   gProductTableAt = (index - gProductTableChunk * PRODUCT_TABLE_PIXELS_PER_CHUNK) * PRODUCT_TABLE_STRIDE;
 }
 // Stores the private table into the pixel's chunk, or loads its rows' sums and, with `rows`, every row's.
-void productTableStore() { PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_STORE) }
+void productTableStore() {
+  PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_STORE)
+  PRODUCT_TABLE_ON_CHUNK(PRODUCT_REFINE_STORE)
+}
 void productTableLoad(bool rows) {
   PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_LOAD_ROW_SUMS)
   if (rows) {
     PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_LOAD)
+    PRODUCT_TABLE_ON_CHUNK(PRODUCT_REFINE_LOAD)
   }
 }
 // The node of row y whose quantized interval [start, end) holds t in [0, kProductFullScale), from the
@@ -252,6 +330,42 @@ float productColumnSum(uint j) {
 #endif
   return gProductColumnSums[j];
 }
+#ifdef PRODUCT_REFINED
+// Word i of the refinement's block, from the stored or the private table.
+uint productRefineWord(uint i) {
+#ifdef PRODUCT_TABLE_BINDING
+  if (gProductReadStored) return productStoredWord(kProductTableWords + i);
+#endif
+  return gProductRefine[i];
+}
+// Node j's record + 1, 0 when it is not split.
+uint productRecordOf(uint j) {
+  return bitfieldExtract(productRefineWord(j >> 3u), int((j & 7u) * 4u), 4);
+}
+uvec2 productRecordWords(uint record) {
+  uint at = kProductSlotWords + 2u * record;
+  return uvec2(productRefineWord(at), productRefineWord(at + 1u));
+}
+// Child c's quantized interval [start, end) in a record's words.
+void productChildInterval(uvec2 words, uint c, out float start, out float end) {
+  float q1 = float(words.x & 0xffffu), q2 = float(words.x >> 16u), q3 = float(words.y & 0xffffu);
+  start = c == 0u ? 0.0 : (c == 1u ? q1 : (c == 2u ? q2 : q3));
+  end = c == 0u ? q1 : (c == 1u ? q2 : (c == 2u ? q3 : kProductFullScale));
+}
+// The record of child c of the record whose words these are + 1, 0 when c is not split.
+uint productChildRecord(uvec2 words, uint c) {
+  uint mask = (words.y >> 16u) & 0xfu;
+  return ((mask >> c) & 1u) != 0u ? (words.y >> 20u) + bitCount(mask & ((1u << c) - 1u)) + 1u : 0u;
+}
+// The rectangle in u of index p at depth 0, 1 or 2 (by parent, as the tables are ordered).
+vec4 productRectAt(uint depth, uint p) {
+  if (depth == 0u) return productNodeRect(p);
+#if PRODUCT_REFINE_DEPTH > 1
+  if (depth == 2u) return tableVec4(productGrandRects, p);
+#endif
+  return tableVec4(productChildRects, p);
+}
+#endif
 
 float productNodeArea(uint j) {
   vec4 r = productNodeRect(j);
@@ -268,22 +382,120 @@ vec3 productNodeDirection(vec3 centre, float cosRadius, vec3 towards) {
   return centre * cosRadius + tangent * (sqrt(max(0.0, 1.0 - cosRadius * cosRadius)) / len);
 }
 
-void productBuildTable(Shading s) {
-  float sumEF = 0.0;
-  vec3 mirror = vec3(-s.woLocal.xy, s.woLocal.z);  // the mirror direction of wo about n, local frame
-  [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) {
-    float area = productNodeArea(j);
-    vec4 centre = productNodeCenter(j);
-    vec3 d = normalize(productNodeDirection(toLocal(s, centre.xyz), centre.w, mirror));
-    float fCos = 0.0;
-    if (area > 0.0 && d.z > 0.0) {
-      vec3 f = brdfEval(d, s.woLocal);
-      fCos = (f.r + f.g + f.b) / 3.0 * d.z;
-      if (!(fCos > 0.0) || isinf(fCos)) fCos = 0.0;  // a non-finite or negative lobe value gives no preference
-    }
-    gProductColumnSums[j] = area * fCos;
-    sumEF += area * fCos;
+// E F of a node: its rectangle's area E times F = mean_rgb(f) cos at its cap's direction closest to the
+// mirror direction of wo (local frame); 0 for an empty node.
+float productNodeValue(vec4 rect, vec4 centre, Shading s, vec3 mirror) {
+  float area = (rect.z - rect.x) * (rect.w - rect.y);
+  if (!(area > 0.0)) return 0.0;
+  vec3 d = normalize(productNodeDirection(toLocal(s, centre.xyz), centre.w, mirror));
+  if (!(d.z > 0.0)) return 0.0;
+  vec3 f = brdfEval(d, s.woLocal);
+  float fCos = (f.r + f.g + f.b) / 3.0 * d.z;
+  return fCos > 0.0 && !isinf(fCos) ? area * fCos
+                                    : 0.0;  // a non-finite or negative lobe value: no preference
+}
+
+#ifdef PRODUCT_REFINED
+// Keeps the `capacity` largest positive values seen, largest first, an earlier one first among equal ones
+// (the CPU twin's largestPositive).
+#define PRODUCT_KEEP_LARGEST(values, indices, count, capacity, value, index) \
+  if (value > 0.0 && (count < capacity || value > values[capacity - 1u])) {  \
+    uint at = min(count, capacity - 1u);                                     \
+    [[dont_unroll]] while (at > 0u && values[at - 1u] < value) {             \
+      values[at] = values[at - 1u];                                          \
+      indices[at] = indices[at - 1u];                                        \
+      --at;                                                                  \
+    }                                                                        \
+    values[at] = value;                                                      \
+    indices[at] = index;                                                     \
+    count = min(count + 1u, capacity);                                       \
   }
+
+// Writes record r: the children's weights w_c = (1 - d) e_c / sum e + d E_c / sum E (E_c / sum E without a
+// lobe value), quantized, with the mask of children split again and the first one's record.
+void productWriteRecord(uint r, vec4 areas, vec4 values, uint mask, uint first) {
+  float sumArea = ((areas.x + areas.y) + areas.z) + areas.w,
+        sumValue = ((values.x + values.y) + values.z) + values.w;
+  vec4 w = sumArea > 0.0
+               ? (sumValue > 0.0
+                      ? (1.0 - PRODUCT_DEFENSIVE) * values / sumValue + PRODUCT_DEFENSIVE * areas / sumArea
+                      : areas / sumArea)
+               : vec4(0.0);
+  float sums[4] = float[4](w.x, w.y, w.z, w.w);
+  float total = ((w.x + w.y) + w.z) + w.w;
+  uint positive = uint(w.x > 0.0) + uint(w.y > 0.0) + uint(w.z > 0.0) + uint(w.w > 0.0);
+  PRODUCT_QUANTIZE(sums, 0u, 4u, total, positive)
+  uint at = kProductSlotWords + 2u * r;
+  gProductRefine[at] = uint(sums[0]) | (uint(sums[1]) << 16u);
+  gProductRefine[at + 1u] = uint(sums[2]) | (mask << 16u) | (first << 20u);
+}
+
+// Splits the nodes of largest E F (gProductColumnSums) into their children and the largest children once
+// more, revalues the split ones by their children's sum and writes the records (gProductRefine).
+void productRefine(Shading s, vec3 mirror) {
+  uint split[kProductRefinedNodes];
+  float splitValue[kProductRefinedNodes];
+  uint splitCount = 0u;
+  [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) {
+    float value = gProductColumnSums[j];
+    PRODUCT_KEEP_LARGEST(splitValue, split, splitCount, kProductRefinedNodes, value, j)
+  }
+  vec4 childValues[kProductRefinedNodes], childAreas[kProductRefinedNodes];
+  [[dont_unroll]] for (uint n = 0u; n < splitCount; ++n) [[dont_unroll]] for (uint c = 0u; c < 4u; ++c) {
+    uint p = 4u * split[n] + c;
+    vec4 rect = tableVec4(productChildRects, p);
+    childAreas[n][c] = (rect.z - rect.x) * (rect.w - rect.y);
+    childValues[n][c] = productNodeValue(rect, tableVec4(productChildCenters, p), s, mirror);
+  }
+  [[dont_unroll]] for (uint w = 0u; w < kProductRefineWords; ++w) gProductRefine[w] = 0u;
+  uint masks[kProductRefinedNodes], firsts[kProductRefinedNodes];
+  [[dont_unroll]] for (uint n = 0u; n < kProductRefinedNodes; ++n) masks[n] = firsts[n] = 0u;
+#if PRODUCT_REFINE_DEPTH > 1
+  uint again[kProductRefinedChildren];
+  float againValue[kProductRefinedChildren];
+  uint againCount = 0u;
+  [[dont_unroll]] for (uint k = 0u; k < 4u * splitCount; ++k) {
+    float value = childValues[k >> 2u][k & 3u];
+    PRODUCT_KEEP_LARGEST(againValue, again, againCount, kProductRefinedChildren, value, k)
+  }
+  uvec2 chosen = uvec2(0u);  // by child k = 4 n + c < 60
+  [[dont_unroll]] for (uint i = 0u; i < againCount; ++i) chosen[again[i] >> 5u] |= 1u << (again[i] & 31u);
+  uint record = kProductRefinedNodes;  // the children's records, by parent and child
+  [[dont_unroll]] for (uint k = 0u; k < 4u * splitCount; ++k) {
+    if ((chosen[k >> 5u] & (1u << (k & 31u))) == 0u) continue;
+    uint n = k >> 2u, c = k & 3u;
+    vec4 areas, values;
+    [[dont_unroll]] for (uint g = 0u; g < 4u; ++g) {
+      uint p = 4u * (4u * split[n] + c) + g;
+      vec4 rect = tableVec4(productGrandRects, p);
+      areas[g] = (rect.z - rect.x) * (rect.w - rect.y);
+      values[g] = productNodeValue(rect, tableVec4(productGrandCenters, p), s, mirror);
+    }
+    childValues[n][c] = ((values.x + values.y) + values.z) + values.w;  // revalued by the finer look
+    if (masks[n] == 0u) firsts[n] = record;
+    masks[n] |= 1u << c;
+    productWriteRecord(record, areas, values, 0u, 0u);
+    ++record;
+  }
+#endif
+  [[dont_unroll]] for (uint n = 0u; n < splitCount; ++n) {
+    vec4 values = childValues[n];
+    gProductColumnSums[split[n]] = ((values.x + values.y) + values.z) + values.w;
+    productWriteRecord(n, childAreas[n], values, masks[n], firsts[n]);
+    gProductRefine[split[n] >> 3u] |= (n + 1u) << ((split[n] & 7u) * 4u);
+  }
+}
+#endif
+
+void productBuildTable(Shading s) {
+  vec3 mirror = vec3(-s.woLocal.xy, s.woLocal.z);  // the mirror direction of wo about n, local frame
+  [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) gProductColumnSums[j] =
+      productNodeValue(productNodeRect(j), productNodeCenter(j), s, mirror);
+#ifdef PRODUCT_REFINED
+  productRefine(s, mirror);
+#endif
+  float sumEF = 0.0;
+  [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) sumEF += gProductColumnSums[j];
   float envShare = sumEF > 0.0 && !isinf(sumEF) ? PRODUCT_DEFENSIVE : 1.0;
   float productScale = envShare < 1.0 ? (1.0 - envShare) / sumEF : 0.0;
   // Per row: the weights, their total and count of positive ones, then the row's quantized running sums;
@@ -375,18 +587,56 @@ vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
   vec2 v = clamp(vec2((tx - columnStart) / columnWidth, (ty - rowStart) / rowWidth), vec2(0.0),
                  vec2(kOneMinusEpsilon));
   uint j = base + x;
+  // P(j) as productNodeProbability computes it, from the widths found above.
+  float probability = (rowWidth / total) * (columnWidth / kProductFullScale);
+  uint depth = 0u, index = j;  // the deepest node chosen: its depth and its index by parent
+  uvec2 cell = uvec2(x, y);    // and its cell at its depth
+#ifdef PRODUCT_REFINED
+  // The records below the node: the first split reads v.x, the second v.y, each rescaled inside the child.
+  [[dont_unroll]] for (uint record = productRecordOf(j); record != 0u;) {
+    uvec2 words = productRecordWords(record - 1u);
+    float t = (depth == 0u ? v.x : v.y) * kProductFullScale;
+    uint c = (float(words.x & 0xffffu) <= t ? 1u : 0u) + (float(words.x >> 16u) <= t ? 1u : 0u) +
+             (float(words.y & 0xffffu) <= t ? 1u : 0u);
+    float start, end;
+    productChildInterval(words, c, start, end);
+    if (!(end > start)) return vec3(0.0, 1.0, 0.0);  // t on a float edge
+    probability *= (end - start) / kProductFullScale;
+    float inChild = clamp((t - start) / (end - start), 0.0, kOneMinusEpsilon);
+    if (depth == 0u)
+      v.x = inChild;
+    else
+      v.y = inChild;
+    record = productChildRecord(words, c);
+    index = 4u * index + c;
+    cell = 2u * cell + uvec2(c & 1u, c >> 1u);
+    ++depth;
+  }
+  vec4 r = productRectAt(depth, index);
+#else
   vec4 r = productNodeRect(j);
+#endif
   // Inside the node's rectangle, a float set: at most one float step below its upper edges (which are > 0).
   vec2 below = uintBitsToFloat(floatBitsToUint(r.zw) - 1u);
   vec2 inNode = clamp(r.xy + v * (r.zw - r.xy), r.xy, below);
   float envDensity;
   vec3 wi = envSample(inNode, s.n, envDensity, radiance);
   float area = (r.z - r.x) * (r.w - r.y);
-  // P(j) as productNodeProbability computes it, from the widths found above.
-  float probability = (rowWidth / total) * (columnWidth / kProductFullScale);
   pdf = envDensity > 0.0 && area > 0.0 ? probability / area * envDensity : 0.0;
 #ifdef IBLX_RECORD_SAMPLES
-  gProductChosen = ProductChoice(j, PRODUCT_NODES_X, PRODUCT_NODES_Y, probability, productNodeMapUv(j));
+  // The deepest node chosen, row-major among its level's cells (2^depth times the table's across).
+  uint columns = PRODUCT_NODES_X << depth, rows = PRODUCT_NODES_Y;
+#ifdef PRODUCT_REFINED
+  uint texels = PRODUCT_TEXELS_PER_NODE >> depth;
+  rows = (uint(envSize().y) + texels - 1u) / texels;
+#else
+  uint texels = 1u;
+#ifndef PRODUCT_UNIFORM_GRID
+  texels = PRODUCT_TEXELS_PER_NODE;
+#endif
+#endif
+  gProductChosen =
+      ProductChoice(cell.y * columns + cell.x, columns, rows, probability, productNodeMapUv(cell, texels));
 #endif
 #ifdef PRODUCT_TAIL_ENV_OT
   // A split sun's texel: the branch taken (the sun row when u.y reached it, env-ot's row search) keeps the
@@ -420,10 +670,35 @@ float productPdf(vec3 wi, Shading s) {
 }
 #else
 float productPdf(vec3 wi, Shading s) {
+#ifdef PRODUCT_REFINED
+  uvec2 texel = uvec2(directionToTexel(wi));
+  uvec2 node = texel / PRODUCT_TEXELS_PER_NODE;
+#else
   uvec2 node = productNodeOf(wi);
+#endif
   if (node.x >= PRODUCT_NODES_X || node.y >= PRODUCT_NODES_Y) return 0.0;
-  float area = productNodeArea(node.y * PRODUCT_NODES_X + node.x);
-  return area > 0.0 ? productNodeProbability(node.x, node.y) / area * envPdf(wi, s.n) : 0.0;
+  uint j = node.y * PRODUCT_NODES_X + node.x;
+  float probability = productNodeProbability(node.x, node.y);
+#ifdef PRODUCT_REFINED
+  // Each record below the node: the child holding wi's texel, and its P(child).
+  uint depth = 0u, index = j;
+  [[dont_unroll]] for (uint record = productRecordOf(j); record != 0u;) {
+    uvec2 words = productRecordWords(record - 1u);
+    uvec2 childCell = texel / (PRODUCT_TEXELS_PER_NODE >> (depth + 1u));
+    uint c = (childCell.x & 1u) | ((childCell.y & 1u) << 1u);
+    float start, end;
+    productChildInterval(words, c, start, end);
+    probability *= (end - start) / kProductFullScale;
+    record = productChildRecord(words, c);
+    index = 4u * index + c;
+    ++depth;
+  }
+  vec4 r = productRectAt(depth, index);
+  float area = (r.z - r.x) * (r.w - r.y);
+#else
+  float area = productNodeArea(j);
+#endif
+  return area > 0.0 ? probability / area * envPdf(wi, s.n) : 0.0;
 }
 #endif
 #endif

@@ -353,11 +353,11 @@ TEST_CASE("setView: a renderer given another camera renders what a new renderer 
 }
 
 TEST_CASE("product tables: split over buffers, read in place, copied or rebuilt, the image is the same") {
-  // A device whose largest buffer holds 1 MiB (992 pixels' tables) splits a 50 x 50 image's tables over three
-  // buffers (834, 834 and 832 pixels), and rebuilds a 64 x 64 image's (five would be needed) in every
-  // dispatch. A wrong chunk or offset would pair a pixel with another pixel's table from the second pass on;
-  // passes of 4 samples read the stored table in place, passes of 64 copy it. The same seed gives the same
-  // samples, so every image agrees with the one-buffer image to float rounding.
+  // A device whose largest buffer holds 1 MiB (672 pixels' tables) splits a 50 x 50 image's tables over four
+  // buffers (625 pixels each), and rebuilds a 64 x 64 image's (seven would be needed) in every dispatch. A
+  // wrong chunk or offset would pair a pixel with another pixel's table from the second pass on; passes of 4
+  // samples read the stored table in place, passes of 64 copy it. The same seed gives the same samples, so
+  // every image agrees with the one-buffer image to float rounding.
   MethodSpec spec;
   spec.method = "product";
   spec.sequence = "sobol";
@@ -370,13 +370,16 @@ TEST_CASE("product tables: split over buffers, read in place, copied or rebuilt,
     throw;
   }
   ::unsetenv("IBLX_MAX_BUFFER_MIB");
-  // A 32 x 13 map: its 32 x 13 nodes leave the stored rows' sums a padding half (an odd count), against
-  // the table rebuilt in private memory.
-  for (const auto& [size, chunks, mapRows] :
-       {std::tuple{50, 3, 16}, std::tuple{64, 0, 16}, std::tuple{64, 0, 13}}) {
+  // Maps of 64 x 32 and 128 x 64 texels: 32 x 16 nodes of 2 x 2 and 4 x 4 texels, so the refinement's records
+  // (one and two levels below the table's) are stored and read too; a 64 x 26 map's 32 x 13 nodes leave the
+  // stored rows' sums a padding half (an odd count), against the table rebuilt in private memory.
+  for (const auto& [size, chunks, mapWidth, mapRows] :
+       {std::tuple{50, 4, 64, 32}, std::tuple{50, 4, 128, 64}, std::tuple{64, 0, 64, 32},
+        std::tuple{64, 0, 64, 26}}) {
     CAPTURE(size);
+    CAPTURE(mapWidth);
     CAPTURE(mapRows);
-    const Scene scene = sceneWith(smoothSky(32, mapRows), "ggx", {{"roughness", "0.45"}}, size);
+    const Scene scene = sceneWith(smoothSky(mapWidth, mapRows), "ggx", {{"roughness", "0.1"}}, size);
     const ResolvedMethod method = resolveMethod(spec, *scene.brdf);
     Renderer tested(*small, gpuCompiler(), scene, method, 5),
         whole(gpuContext(), gpuCompiler(), scene, method, 5);

@@ -232,11 +232,15 @@ TEST_CASE(
     INFO(method.label());
     const bool grid = std::string(name) == "product-warp";
     const EnvHierSampler hier(buildEnvHier(method.misCompensation ? misCompensated(scene.env) : scene.env));
-    const EnvProductLevel level = grid ? buildEnvProductGrid(hier) : buildEnvProductLevel(hier);
+    // The table's level and the refinement's finer ones: a record names the deepest node chosen.
+    const std::vector<EnvProductLevel> levels =
+        grid ? std::vector<EnvProductLevel>{buildEnvProductGrid(hier)} : buildEnvProductLevels(hier);
+    std::size_t deeper = 0;
     SampleRecorder recorder(gpuContext(), gpuCompiler(), scene, method, 7);
     const uint32_t passes[] = {256};
     for (const auto& pixel : kPixels) {
-      std::map<uint32_t, double> probabilityOf;  // node -> P(node): one table per pixel
+      std::map<std::pair<uint32_t, uint32_t>, double>
+          probabilityOf;  // (columns, node) -> P: one table per pixel
       std::size_t productDraws = 0, mismatches = 0;
       for (const RecordedSample& s : recordPasses(recorder, pixel, passes)) {
         if (s.technique != "product") {
@@ -246,11 +250,15 @@ TEST_CASE(
         if (!(s.pdf > 0.0)) continue;
         REQUIRE(s.productNode);
         const ProductNodeChoice& c = *s.productNode;
+        const auto depth = std::size_t(std::countr_zero(c.columns / levels[0].width));
+        REQUIRE(depth < levels.size());
+        const EnvProductLevel& level = levels[depth];
         REQUIRE(c.columns == level.width);
         REQUIRE(c.rows == level.rows);
         REQUIRE(c.node < level.nodes());
+        deeper += depth > 0;
         ++productDraws;
-        const auto [known, added] = probabilityOf.emplace(c.node, c.probability);
+        const auto [known, added] = probabilityOf.emplace(std::pair{c.columns, c.node}, c.probability);
         CHECK(known->second == c.probability);
         // Blocks of texels on the map hold the direction; a grid cell of u has no rectangle there.
         CHECK(c.mapUv.has_value() == !grid);
@@ -263,7 +271,8 @@ TEST_CASE(
           CHECK(c.mapUv->w ==
                 doctest::Approx(std::min(1.0, double((c.row() + 1) * texels) / scene.env.height)));
         }
-        // pdf = P(node) / E_node * p_env-hier(wi) (engine/sampling/product/env_hier_product.h).
+        // pdf = P(node) / E_node * p_env-hier(wi) for the deepest node chosen
+        // (engine/sampling/product/env_hier_product.h).
         const glm::vec4& r = level.rects[c.node];
         const double area = double(r.z - r.x) * double(r.w - r.y);
         const double implied = s.pdf * area / hier.pdf(s.envDirection);
@@ -279,6 +288,8 @@ TEST_CASE(
       CHECK(sum <= 1.0 + 1e-5);
       CHECK(probabilityOf.size() >= 4);  // a glossy lobe over a smooth sky spreads over several nodes
     }
+    // The 64x32 map has a level below the table's: the split nodes' children are chosen (not on the grid).
+    CHECK((deeper > 0) == !grid);
   }
   checkNoNewValidationErrors();
 }

@@ -222,6 +222,117 @@ TEST_CASE("env product sampler: chi2 against its own pdf on hard maps, the pdf i
     }
 }
 
+namespace {
+
+// A narrow lobe pow(cos, k) around `axis`, zero below `horizon`, at the direction of a cap closest to the
+// axis: what the GPU evaluates for a mirror-like lobe.
+ProductCapLobe narrowLobe(glm::dvec3 axis, double k, glm::dvec3 horizon) {
+  return [=](const glm::vec4& cap) {
+    const glm::dvec3 d = closestDirectionInCap(glm::dvec3(cap.x, cap.y, cap.z), double(cap.w), axis);
+    return glm::dot(d, horizon) > 0.0 ? std::pow(std::max(glm::dot(d, axis), 0.0), k) : 0.0;
+  };
+}
+
+double nodeArea(const EnvProductLevel& level, std::size_t j) {
+  const glm::vec4& r = level.rects[j];
+  return double((r.z - r.x) * (r.w - r.y));
+}
+
+}  // namespace
+
+TEST_CASE("env product sampler, refined: the largest nodes split twice, chi2 against its own pdf") {
+  auto envs = test::samplerTestEnvs();
+  envs.push_back({"sun-zero-256x128", sunAndZeroHalf(256, 128)});  // two levels below the table's
+  envs.push_back({"smooth-256x128", smoothSky(256, 128)});
+  uint64_t seed = 700;
+  const glm::dvec3 axis = glm::normalize(glm::dvec3(0.4, 0.5, 1.0)), horizon(0, 0.3, 1);
+  for (const auto& env : envs) {
+    CAPTURE(env.name);
+    const EnvHierSampler hier(buildEnvHier(env.image));
+    const std::vector<EnvProductLevel> levels = buildEnvProductLevels(hier);
+    const uint32_t depth = env.image.width >= 256 ? 2 : 1;  // 64x32 and 50x25: nodes of 2x2 texels
+    REQUIRE(levels.size() == depth + 1);
+    for (uint32_t k = 1; k < levels.size(); ++k) {
+      CHECK(levels[k].width == levels[0].width << k);
+      CHECK(levels[k].texelsPerNode == levels[0].texelsPerNode >> k);
+    }
+    const ProductCapLobe lobe = narrowLobe(axis, 3000.0, horizon);
+    const EnvProductSampler sampler(hier, levels, lobe);
+    // The split nodes are those of largest E F, none of the others larger; the children split again are
+    // children of split nodes.
+    const auto& split = sampler.refinedNodes();
+    REQUIRE(split.size() == kProductRefinedNodes);
+    double smallestSplit = 1e300, largestKept = 0.0;
+    for (std::size_t j = 0; j < levels[0].nodes(); ++j) {
+      const double ef = nodeArea(levels[0], j) * lobe(levels[0].centers[j]);
+      if (std::find(split.begin(), split.end(), j) != split.end())
+        smallestSplit = std::min(smallestSplit, ef);
+      else
+        largestKept = std::max(largestKept, ef);
+    }
+    CHECK(smallestSplit >= largestKept);
+    CHECK(sampler.refinedChildren().size() == (depth > 1 ? kProductRefinedChildren : 0u));
+    for (const std::size_t child : sampler.refinedChildren()) {
+      const std::size_t parent =
+          (child / levels[1].width / 2) * levels[0].width + (child % levels[1].width) / 2;
+      CHECK(std::find(split.begin(), split.end(), parent) != split.end());
+    }
+    const test::Chi2Result r =
+        test::runChi2(sampler, "env-product-refined-" + env.name, int(envs.size()), seed++);
+    INFO(r.message);
+    CHECK(r.passed);
+    CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(1e-3));
+    // Each sample's pdf is pdf() of its direction, whose deepest node is the split one's child (or
+    // grandchild) where it lies in a split node; none lands on a black texel.
+    int boundary = 0, deep = 0;
+    for (const glm::dvec2 u : test::uniformPoints(5000, seed)) {
+      const EnvSample s = sampler.sample(u);
+      REQUIRE(s.pdfSolidAngle > 0.0);
+      CHECK(env.image.weight(s.texel.x, s.texel.y) > 0.0);
+      if (directionToTexel(s.direction, env.image.width, env.image.height) != s.texel ||
+          !(std::abs(s.pdfSolidAngle - sampler.pdf(s.direction)) <= 1e-9 * s.pdfSolidAngle)) {
+        ++boundary;
+        continue;
+      }
+      const ProductLeaf leaf = sampler.leafOf(s.direction);
+      const bool inSplit = std::find(split.begin(), split.end(), sampler.nodeOf(s.direction)) != split.end();
+      CHECK((leaf.depth > 0) == inSplit);
+      deep += leaf.depth == depth;
+    }
+    CHECK(boundary < 50);
+    CHECK(deep > 2500);  // a narrow lobe: most samples end at the deepest level
+  }
+}
+
+TEST_CASE("env product sampler, refined: more samples inside a lobe narrower than a node than one level") {
+  // A lobe of about 2 degrees (pow(cos, 3000)) on a smooth 512x256 sky: nodes of 16x16 texels, about 11
+  // degrees. The one-level sampler spreads a node's share over the node by env-hier; the refined one puts it
+  // on the quarter and sixteenth of the node nearest the lobe.
+  const EnvHierSampler hier(buildEnvHier(smoothSky(512, 256)));
+  const std::vector<EnvProductLevel> levels = buildEnvProductLevels(hier);
+  REQUIRE(levels.size() == 3);
+  const glm::dvec3 axis = glm::normalize(glm::dvec3(0.4, 0.5, 1.0)), horizon(0, 0.3, 1);
+  const ProductCapLobe lobe = narrowLobe(axis, 3000.0, horizon);
+  std::vector<double> f;
+  for (const glm::vec4& c : levels[0].centers) f.push_back(lobe(c));
+  const EnvProductSampler oneLevel(hier, levels[0], f), refined(hier, levels, lobe);
+  const auto inLobe = [&](const EnvProductSampler& sampler) {
+    int hits = 0;
+    for (const glm::dvec2 u : test::uniformPoints(20000, 5))
+      hits += glm::dot(sampler.sample(u).direction, axis) > std::cos(0.05);  // within about 3 degrees
+    return hits;
+  };
+  const int before = inLobe(oneLevel), after = inLobe(refined);
+  MESSAGE("samples within 3 degrees of the lobe's axis: one level " << before << ", refined " << after);
+  CHECK(after > 4 * before);
+  // With F = 0 everywhere nothing is split and the table is the one-level sampler's.
+  const EnvProductSampler flat(hier, levels, [](const glm::vec4&) { return 0.0; });
+  CHECK(flat.refinedNodes().empty());
+  const EnvProductSampler flatOneLevel(hier, levels[0], std::vector<double>(levels[0].nodes(), 0.0));
+  for (std::size_t j = 0; j < levels[0].nodes(); ++j)
+    CHECK(flat.nodeProbability(j) == flatOneLevel.nodeProbability(j));
+}
+
 TEST_CASE("env product grid: uniform cells over u, each holding the directions its u maps to") {
   const EnvHierSampler hier(buildEnvHier(sunAndZeroHalf(64, 32)));
   const EnvProductLevel grid = buildEnvProductGrid(hier, 8, 4);

@@ -97,9 +97,11 @@ void SampleOverlay::setSamples(int x, int y, const gpu::GPixel& pixel, std::vect
   for (const RecordedSample& s : samples_) {
     if (!s.productNode || !(s.productNode->probability > 0.0)) continue;
     const ProductNodeChoice& c = *s.productNode;
-    productColumns_ = c.columns, productRows_ = c.rows;
+    // The table's own size: the coarsest choice's (a split node's children are on finer levels).
+    if (productColumns_ == 0 || c.columns < productColumns_)
+      productColumns_ = c.columns, productRows_ = c.rows;
     if (std::none_of(productNodes_.begin(), productNodes_.end(),
-                     [&](const ProductNodeChoice& n) { return n.node == c.node; }))
+                     [&](const ProductNodeChoice& n) { return n.node == c.node && n.columns == c.columns; }))
       productNodes_.push_back(c);
   }
   productLogMin_ = productLogMax_ = 0.0;
@@ -188,9 +190,11 @@ void SampleOverlay::draw(float mapWidth, float hemisphereSide) const {
     const ImVec4 peak = ImGui::ColorConvertU32ToFloat4(kProductNodeColor);
     for (const ProductNodeChoice& c : productNodes_) {
       const float shade = 0.25f + 0.75f * float((std::log10(c.probability) - productLogMin_) / span);
-      const ImVec2 a(table.x + float(c.column()) * cellW, table.y + float(c.row()) * cellH);
+      // A split node's child or grandchild: a half or quarter cell of its node.
+      const float w = tableWidth / float(c.columns);
+      const ImVec2 a(table.x + float(c.column()) * w, table.y + float(c.row()) * w);
       draw->AddRectFilled(
-          a, ImVec2(a.x + cellW, a.y + cellH),
+          a, ImVec2(a.x + w, a.y + w),
           ImGui::ColorConvertFloat4ToU32(ImVec4(peak.x * shade, peak.y * shade, peak.z * shade, 1.0f)));
     }
     draw->AddRect(table, ImVec2(table.x + tableWidth, table.y + cellH * float(productRows_)),
@@ -209,10 +213,14 @@ void SampleOverlay::draw(float mapWidth, float hemisphereSide) const {
       "map: luminance, %.1f decades (log); disc: hemisphere from above over f cos, ring: mirror direction",
       double(logMax_ - logMin_));
   if (!productNodes_.empty())
-    ImGui::TextDisabled("product table %ux%u: %zu nodes chosen, P(node) %.2g to %.2g (log shade)%s",
-                        productColumns_, productRows_, productNodes_.size(), std::pow(10.0, productLogMin_),
-                        std::pow(10.0, productLogMax_),
-                        productNodes_.front().mapUv ? "; outlined on the map" : "");
+    ImGui::TextDisabled(
+        "product table %ux%u: %zu nodes chosen (%zu in split nodes), P(node) %.2g to %.2g (log "
+        "shade)%s",
+        productColumns_, productRows_, productNodes_.size(),
+        std::size_t(std::count_if(productNodes_.begin(), productNodes_.end(),
+                                  [&](const auto& c) { return c.columns > productColumns_; })),
+        std::pow(10.0, productLogMin_), std::pow(10.0, productLogMax_),
+        productNodes_.front().mapUv ? "; outlined on the map" : "");
 }
 
 }  // namespace iblx::viewer

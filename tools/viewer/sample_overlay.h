@@ -54,8 +54,8 @@ class SampleOverlay {
   std::vector<double> lobe_;
   double lobeLogMax_ = 0.0;
   std::vector<std::string> techniques_;  // in order of first appearance: the colour index
-  // The distinct product nodes chosen (their first choice; a node's probability is the pixel's, the same in
-  // every draw), and the table's size.
+  // The distinct product nodes chosen, the deepest node of each draw (their first choice; a node's
+  // probability is the pixel's, the same in every draw), and the table's size.
   std::vector<ProductNodeChoice> productNodes_;
   uint32_t productColumns_ = 0, productRows_ = 0;
   double productLogMin_ = 0.0, productLogMax_ = 0.0;  // log10 P over the chosen nodes

@@ -13,11 +13,21 @@
 //   pdf(wi) = P(j) / E_j * p_env-hier(wi),   P(j) = w_j / sum_k w_k
 // up to the table's 16-bit running sums (quantizedNodeProbabilities: the probabilities sampling follows),
 // exact and evaluable at any direction (hierarchical product sampling, Clarberg, Jarosz, Akenine-Möller &
-// Jensen 2005, "Wavelet Importance Sampling", with one product level; the conditional finish is the
-// environment's exact warp, as in Clarberg & Akenine-Möller 2008 §4). The defensive share d keeps every node
-// of positive env mass reachable (F_j is 0 for a node whose chosen direction is below the horizon, and a
-// lobe not centred on the mirror direction can fall between the directions evaluated), so the estimator is
-// unbiased whatever F does elsewhere in a node.
+// Jensen 2005, "Wavelet Importance Sampling"; the conditional finish is the environment's exact warp, as in
+// Clarberg & Akenine-Möller 2008 §4). The defensive share d keeps every node of positive env mass reachable
+// (F_j is 0 for a node whose chosen direction is below the horizon, and a lobe not centred on the mirror
+// direction can fall between the directions evaluated), so the estimator is unbiased whatever F does
+// elsewhere in a node.
+//
+// The refinement (pyramid levels only) follows the lobe below a node's size: the kProductRefinedNodes nodes
+// of largest E_j F_j are split into their four children on the next pyramid level, each valued
+// e_c = E_c F_c at its own cap, and the kProductRefinedChildren children of largest e_c among those are split
+// once more. A split node's (or child's) E F is replaced by the sum over its children (so its share of the
+// table comes from the finer look), and a record keeps the children's conditional probabilities
+// w_c = (1 - d) e_c / sum e + d E_c / sum E, quantized like the table. Sampling descends the records below
+// the chosen node, choosing a child by the node's remaining u.x at the first split and u.y at the second, so
+//   pdf(wi) = P(j) P(c | j) P(g | c) / E_leaf * p_env-hier(wi),
+// E_leaf the area of the deepest node holding wi, whose rectangle in u is again exactly env-hier's preimage.
 #pragma once
 
 #include "engine/sampling/env/env_hier.h"
@@ -39,9 +49,21 @@ inline constexpr uint32_t kEnvProductMaxNodes = 512;
 constexpr uint32_t productTableWords(uint32_t width, uint32_t rows) {
   return (rows + 1) / 2 + rows * ((width + 1) / 2);
 }
+// The refinement (pyramid levels): nodes split once (each gets a record; a node's slot + 1, 4 bits, marks it
+// in the table, 0 when it is not split) and children split again, each with a record of its own.
+inline constexpr uint32_t kProductRefinedNodes = 15, kProductRefinedChildren = 16;
+inline constexpr uint32_t kProductMaxRefineDepth = 2;
+// Words of a pixel's refinement block after its table: one 4-bit slot per node, then two words per record
+// (the children's 16-bit running sums q_1, q_2, q_3; the mask of the children split again and the index of
+// the first one's record).
+constexpr uint32_t productRefineWords(uint32_t nodes) {
+  return (nodes + 7) / 8 + 2 * (kProductRefinedNodes + kProductRefinedChildren);
+}
 // The largest over the layouts: a pyramid level has no more rows than nodes across (env-hier's square
-// pyramid), so at most kEnvProductMaxNodes nodes give at most 32 x 16, as the uniform grid has.
-inline constexpr uint32_t kEnvProductMaxTableWords = productTableWords(32, 16);
+// pyramid), so at most kEnvProductMaxNodes nodes give at most 32 x 16, as the uniform grid has; a pyramid
+// level's refinement block follows.
+inline constexpr uint32_t kEnvProductMaxTableWords =
+    productTableWords(32, 16) + productRefineWords(kEnvProductMaxNodes);
 inline constexpr double kEnvProductDefensive = 0.1;  // d: the env-hier share of every node's probability
 
 // The nodes a product strategy chooses among, a partition of env-hier's unit square u into rectangles, in one
@@ -72,6 +94,12 @@ struct EnvProductLevel {
 
 // Throws iblx::Error when maxNodes is 0 or the pyramid is invalid.
 EnvProductLevel buildEnvProductLevel(const EnvHierSampler& env, uint32_t maxNodes = kEnvProductMaxNodes);
+// That level and the finer pyramid levels the refinement splits nodes into, at most maxDepth of them (fewer
+// when the map has no finer level): levels[k] has 2^k times the nodes across of levels[0], node (x, y) of
+// levels[k] having the children (2x + a, 2y + b) in levels[k + 1] (those of a row past the map are absent).
+std::vector<EnvProductLevel> buildEnvProductLevels(const EnvHierSampler& env,
+                                                   uint32_t maxNodes = kEnvProductMaxNodes,
+                                                   uint32_t maxDepth = kProductMaxRefineDepth);
 // The uniform grid over u; throws iblx::Error for an empty grid.
 inline constexpr uint32_t kEnvProductGridWidth = 32, kEnvProductGridRows = 16;
 EnvProductLevel buildEnvProductGrid(const EnvHierSampler& env, uint32_t width = kEnvProductGridWidth,
@@ -106,34 +134,70 @@ glm::dvec2 pointInProductNode(const PiecewiseConstant2D::Sample& chosen, const E
 // the cap, else the centre turned towards it by the radius. The GLSL twin is productNodeDirection.
 glm::dvec3 closestDirectionInCap(glm::dvec3 centre, double cosRadius, glm::dvec3 towards);
 
-// CPU twin of the GLSL sampler for one shading point, in double: fCos[j] = F_j (>= 0) of node j.
+// F of a node from its cap (centre xyz, cosine of the radius in w): the GPU evaluates mean_rgb(f) cos at the
+// cap's direction closest to the mirror direction of wo (closestDirectionInCap).
+using ProductCapLobe = std::function<double(const glm::vec4& cap)>;
+
+// The product's choice of the deepest node holding a direction: its depth in the levels, its row-major index
+// there, and its probability P(j) P(c | j) ... .
+struct ProductLeaf {
+  uint32_t depth = 0;
+  std::size_t node = 0;
+  double probability = 0.0;
+};
+
+// CPU twin of the GLSL sampler for one shading point, in double.
 class EnvProductSampler {
  public:
+  // One level, no refinement: fCos[j] = F_j (>= 0) of node j.
   EnvProductSampler(const EnvHierSampler& env, const EnvProductLevel& level, std::span<const double> fCos);
+  // Refined over `levels` (buildEnvProductLevels, kept alive by the caller), F of every node from `lobe`.
+  EnvProductSampler(const EnvHierSampler& env, std::span<const EnvProductLevel> levels,
+                    const ProductCapLobe& lobe);
 
-  // Chooses a node by u.y (row) and u.x (column), rescales u inside the choice, fills the node's rectangle
-  // with it and lets env-hier's descent finish.
+  // Chooses a node by u.y (row) and u.x (column), rescales u inside the choice, descends the node's records
+  // (u.x, then u.y), fills the deepest node's rectangle with what is left of u and lets env-hier's descent
+  // finish.
   EnvSample sample(glm::dvec2 u) const;
   double pdf(glm::dvec3 wi) const;
   // P(j) of the quantized table (quantizedNodeProbabilities), which the choice follows exactly.
-  double nodeProbability(std::size_t node) const { return probability_[node]; }
+  double nodeProbability(std::size_t node) const { return tables_.probability[node]; }
   // The node holding direction wi: by its texel (pyramid level) or by env-hier's inverse (uniform grid).
   std::size_t nodeOf(glm::dvec3 wi) const;
+  // The deepest node holding a direction that lies in a texel of positive env-hier probability.
+  ProductLeaf leafOf(glm::dvec3 wi) const;
+  // The nodes split once (in order of E F, largest first) and the children split again (row-major indices
+  // in levels[1]).
+  const std::vector<std::size_t>& refinedNodes() const { return tables_.refinedNodes; }
+  const std::vector<std::size_t>& refinedChildren() const { return tables_.refinedChildren; }
 
  private:
-  struct FromWeights {};
-  EnvProductSampler(FromWeights, const EnvHierSampler& env, const EnvProductLevel& level,
-                    std::vector<double> weights);
+  // A split node's children: their quantized running sums, and each child's own record (-1: not split).
+  struct Record {
+    std::vector<uint32_t> sums;
+    int childRecord[4] = {-1, -1, -1, -1};
+  };
+  // What the constructors compute before the table's choice is built.
+  struct Tables {
+    std::vector<double> probability;  // P(j)
+    std::vector<int> recordOfNode;    // per node of levels[0]: its record, -1 when not split
+    std::vector<Record> records;
+    std::vector<std::size_t> refinedNodes, refinedChildren;
+  };
+  EnvProductSampler(const EnvHierSampler& env, std::span<const EnvProductLevel> levels, Tables tables);
+  static Tables refinedTables(std::span<const EnvProductLevel> levels, const ProductCapLobe& lobe);
 
   const EnvHierSampler& env_;
-  const EnvProductLevel& level_;
-  std::vector<double> probability_;  // P(j)
-  PiecewiseConstant2D nodes_;        // the row/column choice over the weights
+  std::span<const EnvProductLevel> levels_;
+  Tables tables_;
+  PiecewiseConstant2D nodes_;  // the row/column choice over P(j)
 };
 
 // The product strategies' tables (shaders/lib/product_sampling.glsl) after env-hier's, from the same pyramid:
 // productNodeRects and productNodeCenters of the level `product` and `product-mis` choose nodes on, and
-// productGridCenters, the caps of `product-warp`'s uniform grid over u (its rectangles are arithmetic).
+// productGridCenters, the caps of `product-warp`'s uniform grid over u (its rectangles are arithmetic); the
+// refinement's finer levels ordered by parent (productChildRects / Centers at 4 j + c, productGrandRects /
+// Centers at 16 j + 4 c + g) and PRODUCT_REFINE_DEPTH, the levels below the table's (0 to 2).
 TechniqueData envHierProductTechniqueData(const EnvImage& image);
 
 }  // namespace iblx
