@@ -100,9 +100,10 @@ struct ProductChoice {
 };
 ProductChoice gProductChosen;
 #ifdef PRODUCT_UNIFORM_GRID
+// A cell of the tail's square: no map rectangle.
 vec4 productNodeMapUv(uvec2 cell, uint texels) {
   return vec4(0.0);
-}  // a cell of the tail's square
+}
 #else
 // The block of texels x texels texels of `cell` on the map.
 vec4 productNodeMapUv(uvec2 cell, uint texels) {
