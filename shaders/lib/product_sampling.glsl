@@ -431,6 +431,19 @@ void productWriteRecord(uint r, vec4 areas, vec4 values, uint mask, uint first) 
   gProductRefine[at + 1u] = uint(sums[2]) | (mask << 16u) | (first << 20u);
 }
 
+// Whether the lobe falls below half its peak within one node's width (2 pi / PRODUCT_NODES_X) of the mirror
+// direction, across it: only then is the split worth its BRDF evaluations and its record's loads per sample
+// (a wider lobe is already resolved by the nodes: docs/RESULTS.md, "The most probable nodes refined"). Either
+// answer leaves an exact sampler (the refined one or the one-level table); an undefined peak refines.
+bool productLobeNarrowerThanNode(Shading s, vec3 mirror) {
+  if (!(mirror.z > 0.0)) return true;
+  vec3 across = abs(mirror.z) < 0.999 ? normalize(vec3(-mirror.y, mirror.x, 0.0)) : vec3(1.0, 0.0, 0.0);
+  float angle = 2.0 * kPi / float(PRODUCT_NODES_X);
+  vec3 probe = cos(angle) * mirror + sin(angle) * across;  // as high above the surface as the mirror
+  vec3 peak = brdfEval(mirror, s.woLocal), off = brdfEval(probe, s.woLocal);
+  return !((off.r + off.g + off.b) * probe.z >= 0.5 * (peak.r + peak.g + peak.b) * mirror.z);
+}
+
 // Splits the nodes of largest E F (gProductColumnSums) into their children and the largest children once
 // more, revalues the split ones by their children's sum and writes the records (gProductRefine).
 void productRefine(Shading s, vec3 mirror) {
@@ -493,7 +506,11 @@ void productBuildTable(Shading s) {
   [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) gProductColumnSums[j] =
       productNodeValue(productNodeRect(j), productNodeCenter(j), s, mirror);
 #ifdef PRODUCT_REFINED
-  productRefine(s, mirror);
+  if (productLobeNarrowerThanNode(s, mirror)) {
+    productRefine(s, mirror);
+  } else {
+    [[dont_unroll]] for (uint w = 0u; w < kProductRefineWords; ++w) gProductRefine[w] = 0u;  // no record
+  }
 #endif
   float sumEF = 0.0;
   [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) sumEF += gProductColumnSums[j];

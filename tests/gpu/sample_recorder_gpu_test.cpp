@@ -222,8 +222,9 @@ TEST_CASE("samples: two-sample MIS records one env and one BRDF direction per sa
 TEST_CASE(
     "samples: product draws record the node their table chose, which holds them, with the P(node) of their "
     "pdf") {
-  // 64x32: the pyramid level has 32x16 nodes of 2x2 texels, so a node's rectangle is not one texel's.
-  const Scene scene = sceneWith(smoothSky(64, 32), "ggx", kGgxParams, 24);
+  // 64x32: the pyramid level has 32x16 nodes of 2x2 texels, so a node's rectangle is not one texel's, and a
+  // lobe of alpha 0.1 is narrower than a node, so the split nodes' children are chosen too.
+  const Scene scene = sceneWith(smoothSky(64, 32), "ggx", {{"roughness", "0.1"}, {"metallic", "0.5"}}, 24);
   for (const char* name : {"product", "product-mis", "product-warp"}) {
     MethodSpec spec;
     spec.method = name;
