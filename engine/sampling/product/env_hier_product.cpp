@@ -445,7 +445,7 @@ TechniqueData envHierProductTechniqueData(const EnvImage& image) {
   data.define("PRODUCT_WIDTH", product.width);
   data.define("PRODUCT_ROWS", product.rows);
   data.define("PRODUCT_TEXELS_PER_NODE", product.texelsPerNode);
-  data.define("PRODUCT_REFINE_DEPTH", std::to_string(levels.size() - 1));  // for #if: no u suffix  // for #if: no u suffix
+  data.define("PRODUCT_REFINE_DEPTH", std::to_string(levels.size() - 1));  // for #if: no u suffix
   data.define("PRODUCT_GRID_WIDTH", grid.width);
   data.define("PRODUCT_GRID_ROWS", grid.rows);
   data.define("PRODUCT_DEFENSIVE", std::to_string(kEnvProductDefensive));
