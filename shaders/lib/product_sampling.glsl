@@ -150,6 +150,9 @@ const uint kProductSlotWords = (kProductNodes + 7u) / 8u;
 const uint kProductRecords = kProductRefinedNodes + (PRODUCT_REFINE_DEPTH > 1 ? kProductRefinedChildren : 0u);
 const uint kProductRefineWords = kProductSlotWords + 2u * kProductRecords;
 uint gProductRefine[kProductRefineWords];
+// Whether this pixel's table has records (productLobeNarrowerThanNode): stored as one word before the block,
+// so a pixel without them reads no record and copies no block.
+bool gProductSplit = false;
 #endif
 #ifdef PRODUCT_TABLE_BINDING
 // PRODUCT_TABLE_STRIDE words per pixel, pixels row-major, PRODUCT_TABLE_PIXELS_PER_CHUNK pixels per buffer:
@@ -257,16 +260,23 @@ float productStoredSum(uint j) {
 #define PRODUCT_TABLE_LOAD_ROW_SUMS(table) \
   PRODUCT_LOAD_PAIRS(table, 0u, gProductRowSums, 0u, PRODUCT_NODES_Y, kProductRowSumWords)
 #ifdef PRODUCT_REFINED
-#define PRODUCT_REFINE_STORE(table)                                      \
-  [[dont_unroll]] for (uint w = 0u; w < kProductRefineWords; ++w) {      \
-    table[gProductTableAt + kProductTableWords + w] = gProductRefine[w]; \
+#define PRODUCT_REFINE_STORE(table)                                                       \
+  table[gProductTableAt + kProductTableWords] = gProductSplit ? 1u : 0u;                  \
+  if (gProductSplit) {                                                                    \
+    [[dont_unroll]] for (uint w = 0u; w < kProductRefineWords; ++w) {                     \
+      table[gProductTableAt + kProductTableWords + 1u + w] = gProductRefine[w];           \
+    }                                                                                     \
   }
-#define PRODUCT_REFINE_LOAD(table)                                       \
-  [[dont_unroll]] for (uint w = 0u; w < kProductRefineWords; ++w) {      \
-    gProductRefine[w] = table[gProductTableAt + kProductTableWords + w]; \
+#define PRODUCT_REFINE_LOAD_FLAG(table) gProductSplit = table[gProductTableAt + kProductTableWords] != 0u;
+#define PRODUCT_REFINE_LOAD(table)                                                        \
+  if (gProductSplit) {                                                                    \
+    [[dont_unroll]] for (uint w = 0u; w < kProductRefineWords; ++w) {                     \
+      gProductRefine[w] = table[gProductTableAt + kProductTableWords + 1u + w];           \
+    }                                                                                     \
   }
 #else
 #define PRODUCT_REFINE_STORE(table)
+#define PRODUCT_REFINE_LOAD_FLAG(table)
 #define PRODUCT_REFINE_LOAD(table)
 #endif
 void productTableLocate(uvec2 pixel) {
@@ -281,6 +291,7 @@ void productTableStore() {
 }
 void productTableLoad(bool rows) {
   PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_LOAD_ROW_SUMS)
+  PRODUCT_TABLE_ON_CHUNK(PRODUCT_REFINE_LOAD_FLAG)
   if (rows) {
     PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_LOAD)
     PRODUCT_TABLE_ON_CHUNK(PRODUCT_REFINE_LOAD)
@@ -335,13 +346,13 @@ float productColumnSum(uint j) {
 // Word i of the refinement's block, from the stored or the private table.
 uint productRefineWord(uint i) {
 #ifdef PRODUCT_TABLE_BINDING
-  if (gProductReadStored) return productStoredWord(kProductTableWords + i);
+  if (gProductReadStored) return productStoredWord(kProductTableWords + 1u + i);
 #endif
   return gProductRefine[i];
 }
 // Node j's record + 1, 0 when it is not split.
 uint productRecordOf(uint j) {
-  return bitfieldExtract(productRefineWord(j >> 3u), int((j & 7u) * 4u), 4);
+  return gProductSplit ? bitfieldExtract(productRefineWord(j >> 3u), int((j & 7u) * 4u), 4) : 0u;
 }
 uvec2 productRecordWords(uint record) {
   uint at = kProductSlotWords + 2u * record;
@@ -506,11 +517,8 @@ void productBuildTable(Shading s) {
   [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) gProductColumnSums[j] =
       productNodeValue(productNodeRect(j), productNodeCenter(j), s, mirror);
 #ifdef PRODUCT_REFINED
-  if (productLobeNarrowerThanNode(s, mirror)) {
-    productRefine(s, mirror);
-  } else {
-    [[dont_unroll]] for (uint w = 0u; w < kProductRefineWords; ++w) gProductRefine[w] = 0u;  // no record
-  }
+  gProductSplit = productLobeNarrowerThanNode(s, mirror);
+  if (gProductSplit) productRefine(s, mirror);
 #endif
   float sumEF = 0.0;
   [[dont_unroll]] for (uint j = 0u; j < kProductNodes; ++j) sumEF += gProductColumnSums[j];

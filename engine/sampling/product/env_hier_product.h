@@ -53,11 +53,11 @@ constexpr uint32_t productTableWords(uint32_t width, uint32_t rows) {
 // in the table, 0 when it is not split) and children split again, each with a record of its own.
 inline constexpr uint32_t kProductRefinedNodes = 15, kProductRefinedChildren = 16;
 inline constexpr uint32_t kProductMaxRefineDepth = 2;
-// Words of a pixel's refinement block after its table: one 4-bit slot per node, then two words per record
-// (the children's 16-bit running sums q_1, q_2, q_3; the mask of the children split again and the index of
-// the first one's record).
+// Words of a pixel's refinement block after its table: whether it has records (0 or 1), one 4-bit slot per
+// node, then two words per record (the children's 16-bit running sums q_1, q_2, q_3; the mask of the
+// children split again and the index of the first one's record).
 constexpr uint32_t productRefineWords(uint32_t nodes) {
-  return (nodes + 7) / 8 + 2 * (kProductRefinedNodes + kProductRefinedChildren);
+  return 1 + (nodes + 7) / 8 + 2 * (kProductRefinedNodes + kProductRefinedChildren);
 }
 // The largest over the layouts: a pyramid level has no more rows than nodes across (env-hier's square
 // pyramid), so at most kEnvProductMaxNodes nodes give at most 32 x 16, as the uniform grid has; a pyramid
