@@ -47,7 +47,7 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   const bool recording = mode == IntegratorMode::RecordPixel;
   // A product strategy keeps its per-pixel tables across dispatches where the image's fit
   // kProductTableMaxChunks of the device's largest buffers and kProductTableBudget (lavapipe's 128 MiB
-  // buffers hold 86,037 pixels' tables each, so 512 x 512 in four and up to 586 x 586; 2 GiB holds
+  // buffers hold 85,816 pixels' tables each, so 512 x 512 in four and up to 585 x 585; 2 GiB holds
   // 1024 x 1024); else each dispatch rebuilds them in private memory.
   const ProductTableChunks productTables = [&] {
     const vk::DeviceSize pixels = vk::DeviceSize(scene.gbuffer.width) * vk::DeviceSize(scene.gbuffer.height);

@@ -353,7 +353,7 @@ TEST_CASE("setView: a renderer given another camera renders what a new renderer 
 }
 
 TEST_CASE("product tables: split over buffers, read in place, copied or rebuilt, the image is the same") {
-  // A device whose largest buffer holds 1 MiB (672 pixels' tables) splits a 50 x 50 image's tables over four
+  // A device whose largest buffer holds 1 MiB (670 pixels' tables) splits a 50 x 50 image's tables over four
   // buffers (625 pixels each), and rebuilds a 64 x 64 image's (seven would be needed) in every dispatch. A
   // wrong chunk or offset would pair a pixel with another pixel's table from the second pass on; passes of 4
   // samples read the stored table in place, passes of 64 copy it. The same seed gives the same samples, so
