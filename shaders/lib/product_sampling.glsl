@@ -64,6 +64,7 @@ uvec2 productNodeOf(vec3 wi) {
 #else
 #define PRODUCT_NODES_X PRODUCT_WIDTH
 #define PRODUCT_NODES_Y PRODUCT_ROWS
+const uint kProductNodesAtDepth0 = PRODUCT_NODES_X * PRODUCT_NODES_Y;
 // Per node (row-major): its rectangle in u (minX, minY, maxX, maxY), and the direction at its centre
 // (environment frame) with the cosine of its angular radius.
 IBLX_TABLE(productNodeRects, 4);
@@ -79,14 +80,10 @@ uvec2 productNodeOf(vec3 wi) {
 }
 #if PRODUCT_REFINE_DEPTH > 0
 #define PRODUCT_REFINED
-// The finer levels by parent: child c = a + 2 b (cell (2x + a, 2y + b)) of index p at 4 p + c, p the node's
-// own index at the table's level.
-IBLX_TABLE(productChildRects, 4);
-IBLX_TABLE(productChildCenters, 4);
-#if PRODUCT_REFINE_DEPTH > 1
-IBLX_TABLE(productGrandRects, 4);
-IBLX_TABLE(productGrandCenters, 4);
-#endif
+// Both tables go on with the finer levels, by parent: child c = a + 2 b (cell (2x + a, 2y + b)) of index p
+// at depth k is index 4 p + c at depth k + 1 (p the node's own index at depth 0), depth k's entries from
+// productDepthOffset(k) on (N, 4 N and 16 N entries: one table, one load whatever the depth).
+uint productDepthOffset(uint depth) { return kProductNodesAtDepth0 * ((1u << (2u * depth)) - 1u) / 3u; }
 #endif
 #endif
 
@@ -268,16 +265,9 @@ float productStoredSum(uint j) {
     }                                                                                     \
   }
 #define PRODUCT_REFINE_LOAD_FLAG(table) gProductSplit = table[gProductTableAt + kProductTableWords] != 0u;
-#define PRODUCT_REFINE_LOAD(table)                                                        \
-  if (gProductSplit) {                                                                    \
-    [[dont_unroll]] for (uint w = 0u; w < kProductRefineWords; ++w) {                     \
-      gProductRefine[w] = table[gProductTableAt + kProductTableWords + 1u + w];           \
-    }                                                                                     \
-  }
 #else
 #define PRODUCT_REFINE_STORE(table)
 #define PRODUCT_REFINE_LOAD_FLAG(table)
-#define PRODUCT_REFINE_LOAD(table)
 #endif
 void productTableLocate(uvec2 pixel) {
   uint index = pixel.y * frame.width + pixel.x;
@@ -294,7 +284,6 @@ void productTableLoad(bool rows) {
   PRODUCT_TABLE_ON_CHUNK(PRODUCT_REFINE_LOAD_FLAG)
   if (rows) {
     PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_LOAD)
-    PRODUCT_TABLE_ON_CHUNK(PRODUCT_REFINE_LOAD)
   }
 }
 // The node of row y whose quantized interval [start, end) holds t in [0, kProductFullScale), from the
@@ -343,17 +332,18 @@ float productColumnSum(uint j) {
   return gProductColumnSums[j];
 }
 #ifdef PRODUCT_REFINED
-// Word i of the refinement's block, from the stored or the private table.
+// Word i of the refinement's block: with stored tables always from the buffer (the first dispatch stores
+// the block before it samples, and a record is read only by a sample that descends into a split node, so a
+// dispatch copies none of it), else from the private table.
 uint productRefineWord(uint i) {
 #ifdef PRODUCT_TABLE_BINDING
-  if (gProductReadStored) return productStoredWord(kProductTableWords + 1u + i);
-#endif
+  return productStoredWord(kProductTableWords + 1u + i);
+#else
   return gProductRefine[i];
+#endif
 }
 // Node j's record + 1, 0 when it is not split.
-uint productRecordOf(uint j) {
-  return gProductSplit ? bitfieldExtract(productRefineWord(j >> 3u), int((j & 7u) * 4u), 4) : 0u;
-}
+uint productRecordOf(uint j) { return bitfieldExtract(productRefineWord(j >> 3u), int((j & 7u) * 4u), 4); }
 uvec2 productRecordWords(uint record) {
   uint at = kProductSlotWords + 2u * record;
   return uvec2(productRefineWord(at), productRefineWord(at + 1u));
@@ -370,13 +360,8 @@ uint productChildRecord(uvec2 words, uint c) {
   return ((mask >> c) & 1u) != 0u ? (words.y >> 20u) + bitCount(mask & ((1u << c) - 1u)) + 1u : 0u;
 }
 // The rectangle in u of index p at depth 0, 1 or 2 (by parent, as the tables are ordered).
-vec4 productRectAt(uint depth, uint p) {
-  if (depth == 0u) return productNodeRect(p);
-#if PRODUCT_REFINE_DEPTH > 1
-  if (depth == 2u) return tableVec4(productGrandRects, p);
-#endif
-  return tableVec4(productChildRects, p);
-}
+vec4 productRectAt(uint depth, uint p) { return tableVec4(productNodeRects, productDepthOffset(depth) + p); }
+vec4 productCenterAt(uint depth, uint p) { return tableVec4(productNodeCenters, productDepthOffset(depth) + p); }
 #endif
 
 float productNodeArea(uint j) {
@@ -468,9 +453,9 @@ void productRefine(Shading s, vec3 mirror) {
   vec4 childValues[kProductRefinedNodes], childAreas[kProductRefinedNodes];
   [[dont_unroll]] for (uint n = 0u; n < splitCount; ++n) [[dont_unroll]] for (uint c = 0u; c < 4u; ++c) {
     uint p = 4u * split[n] + c;
-    vec4 rect = tableVec4(productChildRects, p);
+    vec4 rect = productRectAt(1u, p);
     childAreas[n][c] = (rect.z - rect.x) * (rect.w - rect.y);
-    childValues[n][c] = productNodeValue(rect, tableVec4(productChildCenters, p), s, mirror);
+    childValues[n][c] = productNodeValue(rect, productCenterAt(1u, p), s, mirror);
   }
   [[dont_unroll]] for (uint w = 0u; w < kProductRefineWords; ++w) gProductRefine[w] = 0u;
   uint masks[kProductRefinedNodes], firsts[kProductRefinedNodes];
@@ -492,9 +477,9 @@ void productRefine(Shading s, vec3 mirror) {
     vec4 areas, values;
     [[dont_unroll]] for (uint g = 0u; g < 4u; ++g) {
       uint p = 4u * (4u * split[n] + c) + g;
-      vec4 rect = tableVec4(productGrandRects, p);
+      vec4 rect = productRectAt(2u, p);
       areas[g] = (rect.z - rect.x) * (rect.w - rect.y);
-      values[g] = productNodeValue(rect, tableVec4(productGrandCenters, p), s, mirror);
+      values[g] = productNodeValue(rect, productCenterAt(2u, p), s, mirror);
     }
     childValues[n][c] = ((values.x + values.y) + values.z) + values.w;  // revalued by the finer look
     if (masks[n] == 0u) firsts[n] = record;
@@ -619,26 +604,29 @@ vec3 productSample(vec2 u, Shading s, out float pdf, out vec3 radiance) {
   uvec2 cell = uvec2(x, y);    // and its cell at its depth
 #ifdef PRODUCT_REFINED
   // The records below the node: the first split reads v.x, the second v.y, each rescaled inside the child.
-  [[dont_unroll]] for (uint record = productRecordOf(j); record != 0u;) {
-    uvec2 words = productRecordWords(record - 1u);
-    float t = (depth == 0u ? v.x : v.y) * kProductFullScale;
-    uint c = (float(words.x & 0xffffu) <= t ? 1u : 0u) + (float(words.x >> 16u) <= t ? 1u : 0u) +
-             (float(words.y & 0xffffu) <= t ? 1u : 0u);
-    float start, end;
-    productChildInterval(words, c, start, end);
-    if (!(end > start)) return vec3(0.0, 1.0, 0.0);  // t on a float edge
-    probability *= (end - start) / kProductFullScale;
-    float inChild = clamp((t - start) / (end - start), 0.0, kOneMinusEpsilon);
-    if (depth == 0u)
-      v.x = inChild;
-    else
-      v.y = inChild;
-    record = productChildRecord(words, c);
-    index = 4u * index + c;
-    cell = 2u * cell + uvec2(c & 1u, c >> 1u);
-    ++depth;
+  // Behind the pixel's flag, and without a return inside the loop: a pixel without records runs none of it.
+  vec4 r;
+  if (gProductSplit) {
+    [[dont_unroll]] for (uint record = productRecordOf(j); record != 0u;) {
+      uvec2 words = productRecordWords(record - 1u);
+      float t = (depth == 0u ? v.x : v.y) * kProductFullScale;
+      uint c = (float(words.x & 0xffffu) <= t ? 1u : 0u) + (float(words.x >> 16u) <= t ? 1u : 0u) +
+               (float(words.y & 0xffffu) <= t ? 1u : 0u);
+      float start, end;
+      productChildInterval(words, c, start, end);
+      probability *= max(end - start, 0.0) / kProductFullScale;  // 0 for t on a float edge: pdf 0
+      float inChild = clamp((t - start) / max(end - start, 1.0), 0.0, kOneMinusEpsilon);
+      if (depth == 0u)
+        v.x = inChild;
+      else
+        v.y = inChild;
+      record = productChildRecord(words, c);
+      index = 4u * index + c;
+      cell = 2u * cell + uvec2(c & 1u, c >> 1u);
+      ++depth;
+    }
   }
-  vec4 r = productRectAt(depth, index);
+  r = productRectAt(depth, index);
 #else
   vec4 r = productNodeRect(j);
 #endif
@@ -706,18 +694,20 @@ float productPdf(vec3 wi, Shading s) {
   uint j = node.y * PRODUCT_NODES_X + node.x;
   float probability = productNodeProbability(node.x, node.y);
 #ifdef PRODUCT_REFINED
-  // Each record below the node: the child holding wi's texel, and its P(child).
+  // Each record below the node (behind the pixel's flag): the child holding wi's texel, and its P(child).
   uint depth = 0u, index = j;
-  [[dont_unroll]] for (uint record = productRecordOf(j); record != 0u;) {
-    uvec2 words = productRecordWords(record - 1u);
-    uvec2 childCell = texel / (PRODUCT_TEXELS_PER_NODE >> (depth + 1u));
-    uint c = (childCell.x & 1u) | ((childCell.y & 1u) << 1u);
-    float start, end;
-    productChildInterval(words, c, start, end);
-    probability *= (end - start) / kProductFullScale;
-    record = productChildRecord(words, c);
-    index = 4u * index + c;
-    ++depth;
+  if (gProductSplit) {
+    [[dont_unroll]] for (uint record = productRecordOf(j); record != 0u;) {
+      uvec2 words = productRecordWords(record - 1u);
+      uvec2 childCell = texel / (PRODUCT_TEXELS_PER_NODE >> (depth + 1u));
+      uint c = (childCell.x & 1u) | ((childCell.y & 1u) << 1u);
+      float start, end;
+      productChildInterval(words, c, start, end);
+      probability *= (end - start) / kProductFullScale;
+      record = productChildRecord(words, c);
+      index = 4u * index + c;
+      ++depth;
+    }
   }
   vec4 r = productRectAt(depth, index);
   float area = (r.z - r.x) * (r.w - r.y);

@@ -417,18 +417,13 @@ TechniqueData envHierProductTechniqueData(const EnvImage& image) {
     throw Error("env-hier product: a " + std::to_string(product.width) + "x" + std::to_string(product.rows) +
                 " node table does not fit a pixel's stored table of " +
                 std::to_string(kEnvProductMaxTableWords) + " words");
-  data.add("productNodeRects", product.rects);
-  data.add("productNodeCenters", product.centers);
-  data.add("productGridCenters", grid.centers);
-  // The finer levels ordered by parent: index 4 p + c at depth k + 1 for child c of index p at depth k (the
-  // node's own index at depth 0), an absent child an empty rectangle.
-  const char* names[][2] = {{"productChildRects", "productChildCenters"},
-                            {"productGrandRects", "productGrandCenters"}};
+  // The level's nodes, then the finer levels ordered by parent: index 4 p + c at depth k + 1 for child c of
+  // index p at depth k (the node's own index at depth 0), an absent child an empty rectangle.
+  std::vector<glm::vec4> rects = product.rects, centers = product.centers;
   std::vector<std::size_t> parents(product.nodes());
   for (std::size_t j = 0; j < parents.size(); ++j) parents[j] = j;
   for (uint32_t depth = 1; depth < levels.size(); ++depth) {
     std::vector<std::size_t> children;
-    std::vector<glm::vec4> rects, centers;
     const EnvProductLevel &level = levels[depth - 1], &finer = levels[depth];
     for (const std::size_t p : parents)
       for (uint32_t c = 0; c < 4; ++c) {
@@ -438,10 +433,11 @@ TechniqueData envHierProductTechniqueData(const EnvImage& image) {
         rects.push_back(present ? finer.rects[children.back()] : glm::vec4(0.0f));
         centers.push_back(present ? finer.centers[children.back()] : glm::vec4(0.0f, 1.0f, 0.0f, -1.0f));
       }
-    data.add(names[depth - 1][0], rects);
-    data.add(names[depth - 1][1], centers);
     parents = std::move(children);
   }
+  data.add("productNodeRects", rects);
+  data.add("productNodeCenters", centers);
+  data.add("productGridCenters", grid.centers);
   data.define("PRODUCT_WIDTH", product.width);
   data.define("PRODUCT_ROWS", product.rows);
   data.define("PRODUCT_TEXELS_PER_NODE", product.texelsPerNode);

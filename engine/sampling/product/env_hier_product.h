@@ -195,9 +195,9 @@ class EnvProductSampler {
 
 // The product strategies' tables (shaders/lib/product_sampling.glsl) after env-hier's, from the same pyramid:
 // productNodeRects and productNodeCenters of the level `product` and `product-mis` choose nodes on, and
-// productGridCenters, the caps of `product-warp`'s uniform grid over u (its rectangles are arithmetic); the
-// refinement's finer levels ordered by parent (productChildRects / Centers at 4 j + c, productGrandRects /
-// Centers at 16 j + 4 c + g) and PRODUCT_REFINE_DEPTH, the levels below the table's (0 to 2).
+// productGridCenters, the caps of `product-warp`'s uniform grid over u (its rectangles are arithmetic). The
+// first two go on with the refinement's finer levels ordered by parent (N + 4 j + c for child c of node j,
+// 5 N + 16 j + 4 c + g for its grandchild g), PRODUCT_REFINE_DEPTH of them (0 to 2).
 TechniqueData envHierProductTechniqueData(const EnvImage& image);
 
 }  // namespace iblx
