@@ -1,6 +1,7 @@
 // Speed-against-error figures (engine/analysis/convergence.h).
 #include "engine/analysis/convergence.h"
 
+#include "engine/core/csv.h"
 #include "engine/core/error.h"
 #include "engine/core/json_output.h"
 #include "engine/core/file_io.h"
@@ -349,11 +350,10 @@ void writeConvergenceCsv(const std::filesystem::path& path, std::span<const Conv
   for (const auto& run : runs)
     for (std::size_t i = 0; i < run.points.size(); ++i) {
       const auto& p = run.points[i];
-      // Method labels contain commas: quoted as CSV requires.
       std::snprintf(line, sizeof line, ",%s,%u,%zu,%llu,%.6f,%.6f,%.9g,%.9g\n", run.sequence.c_str(),
                     run.seed, i + 1, static_cast<unsigned long long>(p.spp), p.gpuSeconds, p.wallSeconds,
                     p.mse, p.relMse);
-      out << '"' << run.method << '"' << line;
+      out << csvQuoted(run.method) << line;  // a method label holds commas
     }
   output.commit();
 }

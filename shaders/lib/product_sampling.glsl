@@ -294,7 +294,6 @@ void productTableLoad(bool rows) {
 uint productStoredChoice(uint y, float t, out float start, out float end) {
   uint first = kProductRowSumWords + y * kProductRowWords;
   uint lower = 0u, len = kProductRowWords - 1u, upperWord = 0u;
-  bool haveUpper = false;
   start = 0.0;
   while (len > 0u) {
     uint step = len >> 1u;
@@ -306,11 +305,11 @@ uint productStoredChoice(uint y, float t, out float start, out float end) {
       len -= step + 1u;
     } else {
       upperWord = word;
-      haveUpper = true;
       len = step;
     }
   }
-  if (!haveUpper) upperWord = productStoredWord(first + lower);
+  // The search loaded the word it ends on unless it ends on the row's last word, which it never compares.
+  if (lower == kProductRowWords - 1u) upperWord = productStoredWord(first + lower);
   float low = float(upperWord & 0xffffu);
   bool lowBelow = low <= t;
   if (lowBelow) start = low;

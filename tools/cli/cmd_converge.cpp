@@ -2,6 +2,7 @@
 // records MSE and relMSE against the ground truth after each point of a log-spaced sample schedule, and
 // writes the CSV, the summary table and the PNG figures.
 #include "engine/analysis/convergence.h"
+#include "engine/core/csv.h"
 #include "engine/core/error.h"
 #include "engine/core/file_lock.h"
 #include "engine/core/file_io.h"
@@ -158,10 +159,9 @@ void writeOraclePixelsCsv(const std::filesystem::path& path, const OracleVarianc
   char line[192];
   for (const auto& image : result.images)
     for (const OraclePixelError& p : oraclePixelErrors(oracle, gbuffer, image.rgb, image.point.spp)) {
-      // Method labels contain commas: quoted as CSV requires.
       std::snprintf(line, sizeof line, ",%s,%d,%d,%.9g,%.9g,%.9g\n", image.sequence.c_str(), p.x, p.y, p.mean,
                     p.variance, p.squaredErrorTimesSpp);
-      out << '"' << image.method << '"' << line;
+      out << csvQuoted(image.method) << line;  // a method label holds commas
     }
   output.commit();
 }

@@ -3,6 +3,7 @@
 
 #include "engine/analysis/convergence.h"
 #include "engine/analysis/loss_decomposition.h"
+#include "engine/core/csv.h"
 #include "engine/core/error.h"
 #include "engine/core/file_io.h"
 #include "engine/core/json_output.h"
@@ -63,12 +64,6 @@ std::optional<SceneData> readSceneData(const fs::path& dir) {
     warn(dir.string() + ": " + e.what() + "; the scene's figures are left out");
     return std::nullopt;
   }
-}
-
-std::string csvQuoted(const std::string& text) {
-  std::string quoted = "\"";
-  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return quoted + "\"";
 }
 
 std::string numberText(double value) {

@@ -2,8 +2,9 @@
 // on the lat-long environment map, over the map's luminance (the density env-cdf and env-hier sample, per
 // solid angle) on a log scale, and on a view of the pixel's hemisphere seen from above the normal, one colour
 // per technique. For the product strategies it also shows the node each draw chose in the pixel's product
-// table: outlined on the map where nodes are blocks of texels, and on a panel of the whole table, shaded by
-// the node's probability.
+// table (the deepest: a split node's child or grandchild where `product` refined it): outlined on the map
+// where nodes are blocks of texels, and on a panel of the whole table, each at its own size, shaded by its
+// probability.
 #pragma once
 
 #include "engine/render/sample_recorder.h"
