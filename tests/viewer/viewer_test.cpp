@@ -229,7 +229,8 @@ TEST_CASE(
   // A lobe narrower than a node (alpha 0.05): the table is refined and the draws choose split nodes'
   // children, drawn at their own (smaller) size, so fewer pixels are magenta but some are.
   const Png refined = viewerScreenshot(
-      "--size 64x64 --method product --param roughness=0.05 --overlay 32,24 --overlay-count 512", 2, "refined");
+      "--size 64x64 --method product --param roughness=0.05 --overlay 32,24 --overlay-count 512", 2,
+      "refined");
   const int refinedMagenta = countNear(refined, 64, 255, 60, 230);
   CAPTURE(refinedMagenta);
   CHECK(refinedMagenta > 4);
