@@ -434,7 +434,7 @@ bool productLobeNarrowerThanNode(Shading s, vec3 mirror) {
   if (!(mirror.z > 0.0)) return true;
   vec3 across = abs(mirror.z) < 0.999 ? normalize(vec3(-mirror.y, mirror.x, 0.0)) : vec3(1.0, 0.0, 0.0);
   float angle = 2.0 * kPi / float(PRODUCT_NODES_X);
-  vec3 probe = cos(angle) * mirror + sin(angle) * across;  // as high above the surface as the mirror
+  vec3 probe = cos(angle) * mirror + sin(angle) * across;  // turned parallel to the surface: probe.z > 0
   vec3 peak = brdfEval(mirror, s.woLocal), off = brdfEval(probe, s.woLocal);
   return !((off.r + off.g + off.b) * probe.z >= 0.5 * (peak.r + peak.g + peak.b) * mirror.z);
 }

@@ -69,13 +69,15 @@ TEST_CASE("env product level: the finest level within the node budget, rectangle
   const EnvHierSampler hier(buildEnvHier(smoothSky(64, 32)));
   CHECK(buildEnvProductLevel(hier, 4).nodes() <= 4);
   CHECK(buildEnvProductLevel(hier, 1).nodes() == 1);  // the root
-  // Every map's level fits a pixel's stored table (kEnvProductMaxTableWords): wide, square, tall and tiny.
+  // Every map's level and its refinement's block fit a pixel's stored table (kEnvProductMaxTableWords): wide,
+  // square, tall and tiny.
   for (const auto& [w, h] : {std::pair{64, 32}, {256, 16}, {32, 32}, {16, 64}, {3, 200}, {1, 1}, {1000, 7}}) {
     CAPTURE(w);
     CAPTURE(h);
     const EnvProductLevel l = buildEnvProductLevel(EnvHierSampler(buildEnvHier(smoothSky(w, h))));
     CHECK(l.nodes() <= kEnvProductMaxNodes);
-    CHECK(productTableWords(l.width, l.rows) <= kEnvProductMaxTableWords);
+    CHECK(productTableWords(l.width, l.rows) + productRefineWords(uint32_t(l.nodes())) <=
+          kEnvProductMaxTableWords);
   }
   CHECK_THROWS_AS(buildEnvProductLevel(hier, 0), Error);
 }

@@ -123,7 +123,9 @@ TEST_CASE(
   };
   const std::string kept = prelude(product, IntegratorMode::Image, {3, 1000});
   CHECK(contains(kept, "#define PRODUCT_TABLE_BINDING " + std::to_string(kProductTableBinding) + "\n"));
-  CHECK(contains(kept, "#define PRODUCT_TABLE_STRIDE " + std::to_string(productTableWords(32, 16)) + "u\n"));
+  // The largest table (32 x 16 nodes) and the refinement's block after it.
+  CHECK(contains(kept, "#define PRODUCT_TABLE_STRIDE " +
+                           std::to_string(productTableWords(32, 16) + productRefineWords(512)) + "u\n"));
   CHECK(contains(kept, "#define PRODUCT_TABLE_CHUNKS 3\n#define PRODUCT_TABLE_PIXELS_PER_CHUNK 1000u\n"));
   CHECK(!contains(prelude(product, IntegratorMode::Image, {}), "PRODUCT_TABLE_BINDING"));
   CHECK_THROWS_AS(prelude(product, IntegratorMode::Image, {kProductTableMaxChunks + 1, 1000}), Error);

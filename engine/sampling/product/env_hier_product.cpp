@@ -202,7 +202,7 @@ std::size_t childOf(std::span<const EnvProductLevel> levels, uint32_t depth, std
 }
 
 // The indices of the `count` largest positive values, largest first, the lower index first among equal
-// ones: the GPU's insertion into a sorted list (productKeepLargest).
+// ones: the GPU's insertion into a sorted list (PRODUCT_KEEP_LARGEST).
 std::vector<std::size_t> largestPositive(std::span<const double> values, std::size_t count) {
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < values.size(); ++i)
@@ -424,12 +424,11 @@ TechniqueData envHierProductTechniqueData(const EnvImage& image) {
   for (std::size_t j = 0; j < parents.size(); ++j) parents[j] = j;
   for (uint32_t depth = 1; depth < levels.size(); ++depth) {
     std::vector<std::size_t> children;
-    const EnvProductLevel &level = levels[depth - 1], &finer = levels[depth];
+    const EnvProductLevel& finer = levels[depth];
     for (const std::size_t p : parents)
       for (uint32_t c = 0; c < 4; ++c) {
-        const std::size_t x = 2 * (p % level.width) + (c & 1), y = 2 * (p / level.width) + (c >> 1);
-        const bool present = p != std::size_t(-1) && y < finer.rows;
-        children.push_back(present ? y * finer.width + x : std::size_t(-1));
+        children.push_back(p == std::size_t(-1) ? p : childOf(levels, depth - 1, p, c));
+        const bool present = children.back() != std::size_t(-1);
         rects.push_back(present ? finer.rects[children.back()] : glm::vec4(0.0f));
         centers.push_back(present ? finer.centers[children.back()] : glm::vec4(0.0f, 1.0f, 0.0f, -1.0f));
       }

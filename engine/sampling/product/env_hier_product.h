@@ -28,6 +28,10 @@
 // the chosen node, choosing a child by the node's remaining u.x at the first split and u.y at the second, so
 //   pdf(wi) = P(j) P(c | j) P(g | c) / E_leaf * p_env-hier(wi),
 // E_leaf the area of the deepest node holding wi, whose rectangle in u is again exactly env-hier's preimage.
+// The GPU refines a pixel's table only where the lobe falls below half its peak within one node's width of
+// the mirror direction (productLobeNarrowerThanNode, two BRDF evaluations): elsewhere the split buys little
+// (docs/RESULTS.md) and costs BRDF evaluations. Either way the sampler is exact; the twin's two constructors
+// are the two outcomes.
 #pragma once
 
 #include "engine/sampling/env/env_hier.h"
