@@ -29,6 +29,27 @@ std::vector<double> lobeAtCentres(const EnvProductLevel& level, glm::dvec3 axis,
   return f;
 }
 
+// Draws 5000 samples: each has a positive pdf and lies on a texel of positive weight, and its pdf is pdf() of
+// its direction; onSample sees every sample but those on a texel or cell border, which may be located in the
+// neighbour (their count is returned).
+template <typename OnSample>
+int checkSamplesAgainstPdf(const EnvProductSampler& sampler, const EnvImage& image, uint64_t seed,
+                           OnSample onSample) {
+  int boundary = 0;
+  for (const glm::dvec2 u : test::uniformPoints(5000, seed)) {
+    const EnvSample s = sampler.sample(u);
+    REQUIRE(s.pdfSolidAngle > 0.0);
+    CHECK(image.weight(s.texel.x, s.texel.y) > 0.0);
+    if (directionToTexel(s.direction, image.width, image.height) != s.texel ||
+        !(std::abs(s.pdfSolidAngle - sampler.pdf(s.direction)) <= 1e-9 * s.pdfSolidAngle)) {
+      ++boundary;
+      continue;
+    }
+    onSample(s);
+  }
+  return boundary;
+}
+
 }  // namespace
 
 TEST_CASE("env product level: the finest level within the node budget, rectangles tiling u") {
@@ -207,20 +228,8 @@ TEST_CASE("env product sampler: chi2 against its own pdf on hard maps, the pdf i
       CHECK(r.passed);
       CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(1e-3));
       // Each sample's pdf (from the node chosen) is pdf() of its direction (from the node located), and a
-      // sample never lands on a black texel. A direction on a texel or cell border may be located in the
-      // neighbour.
-      int boundary = 0;
-      for (const glm::dvec2 u : test::uniformPoints(5000, seed)) {
-        const EnvSample s = sampler.sample(u);
-        REQUIRE(s.pdfSolidAngle > 0.0);
-        CHECK(env.image.weight(s.texel.x, s.texel.y) > 0.0);
-        if (directionToTexel(s.direction, env.image.width, env.image.height) != s.texel ||
-            !(std::abs(s.pdfSolidAngle - sampler.pdf(s.direction)) <= 1e-9 * s.pdfSolidAngle)) {
-          ++boundary;
-          continue;
-        }
-      }
-      CHECK(boundary < 50);
+      // sample never lands on a black texel.
+      CHECK(checkSamplesAgainstPdf(sampler, env.image, seed, [](const EnvSample&) {}) < 50);
     }
 }
 
@@ -286,21 +295,14 @@ TEST_CASE("env product sampler, refined: the largest nodes split twice, chi2 aga
     CHECK(r.pdfIntegral == doctest::Approx(1.0).epsilon(1e-3));
     // Each sample's pdf is pdf() of its direction, whose deepest node is the split one's child (or
     // grandchild) where it lies in a split node; none lands on a black texel.
-    int boundary = 0, deep = 0;
-    for (const glm::dvec2 u : test::uniformPoints(5000, seed)) {
-      const EnvSample s = sampler.sample(u);
-      REQUIRE(s.pdfSolidAngle > 0.0);
-      CHECK(env.image.weight(s.texel.x, s.texel.y) > 0.0);
-      if (directionToTexel(s.direction, env.image.width, env.image.height) != s.texel ||
-          !(std::abs(s.pdfSolidAngle - sampler.pdf(s.direction)) <= 1e-9 * s.pdfSolidAngle)) {
-        ++boundary;
-        continue;
-      }
+    int deep = 0;
+    const int boundary = checkSamplesAgainstPdf(sampler, env.image, seed, [&](const EnvSample& s) {
       const ProductLeaf leaf = sampler.leafOf(s.direction);
-      const bool inSplit = std::find(split.begin(), split.end(), sampler.nodeOf(s.direction)) != split.end();
+      const bool inSplit =
+          std::find(split.begin(), split.end(), sampler.nodeOf(s.direction)) != split.end();
       CHECK((leaf.depth > 0) == inSplit);
       deep += leaf.depth == depth;
-    }
+    });
     CHECK(boundary < 50);
     CHECK(deep > 2500);  // a narrow lobe: most samples end at the deepest level
   }
