@@ -298,8 +298,7 @@ TEST_CASE("env product sampler, refined: the largest nodes split twice, chi2 aga
     int deep = 0;
     const int boundary = checkSamplesAgainstPdf(sampler, env.image, seed, [&](const EnvSample& s) {
       const ProductLeaf leaf = sampler.leafOf(s.direction);
-      const bool inSplit =
-          std::find(split.begin(), split.end(), sampler.nodeOf(s.direction)) != split.end();
+      const bool inSplit = std::find(split.begin(), split.end(), sampler.nodeOf(s.direction)) != split.end();
       CHECK((leaf.depth > 0) == inSplit);
       deep += leaf.depth == depth;
     });
