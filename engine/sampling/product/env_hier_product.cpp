@@ -321,17 +321,11 @@ EnvProductSampler::Tables EnvProductSampler::refinedTables(std::span<const EnvPr
     }
     t.refinedNodes = split;
   }
-  // The table's weights from the (revalued) products: envProductWeights' rule.
-  double sumProduct = 0.0;
-  for (const double p : products) sumProduct += p;
-  std::vector<double> weights(top.nodes());
-  for (std::size_t j = 0; j < top.nodes(); ++j) {
-    const double e = area(0, j);
-    weights[j] = sumProduct > 0.0
-                     ? (1.0 - kEnvProductDefensive) * products[j] / sumProduct + kEnvProductDefensive * e
-                     : e;
-  }
-  t.probability = quantizedNodeProbabilities(top, weights);
+  // The table's weights by envProductWeights' rule, from each node's (revalued) F = E F / E.
+  std::vector<double> fCos(top.nodes(), 0.0);
+  for (std::size_t j = 0; j < top.nodes(); ++j)
+    if (const double e = area(0, j); e > 0.0) fCos[j] = products[j] / e;
+  t.probability = quantizedNodeProbabilities(top, envProductWeights(top, fCos));
   return t;
 }
 
