@@ -3,7 +3,8 @@
 // Non-finite estimates are replaced by 0 and counted in stats.nonFiniteSamples, which must stay 0.
 // Assembled with one part per role by engine/scene/kernel_prelude.cpp. With IBLX_RECORD_SAMPLES it
 // integrates one pixel (frame.recordPixelX/Y) through this same code and stores every sample's record
-// (lib/sample_record.glsl, engine/render/sample_recorder.h).
+// (lib/sample_record.glsl, engine/render/sample_recorder.h). With PRODUCT_TABLE_BUILD it only builds and
+// stores the product strategy's per-pixel tables (engine/scene/kernel_prelude.h, IntegratorMode).
 #include "lib/frame_resources.glsl"
 #include "lib/latlong.glsl"
 #include "lib/pixel_shading.glsl"
@@ -21,6 +22,11 @@ void main() {
   if (pixel.x >= frame.width || pixel.y >= frame.height) return;
   uint index = pixel.y * frame.width + pixel.x;
   GPixel g = gbuffer[index];
+#ifdef PRODUCT_TABLE_BUILD
+  // The product-table kernel (IntegratorMode::ProductTables): the object's pixels' tables, no sample.
+  if (g.normal.w != 0.0) prepareStrategy(pixelShading(g));
+  return;
+#endif
   if (g.normal.w == 0.0) {  // background: the environment seen in that direction, exact from the first pass
     vec3 radiance = envRadiance(normalize(worldToEnv(g.view.xyz)));
     accum[index].mean = vec4(radiance, 1.0);

@@ -78,12 +78,26 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   if (recording) layout.buffersPerSet[0] = kSampleRecordBinding + 1;
   if (productTables.chunks > 0) layout.buffersPerSet[0] = kProductTableBinding + productTables.chunks;
   kernel_ = std::make_unique<ComputeKernel>(context, spirv, layout, name);
+  if (productTables.chunks > 0) {
+    // The tables are built by their own kernel, so that the integrator holds no code that builds them.
+    const std::string tablesName = "product tables " + method.label();
+    productTableKernel_ = std::make_unique<ComputeKernel>(
+        context,
+        compileKernel(compiler,
+                      integratorParts(scene, gpu_.brdfDataLayout, gpu_.chunking(), method, envData, brdfData,
+                                      IntegratorMode::ProductTables, productTables),
+                      tablesName),
+        layout, tablesName);
+  }
   if (recording) sampleRecords_ = Buffer(context, 0, "sample records");
   bindFrameSet();
   std::vector<const Buffer*> env;
   for (const auto& b : envBuffers_) env.push_back(&b);
-  kernel_->bindBuffers(2, env);
-  kernel_->bindBuffers(3, brdfSet);
+  for (ComputeKernel* k : {kernel_.get(), productTableKernel_.get()}) {
+    if (!k) continue;
+    k->bindBuffers(2, env);
+    k->bindBuffers(3, brdfSet);
+  }
   setupSeconds_ = since(created_);
 }
 
@@ -98,6 +112,7 @@ void Renderer::bindFrameSet() {
   else
     for (const Buffer& chunk : productTables_) set.push_back(&chunk);
   kernel_->bindBuffers(0, set);
+  if (productTableKernel_) productTableKernel_->bindBuffers(0, set);
 }
 
 void Renderer::setRecordedPixel(uint32_t x, uint32_t y) {
@@ -206,6 +221,10 @@ PassTiming Renderer::runPass(uint32_t samplesPerPass) {
       params.samplesPerPass = std::min(kMaxSamplesPerDispatch, samplesPerPass - done);
       if (done > 0)
         recordShaderWriteBarrier(cmd, false);  // accumulation of the previous dispatch -> this one
+      if (params.sampleOffset == 0 && productTableKernel_) {
+        productTableKernel_->record(cmd, groupsX, groupsY, &params, sizeof params);
+        recordShaderWriteBarrier(cmd, false);  // the tables -> the integrator that samples them
+      }
       kernel_->record(cmd, groupsX, groupsY, &params, sizeof params);
     }
     timestamps_.end(cmd);

@@ -23,7 +23,7 @@ static_assert(sizeof(gpu::SampleRecord) ==
               112);  // std430: four vec4, two floats, two uints, four scalars, a vec4
 
 struct PassTiming {
-  double gpuSeconds = 0.0;   // the integrator dispatch alone (timestamp queries)
+  double gpuSeconds = 0.0;   // the pass's dispatches alone (timestamp queries)
   double wallSeconds = 0.0;  // record + submit + wait
 };
 
@@ -82,6 +82,8 @@ class Renderer {
   std::vector<Buffer> productTables_;
   uint32_t recordX_ = 0, recordY_ = 0, lastPassSamples_ = 0;
   std::unique_ptr<ComputeKernel> kernel_;  // after the buffers its sets refer to: destroyed before them
+  // With productTables_: builds them, dispatched before the integrator at the start of an accumulation.
+  std::unique_ptr<ComputeKernel> productTableKernel_;
   void bindFrameSet();  // set 0: the frame buffers, then sampleRecords_ or productTables_ when in use
   TimestampPair timestamps_;
   uint64_t samplesPerPixel_ = 0;

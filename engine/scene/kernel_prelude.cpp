@@ -144,8 +144,10 @@ KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, c
     k.defines.emplace_back("SAMPLE_RECORD_BINDING", std::to_string(kSampleRecordBinding));
     k.defines.emplace_back("SAMPLE_RECORD_DRAWS", std::to_string(method.drawsPerSample()) + "u");
   }
+  if (mode == IntegratorMode::ProductTables && productTables.chunks == 0)
+    throw Error("integratorParts: the product-table kernel needs the tables' buffers");
   if (productTables.chunks > 0) {
-    if (mode != IntegratorMode::Image || !strategy.buildsProductTable)
+    if (mode == IntegratorMode::RecordPixel || !strategy.buildsProductTable)
       throw Error("integratorParts: product tables in a buffer need a product strategy's image mode");
     if (productTables.chunks > kProductTableMaxChunks || productTables.pixelsPerChunk == 0)
       throw Error("integratorParts: product tables in " + std::to_string(productTables.chunks) +
@@ -155,6 +157,7 @@ KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, c
     k.defines.emplace_back("PRODUCT_TABLE_CHUNKS", std::to_string(productTables.chunks));
     k.defines.emplace_back("PRODUCT_TABLE_PIXELS_PER_CHUNK",
                            std::to_string(productTables.pixelsPerChunk) + "u");
+    if (mode == IntegratorMode::ProductTables) k.defines.emplace_back("PRODUCT_TABLE_BUILD", "1");
   }
   if (method.envTechnique)
     k.bindTables(kEnvTechniqueSet, 0, envData, "env technique " + method.envTechnique->name);

@@ -63,16 +63,18 @@ std::string explainMissingTable(const KernelParts& parts, const std::string& gls
 KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf, const TechniqueData& brdfData,
                             std::vector<std::string> parts = {});
 
-// What the integrator kernel does: add samples to every pixel, or integrate one pixel through the same code
+// What the integrator kernel does: add samples to every pixel; integrate one pixel through the same code
 // and store every sample's record (IBLX_RECORD_SAMPLES, shaders/lib/sample_record.glsl) in an extra set-0
-// buffer at binding kSampleRecordBinding.
-enum class IntegratorMode { Image, RecordPixel };
+// buffer at binding kSampleRecordBinding; or, for a product strategy whose tables are kept in buffers, only
+// build and store every object pixel's table (PRODUCT_TABLE_BUILD), the first dispatch of an accumulation,
+// so that the Image kernel that follows it loads tables and holds no code that builds them.
+enum class IntegratorMode { Image, RecordPixel, ProductTables };
 inline constexpr uint32_t kSampleRecordBinding = 8;
-// Image mode of a product strategy, when the image's tables fit kProductTableMaxChunks buffers
-// (engine/render/renderer.cpp): the per-pixel product tables, kProductTableStride 32-bit words per pixel,
-// kept across the dispatches of an accumulation in set-0 buffers from this binding on, each holding the
-// tables of pixelsPerChunk consecutive pixels (row-major), as the radiance is chunked (RecordPixel mode puts
-// its records at this binding and rebuilds its one pixel's table in private memory).
+// Image and ProductTables modes of a product strategy, when the image's tables fit kProductTableMaxChunks
+// buffers (engine/render/renderer.cpp): the per-pixel product tables, kProductTableStride 32-bit words per
+// pixel, kept across the dispatches of an accumulation in set-0 buffers from this binding on, each holding
+// the tables of pixelsPerChunk consecutive pixels (row-major), as the radiance is chunked (RecordPixel mode
+// puts its records at this binding and rebuilds its one pixel's table in private memory).
 inline constexpr uint32_t kProductTableBinding = 8;
 inline constexpr uint32_t kProductTableStride = kEnvProductMaxTableWords;  // every product layout's table
 inline constexpr uint32_t kProductTableMaxChunks = 4;

@@ -12,14 +12,16 @@
 // to the mirror direction of wo, d = PRODUCT_DEFENSIVE), kept as 16-bit running sums per row
 // (gProductColumnSums) and over rows (gProductRowSums; kProductFullScale gives the rule). With
 // PRODUCT_TABLE_BINDING (the host's choice when the image's tables fit PRODUCT_TABLE_CHUNKS buffers:
-// engine/render/renderer.cpp) the first dispatch after a restart (frame.sampleOffset 0) also stores a pixel's
-// sums in its chunk, two per word, and every later dispatch of the accumulation samples from the stored sums
-// instead of evaluating the BRDF at every node again (once per accumulation, not once per dispatch of at most
-// 256 samples): a dispatch of many samples copies them into private memory and scans them, one of few samples
-// reads the rows' sums and then binary-searches the chosen row's words in the buffer. productSample chooses a
-// row by u.y and a node in it by u.x, rescales u inside the choice, fills the node's rectangle in u with it
-// and lets env-hier's descent (envSample) finish, so pdf = P(j) / E_j * p_env-hier, with P(j) computed from
-// the same sums in sampling and in productPdf.
+// engine/render/renderer.cpp) the kernel built with PRODUCT_TABLE_BUILD, dispatched first after a restart,
+// stores each pixel's sums in its chunk, two per word, and every dispatch of the accumulation samples from the
+// stored sums instead of evaluating the BRDF at every node again (once per accumulation, not once per dispatch
+// of at most 256 samples). The integrator holds no code that builds tables: lavapipe (Mesa 22) runs the body
+// of every branch, taken or not, under a lane mask, so a build behind `frame.sampleOffset == 0` cost every
+// dispatch (docs/BENCHMARKS.md, "Product strategies"). A dispatch of many samples copies the sums into
+// private memory and scans them, one of few samples reads the rows' sums and then binary-searches the chosen
+// row's words in the buffer. productSample chooses a row by u.y and a node in it by u.x, rescales u inside
+// the choice, fills the node's rectangle in u with it and lets env-hier's descent (envSample) finish, so
+// pdf = P(j) / E_j * p_env-hier, with P(j) computed from the same sums in sampling and in productPdf.
 //
 // On a pyramid level with PRODUCT_REFINE_DEPTH > 0, the table also splits the nodes of largest E_j F_j into
 // their children on the next level, and the largest of those children once more (the refinement:
@@ -274,11 +276,14 @@ void productTableLocate(uvec2 pixel) {
   gProductTableChunk = index / PRODUCT_TABLE_PIXELS_PER_CHUNK;
   gProductTableAt = (index - gProductTableChunk * PRODUCT_TABLE_PIXELS_PER_CHUNK) * PRODUCT_TABLE_STRIDE;
 }
-// Stores the private table into the pixel's chunk, or loads its rows' sums and, with `rows`, every row's.
+// Stores the private table into the pixel's chunk (the product-table kernel), or loads its rows' sums and,
+// with `rows`, every row's (the integrator).
+#ifdef PRODUCT_TABLE_BUILD
 void productTableStore() {
   PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_STORE)
   PRODUCT_TABLE_ON_CHUNK(PRODUCT_REFINE_STORE)
 }
+#else
 void productTableLoad(bool rows) {
   PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_LOAD_ROW_SUMS)
   PRODUCT_TABLE_ON_CHUNK(PRODUCT_REFINE_LOAD_FLAG)
@@ -286,6 +291,7 @@ void productTableLoad(bool rows) {
     PRODUCT_TABLE_ON_CHUNK(PRODUCT_TABLE_LOAD)
   }
 }
+#endif
 // The node of row y whose quantized interval [start, end) holds t in [0, kProductFullScale), from the
 // stored row: a binary search over the row's words by their high halves (the last word's is above every
 // target: the row's last running sum 65535, or an odd row's padding), then the word's low half decides.
@@ -533,14 +539,13 @@ void productBuildTable(Shading s) {
 void productPrepare(Shading s) {
 #ifdef PRODUCT_TABLE_BINDING
   productTableLocate(gl_GlobalInvocationID.xy);
-  gProductReadStored = false;
-  if (frame.sampleOffset == 0u) {
-    productBuildTable(s);
-    productTableStore();
-  } else {
-    gProductReadStored = frame.samplesPerPass < kProductCopyMinSamples;
-    productTableLoad(!gProductReadStored);
-  }
+#ifdef PRODUCT_TABLE_BUILD
+  productBuildTable(s);
+  productTableStore();
+#else
+  gProductReadStored = frame.samplesPerPass < kProductCopyMinSamples;
+  productTableLoad(!gProductReadStored);
+#endif
 #else
   productBuildTable(s);
 #endif

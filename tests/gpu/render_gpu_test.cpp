@@ -352,6 +352,32 @@ TEST_CASE("setView: a renderer given another camera renders what a new renderer 
   checkNoNewValidationErrors();
 }
 
+TEST_CASE("product tables: their own kernel builds them again at every restart") {
+  // The stored tables are built by a separate kernel dispatched at the start of an accumulation: after new
+  // parameter values (a narrower lobe, whose tables also split nodes) the image equals a fresh renderer's,
+  // which it would not if the tables of the first values were still sampled.
+  const EnvImage env = smoothSky(64, 32);
+  const Scene rough = sceneWith(env, "ggx", {{"roughness", "0.5"}}, 24);
+  const Scene shiny = sceneWith(env, "ggx", {{"roughness", "0.05"}}, 24);
+  MethodSpec spec;
+  spec.method = "product";
+  spec.sequence = "sobol";
+  const ResolvedMethod method = resolveMethod(spec, *rough.brdf);
+  Renderer renderer(gpuContext(), gpuCompiler(), rough, method, 3);
+  REQUIRE(renderer.productTableChunks() == 1);
+  renderer.runPass(4);
+  const auto roughImage = renderer.meanRgb();
+  renderer.setParams(shiny.params);
+  renderer.runPass(4);
+  renderer.runPass(4);
+  Renderer fresh(gpuContext(), gpuCompiler(), shiny, method, 3);
+  fresh.runPass(4);
+  fresh.runPass(4);
+  CHECK(renderer.meanRgb() == fresh.meanRgb());
+  CHECK(fresh.meanRgb() != roughImage);
+  checkNoNewValidationErrors();
+}
+
 TEST_CASE("product tables: split over buffers, read in place, copied or rebuilt, the image is the same") {
   // A device whose largest buffer holds 1 MiB (670 pixels' tables) splits a 50 x 50 image's tables over four
   // buffers (625 pixels each), and rebuilds a 64 x 64 image's (seven would be needed) in every dispatch. A

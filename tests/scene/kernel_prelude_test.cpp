@@ -127,6 +127,12 @@ TEST_CASE(
   CHECK(contains(kept, "#define PRODUCT_TABLE_STRIDE " +
                            std::to_string(productTableWords(32, 16) + productRefineWords(512)) + "u\n"));
   CHECK(contains(kept, "#define PRODUCT_TABLE_CHUNKS 3\n#define PRODUCT_TABLE_PIXELS_PER_CHUNK 1000u\n"));
+  // The image kernel samples the stored tables; only the product-table kernel builds them.
+  CHECK(!contains(kept, "PRODUCT_TABLE_BUILD"));
+  const std::string builds = prelude(product, IntegratorMode::ProductTables, {3, 1000});
+  CHECK(contains(builds, "#define PRODUCT_TABLE_CHUNKS 3\n"));
+  CHECK(contains(builds, "#define PRODUCT_TABLE_BUILD 1\n"));
+  CHECK_THROWS_AS(prelude(product, IntegratorMode::ProductTables, {}), Error);
   CHECK(!contains(prelude(product, IntegratorMode::Image, {}), "PRODUCT_TABLE_BINDING"));
   CHECK_THROWS_AS(prelude(product, IntegratorMode::Image, {kProductTableMaxChunks + 1, 1000}), Error);
   // Recording puts its records at that binding and rebuilds its one pixel's table.
