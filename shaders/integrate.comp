@@ -23,10 +23,10 @@ void main() {
   uint index = pixel.y * frame.width + pixel.x;
   GPixel g = gbuffer[index];
 #ifdef PRODUCT_TABLE_BUILD
-  // The product-table kernel (IntegratorMode::ProductTables): the object's pixels' tables, no sample.
+  // The product-table kernel (IntegratorMode::ProductTables): the object's pixels' tables, no sample. A
+  // kernel of its own, since lavapipe runs a branch's body in every dispatch, taken or not.
   if (g.normal.w != 0.0) prepareStrategy(pixelShading(g));
-  return;
-#endif
+#else
   if (g.normal.w == 0.0) {  // background: the environment seen in that direction, exact from the first pass
     vec3 radiance = envRadiance(normalize(worldToEnv(g.view.xyz)));
     accum[index].mean = vec4(radiance, 1.0);
@@ -62,4 +62,5 @@ void main() {
   meanSquare += (sumSquares - float(frame.samplesPerPass) * meanSquare) / total;
   accum[index].mean = vec4(mean, 1.0);
   accum[index].meanSquare = vec4(meanSquare, 1.0);
+#endif
 }

@@ -18,7 +18,7 @@ inline constexpr double kNotReached = std::numeric_limits<double>::quiet_NaN();
 // The error of one image, after `spp` samples per pixel and `seconds` of rendering (cumulative).
 struct ConvergencePoint {
   std::uint64_t spp = 0;
-  double gpuSeconds = 0.0;   // integrator dispatches (timestamp queries)
+  double gpuSeconds = 0.0;   // the passes' dispatches (timestamp queries)
   double wallSeconds = 0.0;  // record + submit + wait of those passes: the time axis
   double mse = 0.0, relMse = 0.0;
 };

@@ -79,8 +79,9 @@ Renderer::Renderer(const VulkanContext& context, ShaderCompiler& compiler, const
   if (productTables.chunks > 0) layout.buffersPerSet[0] = kProductTableBinding + productTables.chunks;
   kernel_ = std::make_unique<ComputeKernel>(context, spirv, layout, name);
   if (productTables.chunks > 0) {
-    // The tables are built by their own kernel, so that the integrator holds no code that builds them.
-    const std::string tablesName = "product tables " + method.label();
+    // The product-table kernel: lavapipe would run a build inside the integrator in every dispatch, behind
+    // whatever branch.
+    const std::string tablesName = "product-table kernel " + method.label();
     productTableKernel_ = std::make_unique<ComputeKernel>(
         context,
         compileKernel(compiler,

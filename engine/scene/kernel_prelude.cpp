@@ -148,7 +148,8 @@ KernelParts integratorParts(const Scene& scene, const TechniqueData& brdfData, c
     throw Error("integratorParts: the product-table kernel needs the tables' buffers");
   if (productTables.chunks > 0) {
     if (mode == IntegratorMode::RecordPixel || !strategy.buildsProductTable)
-      throw Error("integratorParts: product tables in a buffer need a product strategy's image mode");
+      throw Error(
+          "integratorParts: product tables in a buffer need a product strategy's image or table mode");
     if (productTables.chunks > kProductTableMaxChunks || productTables.pixelsPerChunk == 0)
       throw Error("integratorParts: product tables in " + std::to_string(productTables.chunks) +
                   " chunks of " + std::to_string(productTables.pixelsPerChunk) + " pixels");

@@ -66,8 +66,8 @@ KernelParts brdfKernelParts(std::string kernel, const BrdfInfo& brdf, const Tech
 // What the integrator kernel does: add samples to every pixel; integrate one pixel through the same code
 // and store every sample's record (IBLX_RECORD_SAMPLES, shaders/lib/sample_record.glsl) in an extra set-0
 // buffer at binding kSampleRecordBinding; or, for a product strategy whose tables are kept in buffers, only
-// build and store every object pixel's table (PRODUCT_TABLE_BUILD), the first dispatch of an accumulation,
-// so that the Image kernel that follows it loads tables and holds no code that builds them.
+// build and store every object pixel's table (PRODUCT_TABLE_BUILD), dispatched before the accumulation's
+// first Image dispatch, so that the Image kernel loads tables and holds no code that builds them.
 enum class IntegratorMode { Image, RecordPixel, ProductTables };
 inline constexpr uint32_t kSampleRecordBinding = 8;
 // Image and ProductTables modes of a product strategy, when the image's tables fit kProductTableMaxChunks

@@ -337,9 +337,9 @@ float productColumnSum(uint j) {
   return gProductColumnSums[j];
 }
 #ifdef PRODUCT_REFINED
-// Word i of the refinement's block: with stored tables always from the buffer (the first dispatch stores
-// the block before it samples, and a record is read only by a sample that descends into a split node, so a
-// dispatch copies none of it), else from the private table.
+// Word i of the refinement's block: with stored tables always from the buffer (the product-table kernel
+// stored it, and a record is read only by a sample that descends into a split node, so a dispatch copies
+// none of it), else from the private table.
 uint productRefineWord(uint i) {
 #ifdef PRODUCT_TABLE_BINDING
   return productStoredWord(kProductTableWords + 1u + i);
