@@ -4,7 +4,7 @@
 # MSE·spp is the variance per sample), 2 s per method, the oracle computed on the centre pixel of every K×K
 # block and each method measured on the same pixels (converge --oracle-stride, docs/MANUAL.md). K defaults to
 # SIZE/16, so every size puts the oracle on 256 pixels at the same cost. Ground truths as the grid's (Monte
-# Carlo, 20 s of mis/sobol; cached), with the grid's MERL file where the grid made it. A scene already
+# Carlo, 20 s of mis/sobol; cached), with the grid's generated inputs where the grid made them. A scene already
 # measured in OUT_DIR is not measured again. Prints one markdown table per measure (docs/RESULTS.md,
 # "Against the limit").
 # Usage: tools/oracle_grid.sh [--size SIZE] [--stride K] [BUILD_DIR] [OUT_DIR]
@@ -29,32 +29,48 @@ build=$(realpath "${1:-build}")
 out=${2:-$default_out}
 iblx=$build/iblx
 [ -x "$iblx" ] || { echo "oracle_grid.sh: $iblx not found: build first (cmake --build build)" >&2; exit 2; }
-maps=/usr/share/blender/datafiles/studiolights/world
+study=$(dirname "$0")/../docs/studies/product_grid.toml
 mkdir -p "$out"
-merl=$build/studies/product-grid/inputs/ggx-0.1-metal.binary
-[ -s "$merl" ] || merl=$out/ggx-0.1-metal.binary
-[ -s "$merl" ] || "$iblx" merl-synth --brdf ggx --param roughness=0.1 --param metallic=1 --out "$merl" > /dev/null
-materials=("ggx-0.005:--brdf ggx --param roughness=0.005" "ggx-0.01:--brdf ggx --param roughness=0.01"
-           "ggx-0.02:--brdf ggx --param roughness=0.02" "ggx-0.05:--brdf ggx --param roughness=0.05"
-           "ggx-0.1:--brdf ggx --param roughness=0.1" "ggx-0.3:--brdf ggx --param roughness=0.3"
-           "ggx-1:--brdf ggx --param roughness=1.0" "lambert:--brdf lambert" "merl-ggx-0.1:--brdf $merl")
-for map in forest sunrise courtyard night; do
-  for entry in "${materials[@]}"; do
-    name=$map-${entry%%:*}
-    [ -s "$out/$name.json" ] && continue
-    # shellcheck disable=SC2086 # the material's flags are words
-    "$iblx" converge --env "$maps/$map.exr" ${entry#*:} --size "${size}x$size" --time 2 --seeds 1 --seq random \
-      --method env-hier --method mis --method product --method product-mis --reference mc --reference-time 20 \
-      --oracle --oracle-stride "$stride" --no-plots --json --out-dir "$out/$name" > "$out/$name.partial" 2> "$out/$name.log"
-    mv "$out/$name.partial" "$out/$name.json"
-    echo "$name: $(grep '^oracle:' "$out/$name.log")" >&2
-  done
-done
-python3 - "$out" <<'PY'
-import json, sys, pathlib
+# The grid's maps and materials, one "NAME<TAB>converge flags" line each, from the study file. An input the
+# study generates (${inputs}/FILE) is taken from the study's own inputs when it ran, else generated here by
+# the study's command for it.
+scenes=$(python3 - "$study" "$build/studies/product-grid/inputs" "$out" "$iblx" <<'PY'
+import pathlib, shlex, subprocess, sys, tomllib
+study, inputs, out, iblx = sys.argv[1], pathlib.Path(sys.argv[2]), pathlib.Path(sys.argv[3]), sys.argv[4]
+grid = tomllib.loads(pathlib.Path(study).read_text())
+commands = {i["name"]: i["command"] for i in grid.get("input", [])}
+def resolve(brdf):
+    if not brdf.startswith("${inputs}/"):
+        return brdf
+    name = brdf[len("${inputs}/"):]
+    for candidate in (inputs / name, out / name):
+        if candidate.is_file() and candidate.stat().st_size > 0:
+            return str(candidate)
+    subprocess.run([iblx, *commands[name], "--out", str(out / name)], check=True, stdout=subprocess.DEVNULL)
+    return str(out / name)
+for m in grid["map"]:
+    for mat in grid["material"]:
+        flags = ["--env", m["env"], "--brdf", resolve(mat["brdf"])]
+        for key, value in mat.get("params", {}).items():
+            flags += ["--param", f"{key}={value}"]
+        print(f"{m['name']}-{mat['name']}\t{shlex.join(flags)}")
+PY
+)
+while IFS=$'\t' read -r name flags; do
+  [ -s "$out/$name.json" ] && continue
+  # shellcheck disable=SC2086 # the scene's flags are words (no file name of the grid holds a space)
+  "$iblx" converge $flags --size "${size}x$size" --time 2 --seeds 1 --seq random \
+    --method env-hier --method mis --method product --method product-mis --reference mc --reference-time 20 \
+    --oracle --oracle-stride "$stride" --no-plots --json --out-dir "$out/$name" > "$out/$name.partial" 2> "$out/$name.log"
+  mv "$out/$name.partial" "$out/$name.json"
+  echo "$name: $(grep '^oracle:' "$out/$name.log")" >&2
+done <<< "$scenes"
+python3 - "$out" "$study" <<'PY'
+import json, sys, pathlib, tomllib
 out = pathlib.Path(sys.argv[1])
-maps = ["forest", "sunrise", "courtyard", "night"]
-materials = ["ggx-0.005", "ggx-0.01", "ggx-0.02", "ggx-0.05", "ggx-0.1", "ggx-0.3", "ggx-1", "lambert", "merl-ggx-0.1"]
+grid = tomllib.loads(pathlib.Path(sys.argv[2]).read_text())
+maps = [m["name"] for m in grid["map"]]
+materials = [m["name"] for m in grid["material"]]
 rows = {}
 for m in maps:
     for mat in materials:
