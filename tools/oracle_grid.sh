@@ -16,7 +16,7 @@ while [ $# -gt 0 ]; do
   case $1 in
     --size) size=${2:?--size needs a number of pixels}; shift 2 ;;
     --stride) stride=${2:?--stride needs a block width}; shift 2 ;;
-    -h | --help) sed -n 's/^# \{0,1\}//p' "$0" | sed -n '/^Usage:/,$p'; exit 0 ;;
+    -h | --help) sed -n '/^# Usage:/,/^[^#]/s/^# \{0,1\}//p' "$0"; exit 0 ;;
     -*) echo "oracle_grid.sh: unknown option $1 (--size, --stride)" >&2; exit 2 ;;
     *) break ;;
   esac

@@ -413,6 +413,14 @@ for args in "--size x" "--size 0" "--stride -1" "--size 64 --stride 0" "--sizes 
     echo "FAIL: oracle_grid.sh $args: exit $status, output: $out"
   fi
 done
+# Its --help is the header's usage alone (regression: it printed every comment of the script after it).
+help=$(bash "$oracle_grid" --help)
+if [ "$(printf '%s\n' "$help" | grep -c .)" -eq 2 ] && [ "${help%%$'\n'*}" != "${help#Usage: }" ]; then
+  passed=$((passed + 1))
+else
+  failed=$((failed + 1))
+  echo "FAIL: oracle_grid.sh --help: $help"
+fi
 expect_error "hardcases unknown case" "unknown hard case" hardcases --case nope
 "$iblx" reference --size 8x8 --out "$tmp/ref8.exr" > /dev/null 2>&1
 expect_error "converge reference size" "does not match the scene's 16x16" converge --size 16x16 --reference-file "$tmp/ref8.exr" --out-dir "$tmp/c1"
